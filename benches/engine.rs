@@ -1,0 +1,92 @@
+//! Engine benchmarks: RK4 steps per second per core, and the time to classify an orbit
+//! from basin-grid initial states. `cargo bench --bench engine`.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use isola::analysis::{SteadyStateSpec, steady_state};
+use isola::model::{DriveSpec, ParamSpec, Params};
+use isola::solver::{Resolution, Rk4};
+
+const PERIODS: usize = 200;
+
+/// `L` lanes started near `dx` around λ_p, advanced `PERIODS` forcing periods.
+fn run_lanes<const L: usize>(rk: &Rk4, dx: f64) -> f64 {
+    let p = rk.params();
+    let x: [f64; L] = std::array::from_fn(|i| p.lambda_p() + dx * (i as f64 / L as f64 - 0.5));
+    let v: [f64; L] = std::array::from_fn(|i| 0.01 * i as f64 / L as f64);
+    let mut lanes = rk.start(x, v);
+    for _ in 0..PERIODS {
+        rk.advance_period(&mut lanes, |_, _, _| {});
+    }
+    lanes.x.iter().sum()
+}
+
+fn rk4_steps(c: &mut Criterion) {
+    // taut: both membranes stay in tension (ADR 0.1, ω_e 1, small motion)
+    let taut = ParamSpec {
+        drive: DriveSpec::EaAdr {
+            e_a: 0.04,
+            adr: 0.1,
+        },
+        omega: 1.0,
+        ..ParamSpec::default()
+    }
+    .build()
+    .unwrap();
+    // slack: the baseline at ω_e 3.7, where membrane I loses tension twice every period
+    let slack = Params::baseline();
+    let mut g = c.benchmark_group("rk4_steps");
+    g.measurement_time(Duration::from_secs(4)).sample_size(20);
+    for (name, p) in [("taut", &taut), ("slack", &slack)] {
+        let rk = Rk4::new(p, &Resolution::default());
+        let steps = (PERIODS * rk.steps_per_period()) as u64;
+        g.throughput(Throughput::Elements(steps));
+        g.bench_function(format!("{name}/1_lane"), |b| {
+            b.iter(|| run_lanes::<1>(&rk, black_box(0.01)))
+        });
+        g.throughput(Throughput::Elements(16 * steps));
+        g.bench_function(format!("{name}/16_lanes"), |b| {
+            b.iter(|| run_lanes::<16>(&rk, black_box(0.01)))
+        });
+    }
+    g.finish();
+}
+
+fn classify(c: &mut Criterion) {
+    let p = Params::baseline();
+    let spec = SteadyStateSpec::default();
+    let mut g = c.benchmark_group("classify_orbit");
+    g.measurement_time(Duration::from_secs(4)).sample_size(20);
+    // two cells of the Fig 6A basin grid (ADR 0.6, ω_e 3.7): one goes to the 1:1 response,
+    // one to the 1:2 isola
+    g.bench_function("fig6a_cell_to_1_1", |b| {
+        b.iter(|| steady_state(&p, black_box(p.lambda_p()), 0.0, &spec))
+    });
+    g.bench_function("fig6a_cell_to_1_2", |b| {
+        b.iter(|| steady_state(&p, black_box(p.lambda_p() + 0.3), 0.0, &spec))
+    });
+    // the mean over a coarse 8 × 8 sample of the grid Δλ ∈ [−0.8, 0.8], v ∈ [−1, 1]
+    let cells: Vec<(f64, f64)> = (0..64)
+        .map(|i| {
+            (
+                -0.8 + 1.6 * (i / 8) as f64 / 7.0,
+                -1.0 + 2.0 * (i % 8) as f64 / 7.0,
+            )
+        })
+        .collect();
+    g.throughput(Throughput::Elements(cells.len() as u64));
+    g.bench_function("fig6a_grid_8x8", |b| {
+        b.iter(|| {
+            cells
+                .iter()
+                .map(|&(dx, v)| steady_state(&p, p.lambda_p() + dx, v, &spec).transient_periods)
+                .sum::<usize>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, rk4_steps, classify);
+criterion_main!(benches);

@@ -1,0 +1,338 @@
+//! Integrate to a periodic steady state and classify it (MODEL.md §4, §4b).
+//!
+//! Two-stage period test: a period is accepted only once some k ≤ `max_period` has its last
+//! k stroboscopic points repeat to `tol_converged`, far below the matching tolerance; the
+//! period is then the smallest k whose points repeat to `tol_match`. A slowly spiralling
+//! transient (Floquet multiplier near −1 or e^{±2πi/3}) thus cannot pass for a 1:2 or 1:3
+//! response, and a converged period-1 orbit is not reported as period 2.
+
+use std::collections::VecDeque;
+
+use serde::{Deserialize, Serialize};
+
+use super::period_map::{OrbitRecord, PeriodMap, Rk4PeriodMap};
+use super::ratio::Ratio;
+use crate::model::Params;
+use crate::model::error::{ParamError, check};
+use crate::solver::{Collision, Resolution};
+
+/// How a steady state is sought.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SteadyStateSpec {
+    /// Longest response period k, in forcing periods, still called periodic.
+    pub max_period: usize,
+    /// Forcing periods integrated before giving up as non-periodic.
+    pub max_forcing_periods: usize,
+    /// Stage 1: the stroboscopic points must repeat to this (max-norm on [λ_I, v]).
+    pub tol_converged: f64,
+    /// Stage 2: the period is the smallest k that repeats to this.
+    pub tol_match: f64,
+    /// Fixed-step resolution of the fast integrator.
+    pub resolution: Resolution,
+}
+
+impl Default for SteadyStateSpec {
+    fn default() -> Self {
+        SteadyStateSpec {
+            max_period: 8,
+            max_forcing_periods: 6000,
+            tol_converged: 1e-9,
+            tol_match: 1e-5,
+            resolution: Resolution::default(),
+        }
+    }
+}
+
+impl SteadyStateSpec {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check(
+            "max_period",
+            self.max_period as f64,
+            |k| (1.0..=64.0).contains(&k),
+            "[1, 64]",
+        )?;
+        check(
+            "max_forcing_periods",
+            self.max_forcing_periods as f64,
+            |n| n >= 2.0 * self.max_period as f64 && n <= 1e7,
+            format!("[{}, 10000000]", 2 * self.max_period),
+        )?;
+        check(
+            "tol_converged",
+            self.tol_converged,
+            |t| t > 0.0 && t < self.tol_match,
+            format!("(0, tol_match = {})", self.tol_match),
+        )?;
+        check(
+            "tol_match",
+            self.tol_match,
+            |t| t > 0.0 && t < 1.0,
+            "(0, 1)",
+        )?;
+        self.resolution.validate()
+    }
+}
+
+/// What a trajectory settles to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Class {
+    Periodic,
+    NonPeriodic,
+    Collision,
+}
+
+impl Class {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Class::Periodic => "periodic",
+            Class::NonPeriodic => "non-periodic",
+            Class::Collision => "collision",
+        }
+    }
+}
+
+/// A classified steady state.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SteadyState {
+    pub class: Class,
+    /// Response period k in forcing periods (periodic only).
+    pub period: Option<usize>,
+    /// ω_r : ω_e (periodic only).
+    pub ratio: Option<Ratio>,
+    /// max − min of λ_I over one response period (over the last `max_period` forcing periods
+    /// for a non-periodic response; none after a collision).
+    pub amplitude: Option<f64>,
+    /// The k stroboscopic points [λ_I, v] at τ = nT, in time order.
+    pub poincare: Vec<[f64; 2]>,
+    /// Forcing periods integrated before the steady state was accepted.
+    pub transient_periods: usize,
+    pub lambda_min: Option<f64>,
+    pub lambda_max: Option<f64>,
+    pub lambda_mean: Option<f64>,
+    /// Where the mass left the model, for a collision.
+    pub collision: Option<Collision>,
+}
+
+impl SteadyState {
+    /// The paper's name for the response: "2:1 super-harmonic" or "1:1 harmonic" for a
+    /// period-1 orbit (by its strongest line), "1:k subharmonic" for a period-k orbit, or the
+    /// class. The paper names subharmonics by their period even where another line of the
+    /// response is stronger (its 1:3 response at ADR 1.0, ω_e 3.6 is strongest at 2ω_e/3).
+    pub fn response_type(&self) -> String {
+        match (self.period, self.ratio) {
+            (Some(1), Some(r)) if r.response > 1 => format!("{r} super-harmonic"),
+            (Some(1), Some(r)) => format!("{r} harmonic"),
+            (Some(k), _) => format!("1:{k} subharmonic"),
+            _ => self.class.as_str().to_string(),
+        }
+    }
+
+    /// The label users read: the ratio, or the class when there is none.
+    pub fn label(&self) -> String {
+        match self.ratio {
+            Some(r) => r.to_string(),
+            None => self.class.as_str().to_string(),
+        }
+    }
+}
+
+/// The steady state reached from λ_I = `x0`, dλ_I/dτ = `v0` at τ = 0, with the fast
+/// integrator. Note `x0` is the stretch λ_I itself, not the offset Δλ.
+pub fn steady_state(params: &Params, x0: f64, v0: f64, spec: &SteadyStateSpec) -> SteadyState {
+    let mut map = Rk4PeriodMap::new(params, &spec.resolution, x0, v0);
+    steady_state_with(&mut map, spec)
+}
+
+/// The steady state reached by any stroboscopic map (fast or reference integrator).
+pub fn steady_state_with(map: &mut impl PeriodMap, spec: &SteadyStateSpec) -> SteadyState {
+    let kmax = spec.max_period;
+    let mut history: VecDeque<[f64; 2]> = VecDeque::with_capacity(2 * kmax + 1);
+    for n in 1..=spec.max_forcing_periods {
+        let point = match map.advance() {
+            Ok(p) => p,
+            Err(c) => return collided(c, n),
+        };
+        if history.len() == 2 * kmax {
+            history.pop_front();
+        }
+        history.push_back(point);
+        let mismatch: Vec<f64> = (1..=kmax)
+            .take_while(|k| 2 * k <= history.len())
+            .map(|k| period_mismatch(&history, k))
+            .collect();
+        if mismatch.iter().any(|&d| d < spec.tol_converged) {
+            let k = 1 + mismatch
+                .iter()
+                .position(|&d| d < spec.tol_match)
+                .expect("a converged k also matches");
+            return record(map, k, n, Class::Periodic);
+        }
+    }
+    record(map, kmax, spec.max_forcing_periods, Class::NonPeriodic)
+}
+
+/// max over the last k points of the distance to the point k periods earlier.
+fn period_mismatch(history: &VecDeque<[f64; 2]>, k: usize) -> f64 {
+    let n = history.len();
+    (0..k)
+        .map(|j| {
+            let (a, b) = (history[n - 1 - j], history[n - 1 - j - k]);
+            (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Follows the response for `k` more periods, recording it, and builds the result.
+fn record(map: &mut impl PeriodMap, k: usize, n: usize, class: Class) -> SteadyState {
+    let mut rec = OrbitRecord::new(map.samples_per_period());
+    let mut poincare = Vec::with_capacity(k);
+    for _ in 0..k {
+        match map.advance_recording(&mut rec) {
+            Ok(p) => poincare.push(p),
+            Err(c) => return collided(c, n),
+        }
+    }
+    let periodic = class == Class::Periodic;
+    SteadyState {
+        class,
+        period: periodic.then_some(k),
+        ratio: periodic.then(|| Ratio::of_samples(&rec.samples, k)),
+        amplitude: Some(rec.amplitude()),
+        poincare,
+        transient_periods: n,
+        lambda_min: Some(rec.lambda_min),
+        lambda_max: Some(rec.lambda_max),
+        lambda_mean: Some(rec.lambda_mean()),
+        collision: None,
+    }
+}
+
+fn collided(c: Collision, n: usize) -> SteadyState {
+    SteadyState {
+        class: Class::Collision,
+        period: None,
+        ratio: None,
+        amplitude: None,
+        poincare: Vec::new(),
+        transient_periods: n,
+        lambda_min: None,
+        lambda_max: None,
+        lambda_mean: None,
+        collision: Some(c),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A linear stroboscopic map P → P* + M(P − P*) (optionally cycling through several
+    /// fixed points), with a sine orbit recorded for the harmonic analysis.
+    struct LinearMap {
+        centres: Vec<[f64; 2]>,
+        m: [[f64; 2]; 2],
+        dev: [f64; 2],
+        n: usize,
+    }
+
+    impl PeriodMap for LinearMap {
+        fn advance(&mut self) -> Result<[f64; 2], Collision> {
+            let d = self.dev;
+            self.dev = [
+                self.m[0][0] * d[0] + self.m[0][1] * d[1],
+                self.m[1][0] * d[0] + self.m[1][1] * d[1],
+            ];
+            self.n += 1;
+            let c = self.centres[self.n % self.centres.len()];
+            Ok([c[0] + self.dev[0], c[1] + self.dev[1]])
+        }
+        fn advance_recording(&mut self, rec: &mut OrbitRecord) -> Result<[f64; 2], Collision> {
+            let k = self.centres.len() as f64;
+            for j in 0..16 {
+                let th = 2.0 * std::f64::consts::PI * (self.n as f64 + j as f64 / 16.0) / k;
+                let x = 1.0 + 0.1 * th.cos();
+                rec.samples.push(x);
+                rec.lambda_min = rec.lambda_min.min(x);
+                rec.lambda_max = rec.lambda_max.max(x);
+            }
+            self.advance()
+        }
+        fn samples_per_period(&self) -> usize {
+            16
+        }
+    }
+
+    fn spiral(mu: f64, angle: f64, centres: Vec<[f64; 2]>) -> LinearMap {
+        let (s, c) = angle.sin_cos();
+        LinearMap {
+            centres,
+            m: [[mu * c, -mu * s], [mu * s, mu * c]],
+            dev: [0.3, 0.0],
+            n: 0,
+        }
+    }
+
+    /// A fixed point approached with multiplier −0.995: P_n and P_{n−2} agree long before
+    /// P_n and P_{n−1} do. The two-stage test must still call it period 1, not 1:2.
+    #[test]
+    fn slow_flip_transient_is_period_one() {
+        let pi = std::f64::consts::PI;
+        let s = steady_state_with(
+            &mut spiral(0.995, pi, vec![[1.0, 0.0]]),
+            &SteadyStateSpec::default(),
+        );
+        assert_eq!(s.class, Class::Periodic);
+        assert_eq!(s.period, Some(1));
+        // and a spiral with multipliers 0.995·e^{±2πi/3} is not a 1:3 response
+        let s = steady_state_with(
+            &mut spiral(0.995, 2.0 * pi / 3.0, vec![[1.0, 0.0]]),
+            &SteadyStateSpec::default(),
+        );
+        assert_eq!(s.period, Some(1));
+        // a one-stage test at the matching tolerance would have been fooled
+        let naive = SteadyStateSpec {
+            tol_converged: 0.99e-5,
+            max_forcing_periods: 20_000,
+            ..SteadyStateSpec::default()
+        };
+        let s = steady_state_with(&mut spiral(0.9995, pi, vec![[1.0, 0.0]]), &naive);
+        assert_eq!(s.period, Some(2), "the pitfall this design avoids");
+    }
+
+    #[test]
+    fn true_cycles_get_their_period() {
+        let cycle = vec![[1.0, 0.0], [1.2, 0.1], [0.9, -0.3]];
+        let s = steady_state_with(&mut spiral(0.9, 0.3, cycle), &SteadyStateSpec::default());
+        assert_eq!(s.period, Some(3));
+        assert_eq!(s.poincare.len(), 3);
+        assert_eq!(s.ratio.unwrap().to_string(), "1:3");
+        assert_eq!(s.response_type(), "1:3 subharmonic");
+        // period 9 > max_period 8: non-periodic
+        let cycle: Vec<_> = (0..9).map(|i| [1.0 + 0.01 * i as f64, 0.0]).collect();
+        let s = steady_state_with(&mut spiral(0.5, 0.0, cycle), &SteadyStateSpec::default());
+        assert_eq!(s.class, Class::NonPeriodic);
+        assert_eq!(s.period, None);
+        assert_eq!(
+            s.transient_periods,
+            SteadyStateSpec::default().max_forcing_periods
+        );
+    }
+
+    #[test]
+    fn bad_specs_name_the_field() {
+        let bad = SteadyStateSpec {
+            max_period: 0,
+            ..SteadyStateSpec::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "max_period");
+        let bad = SteadyStateSpec {
+            tol_converged: 1e-3,
+            ..SteadyStateSpec::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "tol_converged");
+        assert!(SteadyStateSpec::default().validate().is_ok());
+    }
+}

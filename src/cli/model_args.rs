@@ -1,0 +1,87 @@
+//! The model flags every analysis command shares; defaults are the paper's baseline.
+
+use clap::Args;
+use isola::model::{DriveSpec, ParamSpec, Params};
+
+/// Model parameters. The drive is (--ea, --adr) or (--phi-dc, --phi-ac).
+#[derive(Debug, Clone, Args)]
+pub struct ModelArgs {
+    /// Pre-stretch λ_p.
+    #[arg(
+        long = "lambda-p",
+        default_value_t = 1.02,
+        allow_negative_numbers = true
+    )]
+    pub lambda_p: f64,
+    /// Gent constant J.
+    #[arg(long, default_value_t = 16.0, allow_negative_numbers = true)]
+    pub j: f64,
+    /// Non-dimensional damping c̃.
+    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true)]
+    pub damping: f64,
+    /// Mean-square voltage E_a = φ_DC² + φ_AC²/2.
+    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true,
+          conflicts_with_all = ["phi_dc", "phi_ac"])]
+    pub ea: f64,
+    /// AC-to-DC ratio ADR = φ_AC/φ_DC.
+    #[arg(long, default_value_t = 0.6, allow_negative_numbers = true,
+          conflicts_with_all = ["phi_dc", "phi_ac"])]
+    pub adr: f64,
+    /// DC voltage φ_DC (non-dimensional); give with --phi-ac instead of --ea/--adr.
+    #[arg(long = "phi-dc", requires = "phi_ac", allow_negative_numbers = true)]
+    pub phi_dc: Option<f64>,
+    /// AC voltage amplitude φ_AC (non-dimensional).
+    #[arg(long = "phi-ac", requires = "phi_dc", allow_negative_numbers = true)]
+    pub phi_ac: Option<f64>,
+    /// Forcing frequency ω_e (non-dimensional).
+    #[arg(long, default_value_t = 3.7, allow_negative_numbers = true)]
+    pub omega: f64,
+    /// DC voltage on membrane II, φ_DC,II (default: membrane II undriven).
+    #[arg(
+        long = "phi-dc-ii",
+        requires = "phi_ac_ii",
+        allow_negative_numbers = true
+    )]
+    pub phi_dc_ii: Option<f64>,
+    /// AC voltage on membrane II, φ_AC,II.
+    #[arg(
+        long = "phi-ac-ii",
+        requires = "phi_dc_ii",
+        allow_negative_numbers = true
+    )]
+    pub phi_ac_ii: Option<f64>,
+    /// Phase lead of membrane II's AC voltage, radians.
+    #[arg(
+        long = "phase-ii",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub phase_ii: f64,
+}
+
+impl ModelArgs {
+    /// The validated parameters, or an error naming the bad field.
+    pub fn params(&self) -> anyhow::Result<Params> {
+        let drive = match (self.phi_dc, self.phi_ac) {
+            (Some(phi_dc), Some(phi_ac)) => DriveSpec::Phi { phi_dc, phi_ac },
+            _ => DriveSpec::EaAdr {
+                e_a: self.ea,
+                adr: self.adr,
+            },
+        };
+        let drive_ii = match (self.phi_dc_ii, self.phi_ac_ii) {
+            (Some(phi_dc), Some(phi_ac)) => Some(DriveSpec::Phi { phi_dc, phi_ac }),
+            _ => None,
+        };
+        let spec = ParamSpec {
+            lambda_p: self.lambda_p,
+            j: self.j,
+            c_tilde: self.damping,
+            omega: self.omega,
+            drive,
+            drive_ii,
+            phase_ii: self.phase_ii,
+        };
+        Ok(spec.build()?)
+    }
+}

@@ -1,0 +1,156 @@
+//! The AC+DC voltage on one membrane, φ(τ) = φ_DC + φ_AC·cos(ω_e τ), and its square
+//! φ² = E_a + E_b cos(ω_e τ) + E_c cos(2 ω_e τ) (MODEL.md §2).
+
+use serde::{Deserialize, Serialize};
+
+use super::error::{ParamError, check};
+
+/// How a user gives a drive: the paper's (E_a, ADR) or the voltages (φ_DC, φ_AC).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged, deny_unknown_fields)]
+pub enum DriveSpec {
+    /// Mean-square voltage E_a and AC-to-DC ratio ADR = φ_AC/φ_DC.
+    EaAdr { e_a: f64, adr: f64 },
+    /// DC and AC amplitudes of the non-dimensional voltage.
+    Phi { phi_dc: f64, phi_ac: f64 },
+}
+
+/// A validated drive, stored as its voltages (φ_DC ≥ 0, φ_AC ≥ 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drive {
+    phi_dc: f64,
+    phi_ac: f64,
+}
+
+impl Drive {
+    /// No voltage at all.
+    pub const OFF: Drive = Drive {
+        phi_dc: 0.0,
+        phi_ac: 0.0,
+    };
+
+    /// From E_a = φ_DC² + φ_AC²/2 and ADR = φ_AC/φ_DC.
+    pub fn from_ea_adr(e_a: f64, adr: f64) -> Result<Self, ParamError> {
+        let e_a = check("e_a", e_a, |e| e >= 0.0, ">= 0")?;
+        let adr = check("adr", adr, |a| a >= 0.0, ">= 0")?;
+        let phi_dc = (e_a / (1.0 + 0.5 * adr * adr)).sqrt();
+        Ok(Drive {
+            phi_dc,
+            phi_ac: adr * phi_dc,
+        })
+    }
+
+    /// From the DC and AC amplitudes of φ.
+    pub fn from_phi(phi_dc: f64, phi_ac: f64) -> Result<Self, ParamError> {
+        Ok(Drive {
+            phi_dc: check("phi_dc", phi_dc, |p| p >= 0.0, ">= 0")?,
+            phi_ac: check("phi_ac", phi_ac, |p| p >= 0.0, ">= 0")?,
+        })
+    }
+
+    /// Validates a user's spec.
+    pub fn from_spec(spec: DriveSpec) -> Result<Self, ParamError> {
+        match spec {
+            DriveSpec::EaAdr { e_a, adr } => Self::from_ea_adr(e_a, adr),
+            DriveSpec::Phi { phi_dc, phi_ac } => Self::from_phi(phi_dc, phi_ac),
+        }
+    }
+
+    pub fn phi_dc(&self) -> f64 {
+        self.phi_dc
+    }
+
+    pub fn phi_ac(&self) -> f64 {
+        self.phi_ac
+    }
+
+    /// E_a = φ_DC² + φ_AC²/2, the mean of φ².
+    pub fn e_a(&self) -> f64 {
+        self.phi_dc * self.phi_dc + 0.5 * self.phi_ac * self.phi_ac
+    }
+
+    /// E_b = 2 φ_DC φ_AC, the amplitude of φ² at ω_e.
+    pub fn e_b(&self) -> f64 {
+        2.0 * self.phi_dc * self.phi_ac
+    }
+
+    /// E_c = φ_AC²/2, the amplitude of φ² at 2 ω_e.
+    pub fn e_c(&self) -> f64 {
+        0.5 * self.phi_ac * self.phi_ac
+    }
+
+    /// ADR = φ_AC/φ_DC; `None` for a pure AC drive.
+    pub fn adr(&self) -> Option<f64> {
+        (self.phi_dc > 0.0).then(|| self.phi_ac / self.phi_dc)
+    }
+
+    /// Peak voltage φ_DC + φ_AC.
+    pub fn phi_peak(&self) -> f64 {
+        self.phi_dc + self.phi_ac
+    }
+
+    /// φ² at forcing phase θ = ω_e τ (plus any phase shift of this membrane).
+    pub fn phi_sq(&self, theta: f64) -> f64 {
+        let phi = self.phi_dc + self.phi_ac * theta.cos();
+        phi * phi
+    }
+
+    /// True when no voltage is applied.
+    pub fn is_off(&self) -> bool {
+        self.phi_dc == 0.0 && self.phi_ac == 0.0
+    }
+
+    /// The spec that rebuilds this drive in the paper's variables when possible.
+    pub fn to_spec(&self) -> DriveSpec {
+        match self.adr() {
+            Some(adr) => DriveSpec::EaAdr {
+                e_a: self.e_a(),
+                adr,
+            },
+            None => DriveSpec::Phi {
+                phi_dc: self.phi_dc,
+                phi_ac: self.phi_ac,
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// MODEL.md §2 check values: E_a = 0.2², ADR 0.6 → E_b ≈ 0.041, E_c ≈ 0.006;
+    /// ADR 1.0 → E_b ≈ 0.053, E_c ≈ 0.013 (to the 3 decimals the page gives).
+    #[test]
+    fn e_b_and_e_c_match_model_md() {
+        let d = Drive::from_ea_adr(0.04, 0.6).unwrap();
+        assert!((d.e_b() - 0.041).abs() < 5e-4, "{}", d.e_b());
+        assert!((d.e_c() - 0.006).abs() < 5e-4, "{}", d.e_c());
+        assert!((d.e_a() - 0.04).abs() < 1e-15);
+        let d = Drive::from_ea_adr(0.04, 1.0).unwrap();
+        assert!((d.e_b() - 0.053).abs() < 5e-4, "{}", d.e_b());
+        assert!((d.e_c() - 0.013).abs() < 5e-4, "{}", d.e_c());
+        assert!((d.adr().unwrap() - 1.0).abs() < 1e-14);
+    }
+
+    /// φ² = E_a + E_b cos θ + E_c cos 2θ for any θ.
+    #[test]
+    fn phi_squared_expands_into_three_harmonics() {
+        let d = Drive::from_phi(0.17, 0.09).unwrap();
+        for i in 0..50 {
+            let th = 0.37 * i as f64;
+            let expanded = d.e_a() + d.e_b() * th.cos() + d.e_c() * (2.0 * th).cos();
+            assert!((d.phi_sq(th) - expanded).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn bad_drive_names_the_field() {
+        let e = Drive::from_ea_adr(-0.1, 0.6).unwrap_err();
+        assert_eq!(e.field, "e_a");
+        let e = Drive::from_ea_adr(0.04, f64::NAN).unwrap_err();
+        assert_eq!(e.field, "adr");
+        assert!(e.to_string().contains(">= 0"), "{e}");
+        assert_eq!(Drive::from_phi(0.1, -1.0).unwrap_err().field, "phi_ac");
+    }
+}

@@ -1,0 +1,120 @@
+//! The force law of MODEL.md §1: Gent elasticity, loss of tension, and the frames.
+//!
+//! These are the readable reference forms; the solvers' hot loop uses an algebraically equal
+//! form with one division per stage (see `solver::field`), tested against these.
+
+use super::params::Params;
+
+/// The two stretches where the Gent denominator vanishes, `|λ − 1/λ| = √J`:
+/// `((√(J+4) − √J)/2, (√(J+4) + √J)/2)`, i.e. (√5 − 2, √5 + 2) for J = 16.
+pub fn gent_poles(j: f64) -> (f64, f64) {
+    let (s, r) = (j.sqrt(), (j + 4.0).sqrt());
+    (0.5 * (r - s), 0.5 * (r + s))
+}
+
+/// Gent elastic tension g(λ) = (λ − λ⁻³)/(1 − (λ² + λ⁻² − 2)/J), valid between the poles.
+pub fn gent(lambda: f64, j: f64) -> f64 {
+    let l2 = lambda * lambda;
+    (lambda - 1.0 / (l2 * lambda)) / (1.0 - (l2 + 1.0 / l2 - 2.0) / j)
+}
+
+/// Gent strain energy W(λ) = −(J/2)·ln(1 − (λ² + λ⁻² − 2)/J), with dW/dλ = g(λ).
+pub fn gent_energy(lambda: f64, j: f64) -> f64 {
+    let l2 = lambda * lambda;
+    -0.5 * j * (1.0 - (l2 + 1.0 / l2 - 2.0) / j).ln()
+}
+
+/// Tension p = g(λ) − φ²λ + c̃·λ̇ of a taut membrane (negative means it would be compressed).
+pub fn tension(lambda: f64, phi_sq: f64, lambda_dot: f64, c_tilde: f64, j: f64) -> f64 {
+    gent(lambda, j) - phi_sq * lambda + c_tilde * lambda_dot
+}
+
+/// Force a membrane carries: `max(p, 0)`, and 0 below the lower Gent pole, where the membrane
+/// is slack whatever the formula says.
+pub fn membrane_force(lambda: f64, phi_sq: f64, lambda_dot: f64, c_tilde: f64, j: f64) -> f64 {
+    if lambda <= gent_poles(j).0 {
+        return 0.0;
+    }
+    tension(lambda, phi_sq, lambda_dot, c_tilde, j).max(0.0)
+}
+
+/// Net force f_II − f_I on the mass (= d²λ_I/dτ²) for membrane stretches set by λ_I = `x`.
+pub fn net_force(p: &Params, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> f64 {
+    let (c, j) = (p.c_tilde(), p.j());
+    membrane_force(2.0 * p.lambda_p() - x, phi_sq_ii, -v, c, j)
+        - membrane_force(x, phi_sq_i, v, c, j)
+}
+
+/// True when λ_I = `x` puts the mass on a frame (λ_I ≤ 0 or λ_II ≤ 0) or stretches a
+/// membrane to its Gent limit: the trajectory has left the model.
+pub fn outside_model(p: &Params, x: f64) -> bool {
+    let upper = gent_poles(p.j()).1;
+    let x_ii = 2.0 * p.lambda_p() - x;
+    !(x > 0.0 && x_ii > 0.0 && x < upper && x_ii < upper)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poles_for_j16_are_sqrt5_pm_2() {
+        let (lo, hi) = gent_poles(16.0);
+        assert!((lo - (5f64.sqrt() - 2.0)).abs() < 1e-15);
+        assert!((hi - (5f64.sqrt() + 2.0)).abs() < 1e-14);
+        // the Gent denominator vanishes there
+        for l in [lo, hi] {
+            assert!((1.0 - (l * l + 1.0 / (l * l) - 2.0) / 16.0).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn gent_is_the_derivative_of_its_energy() {
+        for &l in &[0.4, 0.8, 1.0, 1.02, 1.3, 2.0, 3.5] {
+            let h = 1e-6;
+            let fd = (gent_energy(l + h, 16.0) - gent_energy(l - h, 16.0)) / (2.0 * h);
+            assert!((fd - gent(l, 16.0)).abs() < 1e-7 * (1.0 + gent(l, 16.0).abs()));
+        }
+        // near λ = 1 the Gent law is linear with slope 4 (neo-Hookean limit)
+        assert!((gent(1.0 + 1e-7, 16.0) / 1e-7 - 4.0).abs() < 1e-5);
+    }
+
+    /// Below the lower pole the Gent formula turns positive; the membrane is slack instead.
+    #[test]
+    fn slack_below_the_gent_pole_carries_no_force() {
+        let lo = gent_poles(16.0).0;
+        for &l in &[0.05, 0.1, 0.2, lo - 1e-9] {
+            assert!(
+                gent(l, 16.0) > 0.0,
+                "the formula's artefact is there at {l}"
+            );
+            assert_eq!(membrane_force(l, 0.04, 0.0, 0.04, 16.0), 0.0);
+            assert_eq!(membrane_force(l, 0.0, -5.0, 0.04, 16.0), 0.0);
+        }
+        // just above the pole the tension is hugely negative: the force stays continuous
+        assert_eq!(membrane_force(lo + 1e-9, 0.0, 0.0, 0.04, 16.0), 0.0);
+    }
+
+    #[test]
+    fn loss_of_tension_clips_compression_and_viscous_push() {
+        // λ < 1 with no voltage: compression, so no force
+        assert_eq!(membrane_force(0.99, 0.0, 0.0, 0.04, 16.0), 0.0);
+        // taut membrane: full tension including damping
+        let p = tension(1.1, 0.04, 0.5, 0.04, 16.0);
+        assert!(p > 0.0);
+        assert_eq!(membrane_force(1.1, 0.04, 0.5, 0.04, 16.0), p);
+        // the voltage slackens a membrane that is stretched a little (Fig 2B)
+        assert!(tension(1.005, 0.09, 0.0, 0.0, 16.0) < 0.0);
+    }
+
+    #[test]
+    fn frames_and_gent_limit_are_outside_the_model() {
+        let p = Params::baseline();
+        assert!(!outside_model(&p, 1.02));
+        assert!(!outside_model(&p, 0.3));
+        assert!(outside_model(&p, 0.0));
+        assert!(outside_model(&p, -0.1));
+        assert!(outside_model(&p, 2.04));
+        assert!(!outside_model(&p, 2.03));
+    }
+}

@@ -1,0 +1,214 @@
+//! The vector field d²λ_I/dτ² = f_II − f_I in the forms the integrators need.
+
+use crate::model::Params;
+use crate::model::forces::gent_poles;
+
+/// Which membranes are taut: selects the smooth piece of the piecewise-smooth field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Mode {
+    pub taut_i: bool,
+    pub taut_ii: bool,
+}
+
+/// One membrane of the pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Membrane {
+    I,
+    Ii,
+}
+
+impl Mode {
+    /// taut_I + 2·taut_II as a float.
+    #[inline(always)]
+    pub fn code(m: Mode) -> f64 {
+        (m.taut_i as u8 as f64) + 2.0 * (m.taut_ii as u8 as f64)
+    }
+
+    /// The mode a [`Mode::code`] stands for.
+    pub fn from_code(c: f64) -> Mode {
+        Mode {
+            taut_i: c == 1.0 || c == 3.0,
+            taut_ii: c >= 2.0,
+        }
+    }
+
+    /// The same mode with one membrane's state flipped.
+    pub fn flipped(self, m: Membrane) -> Mode {
+        match m {
+            Membrane::I => Mode {
+                taut_i: !self.taut_i,
+                ..self
+            },
+            Membrane::Ii => Mode {
+                taut_ii: !self.taut_ii,
+                ..self
+            },
+        }
+    }
+}
+
+/// The model's constants arranged for fast evaluation.
+#[derive(Debug, Clone, Copy)]
+pub struct Field {
+    two_lambda_p: f64,
+    j: f64,
+    j_plus_2: f64,
+    c_tilde: f64,
+    upper_pole: f64,
+}
+
+/// Gent tension as a fraction: g(λ) = num/den with
+/// num = J(λ⁴ − 1), den = λ((J + 2)λ² − λ⁴ − 1); den > 0 exactly between the poles.
+#[inline(always)]
+fn gent_fraction(lambda: f64, j: f64, j_plus_2: f64) -> (f64, f64) {
+    let l2 = lambda * lambda;
+    let l4 = l2 * l2;
+    (
+        j.mul_add(l4, -j),
+        lambda * (j_plus_2.mul_add(l2, -l4) - 1.0),
+    )
+}
+
+impl Field {
+    pub fn new(p: &Params) -> Self {
+        Field {
+            two_lambda_p: 2.0 * p.lambda_p(),
+            j: p.j(),
+            j_plus_2: p.j() + 2.0,
+            c_tilde: p.c_tilde(),
+            upper_pole: gent_poles(p.j()).1,
+        }
+    }
+
+    /// Acceleration and the mode as a number (taut_I + 2·taut_II), for the SIMD loop where
+    /// floating-point lanes vectorise better than booleans.
+    #[inline(always)]
+    pub fn accel_coded(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
+        let (a, m) = self.accel(x, v, phi_sq_i, phi_sq_ii);
+        let code_i = if m.taut_i { 1.0 } else { 0.0 };
+        let code_ii = if m.taut_ii { 2.0 } else { 0.0 };
+        (a, code_i + code_ii)
+    }
+
+    /// Acceleration f_II − f_I and the mode it was evaluated in, with one division: each
+    /// tension is kept as P = p·den (same sign as p where den > 0), and
+    /// f_II − f_I = (P_II·den_I − P_I·den_II)/(den_I·den_II) with slack terms dropped.
+    #[inline(always)]
+    pub fn accel(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, Mode) {
+        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
+        let x_ii = self.two_lambda_p - x;
+        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
+        let cv = self.c_tilde * v;
+        let big_p_i = (-phi_sq_i.mul_add(x, -cv)).mul_add(den_i, num_i);
+        let big_p_ii = (-phi_sq_ii.mul_add(x_ii, cv)).mul_add(den_ii, num_ii);
+        let taut_i = big_p_i > 0.0 && den_i > 0.0;
+        let taut_ii = big_p_ii > 0.0 && den_ii > 0.0;
+        let d_i = if taut_i { den_i } else { 1.0 };
+        let d_ii = if taut_ii { den_ii } else { 1.0 };
+        let q_i = if taut_i { big_p_i } else { 0.0 };
+        let q_ii = if taut_ii { big_p_ii } else { 0.0 };
+        (
+            q_ii.mul_add(d_i, -q_i * d_ii) / (d_i * d_ii),
+            Mode { taut_i, taut_ii },
+        )
+    }
+
+    /// Tensions (p_I, p_II) a taut membrane would carry; below the lower Gent pole, where a
+    /// membrane is slack whatever the formula says, −1. These are the switching functions.
+    pub fn tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
+        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
+        let x_ii = self.two_lambda_p - x;
+        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
+        let p_i = if den_i > 0.0 {
+            num_i / den_i - phi_sq_i * x + self.c_tilde * v
+        } else {
+            -1.0
+        };
+        let p_ii = if den_ii > 0.0 {
+            num_ii / den_ii - phi_sq_ii * x_ii - self.c_tilde * v
+        } else {
+            -1.0
+        };
+        (p_i, p_ii)
+    }
+
+    /// Acceleration on one smooth piece: taut membranes pull with p even where p < 0. This
+    /// smooth extension keeps an integrator's order up to a located switch.
+    #[inline]
+    pub fn accel_in_mode(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64, mode: Mode) -> f64 {
+        let (p_i, p_ii) = self.tensions(x, v, phi_sq_i, phi_sq_ii);
+        let f_i = if mode.taut_i { p_i } else { 0.0 };
+        let f_ii = if mode.taut_ii { p_ii } else { 0.0 };
+        f_ii - f_i
+    }
+
+    /// The mode the state is in: which tensions are positive.
+    pub fn mode_at(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> Mode {
+        self.accel(x, v, phi_sq_i, phi_sq_ii).1
+    }
+
+    /// True while λ_I = `x` keeps the mass off both frames and both membranes below the Gent
+    /// limit (see [`crate::model::forces::outside_model`]).
+    #[inline(always)]
+    pub fn inside(&self, x: f64) -> bool {
+        let x_ii = self.two_lambda_p - x;
+        x > 0.0 && x_ii > 0.0 && x < self.upper_pole && x_ii < self.upper_pole
+    }
+
+    /// 2 λ_p, so that λ_II = 2 λ_p − λ_I.
+    pub fn two_lambda_p(&self) -> f64 {
+        self.two_lambda_p
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::forces::{net_force, outside_model};
+    use crate::model::{DriveSpec, ParamSpec};
+
+    /// The one-division form equals the readable force law of `model::forces`.
+    #[test]
+    fn fast_form_equals_the_force_law() {
+        let p = ParamSpec {
+            drive_ii: Some(DriveSpec::Phi {
+                phi_dc: 0.1,
+                phi_ac: 0.05,
+            }),
+            ..ParamSpec::default()
+        }
+        .build()
+        .unwrap();
+        let f = Field::new(&p);
+        let mut n = 0;
+        for i in 0..=200 {
+            let x = 0.01 + 2.02 * i as f64 / 200.0;
+            for &v in &[-2.0, -0.3, 0.0, 0.1, 1.5] {
+                for &(a, b) in &[(0.0, 0.0), (0.04, 0.0), (0.09, 0.03)] {
+                    let fast = f.accel(x, v, a, b).0;
+                    let slow = net_force(&p, x, v, a, b);
+                    assert!(
+                        (fast - slow).abs() <= 1e-12 * (1.0 + slow.abs()),
+                        "x {x} v {v}: {fast} vs {slow}"
+                    );
+                    assert_eq!(f.inside(x), !outside_model(&p, x));
+                    n += 1;
+                }
+            }
+        }
+        assert!(n > 3000);
+    }
+
+    /// In its own mode the smooth extension is the true field.
+    #[test]
+    fn smooth_extension_agrees_in_its_own_mode() {
+        let p = Params::baseline();
+        let f = Field::new(&p);
+        for i in 0..100 {
+            let x = 0.5 + i as f64 * 0.01;
+            let (a, mode) = f.accel(x, 0.2, 0.04, 0.0);
+            let b = f.accel_in_mode(x, 0.2, 0.04, 0.0, mode);
+            assert!((a - b).abs() < 1e-12 * (1.0 + a.abs()));
+        }
+    }
+}

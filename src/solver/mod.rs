@@ -1,0 +1,28 @@
+//! Integrators on the state `[λ_I, dλ_I/dτ]`.
+//!
+//! - [`rk4`]: fixed-step RK4 whose step divides the forcing period, several trajectories in
+//!   SIMD lanes, the drive read from a per-period table, and steps split where a membrane
+//!   goes slack or taut. The workhorse of every global analysis.
+//! - [`dopri`]: adaptive Dormand–Prince 5(4) with dense output and located switching and
+//!   collision events: time histories and the accuracy reference.
+
+pub mod dopri;
+pub mod drive_table;
+pub mod field;
+pub mod hermite;
+pub mod resolution;
+pub mod rk4;
+
+pub use dopri::{DenseStep, Dopri5, State, Tolerance};
+pub use field::{Field, Mode};
+pub use resolution::Resolution;
+pub use rk4::{Lanes, Rk4, StepEnds};
+
+/// Where a trajectory ends when it leaves the model (MODEL.md §1).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Collision {
+    /// Non-dimensional time of the collision (located to the step, or exactly by `dopri`).
+    pub tau: f64,
+    /// λ_I when it was detected.
+    pub lambda_i: f64,
+}

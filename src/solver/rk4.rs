@@ -1,0 +1,412 @@
+//! Fixed-step RK4 over whole forcing periods, `L` trajectories at once in SIMD lanes.
+//!
+//! The step h = T/n divides the forcing period, so stroboscopic samples fall on steps and the
+//! drive comes from a per-period table. The field is evaluated with one division per stage
+//! ([`Field::accel`]) and the acceleration at the end of a step is reused as the first stage
+//! of the next (4 evaluations per step). A step in which any stage sees a membrane switch
+//! between taut and slack is redone for that lane alone: the switch is located on a cubic
+//! Hermite interpolant of the step, and the step is split there, integrating each side on its
+//! own smooth piece. This restores fourth order on orbits that go slack (MODEL.md §4b).
+
+use super::Collision;
+use super::drive_table::DriveTable;
+use super::field::{Field, Membrane, Mode};
+use super::hermite;
+use super::resolution::Resolution;
+use crate::model::Params;
+
+/// Most switches handled inside one step before the rest of it is taken as it is.
+const MAX_SWITCHES_PER_STEP: usize = 4;
+/// Samples of the switching functions per step when looking for a sign change.
+const SWITCH_SCAN_POINTS: usize = 8;
+
+/// The fixed-step integrator for one parameter set.
+#[derive(Debug, Clone)]
+pub struct Rk4 {
+    params: Params,
+    field: Field,
+    table: DriveTable,
+    n: usize,
+    h: f64,
+}
+
+/// `L` trajectories advanced together, all at the same time τ = `period`·T.
+#[derive(Debug, Clone)]
+pub struct Lanes<const L: usize> {
+    /// λ_I of each lane.
+    pub x: [f64; L],
+    /// dλ_I/dτ of each lane.
+    pub v: [f64; L],
+    /// Acceleration at the current state: the first RK4 stage of the next step.
+    a: [f64; L],
+    /// Mode at the current state as [`Mode::code`].
+    mode: [f64; L],
+    /// Set once a lane has left the model; such a lane is frozen.
+    pub collision: [Option<Collision>; L],
+    /// Whole forcing periods done.
+    pub period: u64,
+}
+
+impl<const L: usize> Lanes<L> {
+    /// True if any lane is still inside the model.
+    pub fn any_alive(&self) -> bool {
+        self.collision.iter().any(Option::is_none)
+    }
+}
+
+impl Rk4 {
+    /// An integrator for `params`, with the step count per period from `resolution`.
+    pub fn new(params: &Params, resolution: &Resolution) -> Self {
+        let n = resolution.steps_for(params.period());
+        Self::with_steps(params, n)
+    }
+
+    /// An integrator with exactly `n` steps per forcing period.
+    pub fn with_steps(params: &Params, n: usize) -> Self {
+        let n = n.max(1);
+        Rk4 {
+            params: *params,
+            field: Field::new(params),
+            table: DriveTable::new(params, n),
+            n,
+            h: params.period() / n as f64,
+        }
+    }
+
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    pub fn steps_per_period(&self) -> usize {
+        self.n
+    }
+
+    /// Step length h = T/n.
+    pub fn step(&self) -> f64 {
+        self.h
+    }
+
+    /// Lanes starting at τ = 0 from the given states.
+    pub fn start<const L: usize>(&self, x: [f64; L], v: [f64; L]) -> Lanes<L> {
+        let (phi_i, phi_ii) = self.table.at(0);
+        let mut lanes = Lanes {
+            x,
+            v,
+            a: [0.0; L],
+            mode: [0.0; L],
+            collision: [None; L],
+            period: 0,
+        };
+        for i in 0..L {
+            if !(x[i].is_finite() && v[i].is_finite() && self.field.inside(x[i])) {
+                self.freeze(&mut lanes, i, 0.0);
+                continue;
+            }
+            (lanes.a[i], lanes.mode[i]) = self.field.accel_coded(x[i], v[i], phi_i, phi_ii);
+        }
+        lanes
+    }
+
+    /// Advances every lane one forcing period. After each step `observe(k, before, after)`
+    /// sees step `k`'s end points as (x, v, a) arrays, for recording; pass `|_, _, _| {}` to
+    /// skip.
+    #[inline]
+    pub fn advance_period<const L: usize>(
+        &self,
+        lanes: &mut Lanes<L>,
+        mut observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
+        let (h, f) = (self.h, &self.field);
+        let half = 0.5 * h;
+        let sixth = h / 6.0;
+        let tau_start = lanes.period as f64 * self.params.period();
+        for k in 0..self.n {
+            let (phi_i_mid, phi_ii_mid) = self.table.at(2 * k + 1);
+            let (phi_i_end, phi_ii_end) = self.table.at(2 * k + 2);
+            let before = StepEnds {
+                x: lanes.x,
+                v: lanes.v,
+                a: lanes.a,
+            };
+            let (x0, v0, a0) = (&before.x, &before.v, &before.a);
+            let mode0 = lanes.mode;
+            let mut switched = [false; L];
+            let mut x1 = [0.0; L];
+            let mut v1 = [0.0; L];
+            // One loop per stage over all lanes, so independent lanes overlap in the pipeline.
+            let mut a2 = [0.0; L];
+            let mut a3 = [0.0; L];
+            let mut a4 = [0.0; L];
+            let mut vs2 = [0.0; L];
+            let mut vs3 = [0.0; L];
+            for i in 0..L {
+                let (xs, vs) = (half.mul_add(v0[i], x0[i]), half.mul_add(a0[i], v0[i]));
+                let (a, m) = f.accel_coded(xs, vs, phi_i_mid, phi_ii_mid);
+                (a2[i], vs2[i]) = (a, vs);
+                switched[i] = m != mode0[i];
+            }
+            for i in 0..L {
+                let (xs, vs) = (half.mul_add(vs2[i], x0[i]), half.mul_add(a2[i], v0[i]));
+                let (a, m) = f.accel_coded(xs, vs, phi_i_mid, phi_ii_mid);
+                (a3[i], vs3[i]) = (a, vs);
+                switched[i] |= m != mode0[i];
+            }
+            for i in 0..L {
+                let (xs, vs) = (h.mul_add(vs3[i], x0[i]), h.mul_add(a3[i], v0[i]));
+                let (a, m) = f.accel_coded(xs, vs, phi_i_end, phi_ii_end);
+                a4[i] = a;
+                switched[i] |= m != mode0[i];
+            }
+            for i in 0..L {
+                // stage velocities: v0, v0 + h/2 a0, v0 + h/2 a2, v0 + h a3
+                let a23 = a2[i] + a3[i];
+                x1[i] = sixth.mul_add(6.0f64.mul_add(v0[i], h * (a0[i] + a23)), x0[i]);
+                v1[i] = sixth.mul_add(2.0f64.mul_add(a23, a0[i] + a4[i]), v0[i]);
+            }
+            let mut trouble = false;
+            for i in 0..L {
+                let (a_end, m_end) = f.accel_coded(x1[i], v1[i], phi_i_end, phi_ii_end);
+                switched[i] |= m_end != mode0[i];
+                trouble |= switched[i] | !f.inside(x1[i]);
+                lanes.x[i] = x1[i];
+                lanes.v[i] = v1[i];
+                lanes.a[i] = a_end;
+                lanes.mode[i] = m_end;
+            }
+            if trouble {
+                let tau0 = tau_start + k as f64 * h;
+                for i in 0..L {
+                    if lanes.collision[i].is_some() {
+                        continue;
+                    }
+                    if switched[i] {
+                        let start_mode = Mode::from_code(mode0[i]);
+                        let (x, v) = self.split_step(x0[i], v0[i], tau0, h, start_mode);
+                        lanes.x[i] = x;
+                        lanes.v[i] = v;
+                        (lanes.a[i], lanes.mode[i]) = f.accel_coded(x, v, phi_i_end, phi_ii_end);
+                    }
+                    if !(f.inside(lanes.x[i]) && lanes.v[i].is_finite()) {
+                        self.freeze(lanes, i, tau0 + h);
+                    }
+                }
+            }
+            let after = StepEnds {
+                x: lanes.x,
+                v: lanes.v,
+                a: lanes.a,
+            };
+            observe(k, &before, &after);
+        }
+        lanes.period += 1;
+    }
+
+    /// Marks lane `i` as collided at `tau` and parks it at rest at λ_p.
+    fn freeze<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize, tau: f64) {
+        lanes.collision[i] = Some(Collision {
+            tau,
+            lambda_i: lanes.x[i],
+        });
+        lanes.x[i] = self.params.lambda_p();
+        lanes.v[i] = 0.0;
+        lanes.a[i] = 0.0;
+    }
+
+    /// One RK4 step of length `h` from τ on the smooth piece `mode`, drive from cos().
+    fn step_in_mode(&self, x: f64, v: f64, tau: f64, h: f64, mode: Mode) -> (f64, f64) {
+        let f = &self.field;
+        let p = &self.params;
+        let (pi0, pii0) = p.phi_sq_at(tau);
+        let (pim, piim) = p.phi_sq_at(tau + 0.5 * h);
+        let (pi1, pii1) = p.phi_sq_at(tau + h);
+        let a1 = f.accel_in_mode(x, v, pi0, pii0, mode);
+        let (x2, v2) = (x + 0.5 * h * v, v + 0.5 * h * a1);
+        let a2 = f.accel_in_mode(x2, v2, pim, piim, mode);
+        let (x3, v3) = (x + 0.5 * h * v2, v + 0.5 * h * a2);
+        let a3 = f.accel_in_mode(x3, v3, pim, piim, mode);
+        let (x4, v4) = (x + h * v3, v + h * a3);
+        let a4 = f.accel_in_mode(x4, v4, pi1, pii1, mode);
+        (
+            x + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+            v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+        )
+    }
+
+    /// A step of length `h` from τ split at every switch of a membrane between taut and
+    /// slack, each piece integrated on its own smooth piece of the field.
+    pub fn split_step(&self, x0: f64, v0: f64, tau0: f64, h: f64, mode0: Mode) -> (f64, f64) {
+        let (mut x, mut v, mut t, mut mode) = (x0, v0, tau0, mode0);
+        let end = tau0 + h;
+        for _ in 0..MAX_SWITCHES_PER_STEP {
+            let hs = end - t;
+            if hs <= 0.0 {
+                break;
+            }
+            let (x1, v1) = self.step_in_mode(x, v, t, hs, mode);
+            match self.first_switch(x, v, x1, v1, t, hs, mode) {
+                None => return (x1, v1),
+                Some((s, membrane)) => {
+                    (x, v) = self.step_in_mode(x, v, t, s, mode);
+                    t += s;
+                    mode = mode.flipped(membrane);
+                }
+            }
+        }
+        let hs = end - t;
+        if hs > 0.0 {
+            (x, v) = self.step_in_mode(x, v, t, hs, mode);
+        }
+        (x, v)
+    }
+
+    /// The first time inside a trial step (x0, v0) → (x1, v1) on piece `mode` where a
+    /// membrane's tension crosses zero against its mode: (offset from τ0, membrane).
+    #[allow(clippy::too_many_arguments)]
+    fn first_switch(
+        &self,
+        x0: f64,
+        v0: f64,
+        x1: f64,
+        v1: f64,
+        tau0: f64,
+        h: f64,
+        mode: Mode,
+    ) -> Option<(f64, Membrane)> {
+        let f = &self.field;
+        let p = &self.params;
+        let a0 = {
+            let (pi, pii) = p.phi_sq_at(tau0);
+            f.accel_in_mode(x0, v0, pi, pii, mode)
+        };
+        let a1 = {
+            let (pi, pii) = p.phi_sq_at(tau0 + h);
+            f.accel_in_mode(x1, v1, pi, pii, mode)
+        };
+        // switching functions, positive while the mode holds
+        let g = |s: f64| -> (f64, f64) {
+            let x = hermite::value(x0, v0, x1, v1, h, s);
+            let v = hermite::value(v0, a0, v1, a1, h, s);
+            let (pi, pii) = p.phi_sq_at(tau0 + s * h);
+            let (p_i, p_ii) = f.tensions(x, v, pi, pii);
+            (
+                if mode.taut_i { p_i } else { -p_i },
+                if mode.taut_ii { p_ii } else { -p_ii },
+            )
+        };
+        // usually the end of the step already shows the switch; otherwise scan inside it for
+        // a brief excursion
+        let (gi, gii) = g(1.0);
+        let bracket = if gi < 0.0 || gii < 0.0 {
+            Some((0.0, 1.0, gi, gii))
+        } else {
+            let mut s_prev = 0.0;
+            let mut found = None;
+            for j in 1..SWITCH_SCAN_POINTS {
+                let s = j as f64 / SWITCH_SCAN_POINTS as f64;
+                let (gi, gii) = g(s);
+                if gi < 0.0 || gii < 0.0 {
+                    found = Some((s_prev, s, gi, gii));
+                    break;
+                }
+                s_prev = s;
+            }
+            found
+        }?;
+        let (lo, hi, gi, gii) = bracket;
+        // locate each membrane's crossing, keep the earlier
+        let root_i = (gi < 0.0).then(|| crossing(|s| g(s).0, lo, hi));
+        let root_ii = (gii < 0.0).then(|| crossing(|s| g(s).1, lo, hi));
+        let (s_root, membrane) = match (root_i, root_ii) {
+            (Some(a), Some(b)) if b < a => (b, Membrane::Ii),
+            (Some(a), _) => (a, Membrane::I),
+            (None, Some(b)) => (b, Membrane::Ii),
+            (None, None) => unreachable!("one switching function is negative"),
+        };
+        Some((s_root * h, membrane))
+    }
+}
+
+/// The end points of one RK4 step: λ_I, velocity and acceleration of each lane.
+#[derive(Debug, Clone, Copy)]
+pub struct StepEnds<const L: usize> {
+    pub x: [f64; L],
+    pub v: [f64; L],
+    pub a: [f64; L],
+}
+
+/// The point where `g` turns negative in (lo, hi], given g(lo) ≥ 0 > g(hi) (or g(lo) < 0,
+/// in which case lo itself): Illinois false position, returning the negative side.
+fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let (mut a, mut b) = (lo, hi);
+    let (mut ga, mut gb) = (g(a), g(b));
+    if ga < 0.0 {
+        return a;
+    }
+    let mut side = 0;
+    for _ in 0..60 {
+        if b - a < 1e-12 {
+            break;
+        }
+        let c = (a * gb - b * ga) / (gb - ga);
+        let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+        let gc = g(c);
+        if gc < 0.0 {
+            b = c;
+            gb = gc;
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = c;
+            ga = gc;
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Batching never changes a trajectory: each lane of a batch ends bit for bit where the
+    /// same state run alone ends, including next to a lane that collides and is frozen.
+    #[test]
+    fn lanes_are_independent_and_bitwise_reproducible() {
+        let p = Params::baseline();
+        let rk = Rk4::new(&p, &Resolution::default());
+        let x0 = [1.02, 1.32, 1.02 + 0.8, 0.7];
+        let v0 = [0.0, 0.0, 3.0, -0.5];
+        let mut batch = rk.start(x0, v0);
+        for _ in 0..50 {
+            rk.advance_period(&mut batch, |_, _, _| {});
+        }
+        assert!(
+            batch.collision[2].is_some(),
+            "lane 2 is thrown into the frame"
+        );
+        for i in [0, 1, 3] {
+            let mut one = rk.start([x0[i]], [v0[i]]);
+            for _ in 0..50 {
+                rk.advance_period(&mut one, |_, _, _| {});
+            }
+            assert!(one.collision[0].is_none());
+            assert_eq!(one.x[0].to_bits(), batch.x[i].to_bits(), "lane {i}");
+            assert_eq!(one.v[0].to_bits(), batch.v[i].to_bits(), "lane {i}");
+        }
+    }
+
+    /// A start outside the model is a collision at τ = 0, not a NaN.
+    #[test]
+    fn start_outside_the_model_is_a_collision() {
+        let rk = Rk4::new(&Params::baseline(), &Resolution::default());
+        let lanes = rk.start([-0.1, f64::NAN], [0.0, 0.0]);
+        assert_eq!(lanes.collision[0].unwrap().tau, 0.0);
+        assert!(lanes.collision[1].is_some());
+        assert!(!lanes.any_alive());
+    }
+}
