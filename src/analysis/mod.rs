@@ -1,5 +1,6 @@
 //! Analyses built on the solvers. Each is a plain function of its spec.
 
+pub mod force_curve;
 pub mod period_map;
 pub mod ratio;
 pub mod steady_state;

@@ -9,7 +9,7 @@
 //! own smooth piece. This restores fourth order on orbits that go slack (MODEL.md §4b).
 
 use super::Collision;
-use super::drive_table::DriveTable;
+use super::drive_table::{DriveTable, LocalDrive};
 use super::field::{Field, Membrane, Mode};
 use super::hermite;
 use super::resolution::Resolution;
@@ -18,7 +18,7 @@ use crate::model::Params;
 /// Most switches handled inside one step before the rest of it is taken as it is.
 const MAX_SWITCHES_PER_STEP: usize = 4;
 /// Samples of the switching functions per step when looking for a sign change.
-const SWITCH_SCAN_POINTS: usize = 8;
+const SWITCH_SCAN_POINTS: usize = 4;
 
 /// The fixed-step integrator for one parameter set.
 #[derive(Debug, Clone)]
@@ -212,13 +212,20 @@ impl Rk4 {
         lanes.a[i] = 0.0;
     }
 
-    /// One RK4 step of length `h` from τ on the smooth piece `mode`, drive from cos().
-    fn step_in_mode(&self, x: f64, v: f64, tau: f64, h: f64, mode: Mode) -> (f64, f64) {
+    /// One RK4 step of length `h` from τ₀ + `t` on the smooth piece `mode`.
+    fn step_in_mode(
+        &self,
+        drive: &LocalDrive,
+        x: f64,
+        v: f64,
+        t: f64,
+        h: f64,
+        mode: Mode,
+    ) -> (f64, f64) {
         let f = &self.field;
-        let p = &self.params;
-        let (pi0, pii0) = p.phi_sq_at(tau);
-        let (pim, piim) = p.phi_sq_at(tau + 0.5 * h);
-        let (pi1, pii1) = p.phi_sq_at(tau + h);
+        let (pi0, pii0) = drive.phi_sq(t);
+        let (pim, piim) = drive.phi_sq(t + 0.5 * h);
+        let (pi1, pii1) = drive.phi_sq(t + h);
         let a1 = f.accel_in_mode(x, v, pi0, pii0, mode);
         let (x2, v2) = (x + 0.5 * h * v, v + 0.5 * h * a1);
         let a2 = f.accel_in_mode(x2, v2, pim, piim, mode);
@@ -232,61 +239,58 @@ impl Rk4 {
         )
     }
 
-    /// A step of length `h` from τ split at every switch of a membrane between taut and
+    /// A step of length `h` from τ₀ split at every switch of a membrane between taut and
     /// slack, each piece integrated on its own smooth piece of the field.
     pub fn split_step(&self, x0: f64, v0: f64, tau0: f64, h: f64, mode0: Mode) -> (f64, f64) {
-        let (mut x, mut v, mut t, mut mode) = (x0, v0, tau0, mode0);
-        let end = tau0 + h;
+        let drive = LocalDrive::new(&self.params, tau0);
+        // time is counted from τ₀ inside the step
+        let (mut x, mut v, mut t, mut mode) = (x0, v0, 0.0, mode0);
         for _ in 0..MAX_SWITCHES_PER_STEP {
-            let hs = end - t;
+            let hs = h - t;
             if hs <= 0.0 {
                 break;
             }
-            let (x1, v1) = self.step_in_mode(x, v, t, hs, mode);
-            match self.first_switch(x, v, x1, v1, t, hs, mode) {
+            let (x1, v1) = self.step_in_mode(&drive, x, v, t, hs, mode);
+            match self.first_switch(&drive, [x, v], [x1, v1], t, hs, mode) {
                 None => return (x1, v1),
                 Some((s, membrane)) => {
-                    (x, v) = self.step_in_mode(x, v, t, s, mode);
+                    (x, v) = self.step_in_mode(&drive, x, v, t, s, mode);
                     t += s;
                     mode = mode.flipped(membrane);
                 }
             }
         }
-        let hs = end - t;
+        let hs = h - t;
         if hs > 0.0 {
-            (x, v) = self.step_in_mode(x, v, t, hs, mode);
+            (x, v) = self.step_in_mode(&drive, x, v, t, hs, mode);
         }
         (x, v)
     }
 
-    /// The first time inside a trial step (x0, v0) → (x1, v1) on piece `mode` where a
-    /// membrane's tension crosses zero against its mode: (offset from τ0, membrane).
-    #[allow(clippy::too_many_arguments)]
+    /// The first time inside a trial step `y0` → `y1` (from τ₀ + `t0`, length `h`) on piece
+    /// `mode` where a membrane's tension crosses zero against its mode: (offset from t0,
+    /// membrane).
     fn first_switch(
         &self,
-        x0: f64,
-        v0: f64,
-        x1: f64,
-        v1: f64,
-        tau0: f64,
+        drive: &LocalDrive,
+        y0: [f64; 2],
+        y1: [f64; 2],
+        t0: f64,
         h: f64,
         mode: Mode,
     ) -> Option<(f64, Membrane)> {
         let f = &self.field;
-        let p = &self.params;
-        let a0 = {
-            let (pi, pii) = p.phi_sq_at(tau0);
-            f.accel_in_mode(x0, v0, pi, pii, mode)
+        let ([x0, v0], [x1, v1]) = (y0, y1);
+        let accel_at = |t: f64, x: f64, v: f64| {
+            let (pi, pii) = drive.phi_sq(t);
+            f.accel_in_mode(x, v, pi, pii, mode)
         };
-        let a1 = {
-            let (pi, pii) = p.phi_sq_at(tau0 + h);
-            f.accel_in_mode(x1, v1, pi, pii, mode)
-        };
+        let (a0, a1) = (accel_at(t0, x0, v0), accel_at(t0 + h, x1, v1));
         // switching functions, positive while the mode holds
         let g = |s: f64| -> (f64, f64) {
             let x = hermite::value(x0, v0, x1, v1, h, s);
             let v = hermite::value(v0, a0, v1, a1, h, s);
-            let (pi, pii) = p.phi_sq_at(tau0 + s * h);
+            let (pi, pii) = drive.phi_sq(t0 + s * h);
             let (p_i, p_ii) = f.tensions(x, v, pi, pii);
             (
                 if mode.taut_i { p_i } else { -p_i },
@@ -335,35 +339,34 @@ pub struct StepEnds<const L: usize> {
 }
 
 /// The point where `g` turns negative in (lo, hi], given g(lo) ≥ 0 > g(hi) (or g(lo) < 0,
-/// in which case lo itself): Illinois false position, returning the negative side.
+/// in which case lo itself): regula falsi with the Anderson–Björck correction, stopped when
+/// successive estimates agree to 1e-10 of the step (a switch misplaced by δ costs O(δ²)).
 fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     let (mut a, mut b) = (lo, hi);
     let (mut ga, mut gb) = (g(a), g(b));
     if ga < 0.0 {
         return a;
     }
-    let mut side = 0;
+    let mut last = f64::NAN;
     for _ in 0..60 {
-        if b - a < 1e-12 {
-            break;
-        }
         let c = (a * gb - b * ga) / (gb - ga);
         let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+        if (c - last).abs() < 1e-10 || b - a < 1e-10 {
+            return c;
+        }
+        last = c;
         let gc = g(c);
         if gc < 0.0 {
+            // the root is in (a, c): keep a, scale its value if it was kept before
+            let m = 1.0 - gc / gb;
             b = c;
             gb = gc;
-            if side == -1 {
-                ga *= 0.5;
-            }
-            side = -1;
+            ga *= if m > 0.0 { m } else { 0.5 };
         } else {
+            let m = 1.0 - gc / ga;
             a = c;
             ga = gc;
-            if side == 1 {
-                gb *= 0.5;
-            }
-            side = 1;
+            gb *= if m > 0.0 { m } else { 0.5 };
         }
     }
     b
@@ -410,3 +413,4 @@ mod tests {
         assert!(!lanes.any_alive());
     }
 }
+

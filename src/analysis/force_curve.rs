@@ -1,0 +1,152 @@
+//! Fig 2: the static force f_II − f_I on the mass against the offset Δλ = λ_I − λ_p.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::error::{ParamError, check};
+use crate::model::forces::{gent_poles, net_force};
+use crate::model::{DriveSpec, ParamSpec};
+
+/// Which curves to draw: one per pre-stretch and per static voltage on membrane I.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ForceCurveSpec {
+    /// Pre-stretches λ_p, one curve each.
+    pub lambda_p: Vec<f64>,
+    /// Static voltages φ_I on membrane I, one curve each.
+    pub phi_i: Vec<f64>,
+    /// Gent constant J.
+    pub j: f64,
+    /// Range of Δλ.
+    pub dx_min: f64,
+    pub dx_max: f64,
+    /// Points per curve.
+    pub points: usize,
+}
+
+impl Default for ForceCurveSpec {
+    /// Fig 2A: λ_p ∈ {1.0, 1.02, 1.05} with no voltage.
+    fn default() -> Self {
+        ForceCurveSpec {
+            lambda_p: vec![1.0, 1.02, 1.05],
+            phi_i: vec![0.0],
+            j: 16.0,
+            dx_min: -0.8,
+            dx_max: 0.8,
+            points: 401,
+        }
+    }
+}
+
+/// One curve: its parameters and the (Δλ, f_II − f_I) samples; Δλ outside the model (frames,
+/// Gent limit) is left out.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ForceCurve {
+    pub lambda_p: f64,
+    pub phi_i: f64,
+    pub points: Vec<[f64; 2]>,
+}
+
+/// The static force curves of `spec` (no velocity, no damping force).
+pub fn force_curves(spec: &ForceCurveSpec) -> Result<Vec<ForceCurve>, ParamError> {
+    check(
+        "points",
+        spec.points as f64,
+        |n| (2.0..=1e6).contains(&n),
+        "[2, 1000000]",
+    )?;
+    check(
+        "dx_min",
+        spec.dx_min,
+        |d| d < spec.dx_max,
+        format!("< dx_max = {}", spec.dx_max),
+    )?;
+    check("dx_max", spec.dx_max, |_| true, "finite")?;
+    let mut curves = Vec::new();
+    for &lambda_p in &spec.lambda_p {
+        for &phi_i in &spec.phi_i {
+            let params = ParamSpec {
+                lambda_p,
+                j: spec.j,
+                drive: DriveSpec::Phi {
+                    phi_dc: phi_i,
+                    phi_ac: 0.0,
+                },
+                ..ParamSpec::default()
+            }
+            .build()?;
+            let upper = gent_poles(spec.j).1;
+            let phi_sq = phi_i * phi_i;
+            let points = (0..spec.points)
+                .map(|i| {
+                    spec.dx_min + (spec.dx_max - spec.dx_min) * i as f64 / (spec.points - 1) as f64
+                })
+                .filter(|dx| {
+                    let x = lambda_p + dx;
+                    x > 0.0 && x < 2.0 * lambda_p && x < upper && 2.0 * lambda_p - x < upper
+                })
+                .map(|dx| [dx, net_force(&params, lambda_p + dx, 0.0, phi_sq, 0.0)])
+                .collect();
+            curves.push(ForceCurve {
+                lambda_p,
+                phi_i,
+                points,
+            });
+        }
+    }
+    Ok(curves)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::forces::gent;
+
+    /// Fig 2A: with λ_p = 1 the force is −2g(1+Δλ)... only one membrane pulls for any Δλ ≠ 0;
+    /// with λ_p > 1 both pull near the origin (slope −2g'(λ_p)) and the slope halves where one
+    /// goes slack at λ = 1, i.e. |Δλ| = λ_p − 1.
+    #[test]
+    fn fig2a_shapes() {
+        let curves = force_curves(&ForceCurveSpec::default()).unwrap();
+        assert_eq!(curves.len(), 3);
+        let at = |c: &ForceCurve, dx: f64| {
+            c.points
+                .iter()
+                .min_by(|a, b| (a[0] - dx).abs().total_cmp(&(b[0] - dx).abs()))
+                .unwrap()[1]
+        };
+        // restoring, odd-symmetric with no voltage
+        for c in &curves {
+            for dx in [0.1, 0.3, 0.6] {
+                assert!(at(c, dx) < 0.0 && at(c, -dx) > 0.0);
+                assert!((at(c, dx) + at(c, -dx)).abs() < 1e-12);
+            }
+        }
+        // λ_p = 1.02, Δλ = 0.4: membrane II (λ = 0.64) is slack, the force is −g(1.42)
+        let c = &curves[1];
+        assert!((at(c, 0.4) + gent(1.42, 16.0)).abs() < 1e-12);
+        // with voltage the curve is no longer symmetric (Fig 2B)
+        let spec = ForceCurveSpec {
+            lambda_p: vec![1.02],
+            phi_i: vec![0.0, 0.2, 0.3],
+            ..ForceCurveSpec::default()
+        };
+        let c = force_curves(&spec).unwrap();
+        assert!((at(&c[2], 0.1) + at(&c[2], -0.1)).abs() > 1e-3);
+        // the voltage on membrane I weakens it: the force at Δλ = 0 points to +Δλ
+        assert!(at(&c[1], 0.0) > 0.0 && at(&c[2], 0.0) > at(&c[1], 0.0));
+    }
+
+    #[test]
+    fn bad_spec_names_the_field() {
+        let spec = ForceCurveSpec {
+            points: 1,
+            ..ForceCurveSpec::default()
+        };
+        assert_eq!(force_curves(&spec).unwrap_err().field, "points");
+        let spec = ForceCurveSpec {
+            lambda_p: vec![-1.0],
+            ..ForceCurveSpec::default()
+        };
+        assert_eq!(force_curves(&spec).unwrap_err().field, "lambda_p");
+    }
+}
