@@ -1,10 +1,28 @@
 //! Analyses built on the solvers. Each is a plain function of its spec.
 
+pub mod attractor;
+pub mod basin;
+pub mod batch;
 pub mod force_curve;
+pub mod frequency_response;
+pub mod grid;
+pub mod period_detector;
 pub mod period_map;
+pub mod progress;
 pub mod ratio;
 pub mod steady_state;
+pub mod stepped_sweep;
 
 pub use period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};
+pub use progress::Progress;
 pub use ratio::Ratio;
 pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady_state_with};
+
+/// Why an analysis produced no result.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AnalysisError {
+    #[error(transparent)]
+    Param(#[from] crate::model::ParamError),
+    #[error("cancelled")]
+    Cancelled,
+}

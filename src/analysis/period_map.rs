@@ -27,6 +27,19 @@ impl OrbitRecord {
         }
     }
 
+    /// Adds one fixed step of length `h` from (x0, v0) to (x1, v1): the end sample, an
+    /// extremum inside the step from its cubic Hermite interpolant, and the exact integral of
+    /// that interpolant.
+    pub fn add_step(&mut self, x0: f64, v0: f64, x1: f64, v1: f64, h: f64) {
+        self.include(x1);
+        if let Some((_, peak)) = crate::solver::hermite::interior_extremum(x0, v0, x1, v1, h) {
+            self.include(peak);
+        }
+        self.integral += h * 0.5 * (x0 + x1) + h * h * (v0 - v1) / 12.0;
+        self.duration += h;
+        self.samples.push(x1);
+    }
+
     fn include(&mut self, lambda: f64) {
         self.lambda_min = self.lambda_min.min(lambda);
         self.lambda_max = self.lambda_max.max(lambda);

@@ -6,10 +6,9 @@
 //! transient (Floquet multiplier near −1 or e^{±2πi/3}) thus cannot pass for a 1:2 or 1:3
 //! response, and a converged period-1 orbit is not reported as period 2.
 
-use std::collections::VecDeque;
-
 use serde::{Deserialize, Serialize};
 
+use super::period_detector::PeriodDetector;
 use super::period_map::{OrbitRecord, PeriodMap, Rk4PeriodMap};
 use super::ratio::Ratio;
 use crate::model::Params;
@@ -148,41 +147,22 @@ pub fn steady_state(params: &Params, x0: f64, v0: f64, spec: &SteadyStateSpec) -
 
 /// The steady state reached by any stroboscopic map (fast or reference integrator).
 pub fn steady_state_with(map: &mut impl PeriodMap, spec: &SteadyStateSpec) -> SteadyState {
-    let kmax = spec.max_period;
-    let mut history: VecDeque<[f64; 2]> = VecDeque::with_capacity(2 * kmax + 1);
-    for n in 1..=spec.max_forcing_periods {
+    let mut detector = PeriodDetector::new(spec);
+    while detector.periods() < spec.max_forcing_periods {
         let point = match map.advance() {
             Ok(p) => p,
-            Err(c) => return collided(c, n),
+            Err(c) => return collided(c, detector.periods() + 1),
         };
-        if history.len() == 2 * kmax {
-            history.pop_front();
-        }
-        history.push_back(point);
-        let mismatch: Vec<f64> = (1..=kmax)
-            .take_while(|k| 2 * k <= history.len())
-            .map(|k| period_mismatch(&history, k))
-            .collect();
-        if mismatch.iter().any(|&d| d < spec.tol_converged) {
-            let k = 1 + mismatch
-                .iter()
-                .position(|&d| d < spec.tol_match)
-                .expect("a converged k also matches");
-            return record(map, k, n, Class::Periodic);
+        if let Some(k) = detector.push(point) {
+            return record(map, k, detector.periods(), Class::Periodic);
         }
     }
-    record(map, kmax, spec.max_forcing_periods, Class::NonPeriodic)
-}
-
-/// max over the last k points of the distance to the point k periods earlier.
-fn period_mismatch(history: &VecDeque<[f64; 2]>, k: usize) -> f64 {
-    let n = history.len();
-    (0..k)
-        .map(|j| {
-            let (a, b) = (history[n - 1 - j], history[n - 1 - j - k]);
-            (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
-        })
-        .fold(0.0, f64::max)
+    record(
+        map,
+        spec.max_period,
+        spec.max_forcing_periods,
+        Class::NonPeriodic,
+    )
 }
 
 /// Follows the response for `k` more periods, recording it, and builds the result.
@@ -195,6 +175,18 @@ fn record(map: &mut impl PeriodMap, k: usize, n: usize, class: Class) -> SteadyS
             Err(c) => return collided(c, n),
         }
     }
+    from_record(&rec, poincare, k, n, class)
+}
+
+/// The result for a response followed over `k` forcing periods into `rec`, after `n`
+/// transient periods.
+pub(crate) fn from_record(
+    rec: &OrbitRecord,
+    poincare: Vec<[f64; 2]>,
+    k: usize,
+    n: usize,
+    class: Class,
+) -> SteadyState {
     let periodic = class == Class::Periodic;
     SteadyState {
         class,
@@ -210,7 +202,7 @@ fn record(map: &mut impl PeriodMap, k: usize, n: usize, class: Class) -> SteadyS
     }
 }
 
-fn collided(c: Collision, n: usize) -> SteadyState {
+pub(crate) fn collided(c: Collision, n: usize) -> SteadyState {
     SteadyState {
         class: Class::Collision,
         period: None,

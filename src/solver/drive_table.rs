@@ -3,11 +3,13 @@
 
 use crate::model::Params;
 
-/// φ_I² and φ_II² at τ = k·h/2, k = 0..=2n, over one period T = n·h.
+/// φ_I² and φ_II² at τ = k·h/2, k = 0..=2n, over one period T = n·h, and the drive
+/// anchored at each step's start for the split steps.
 #[derive(Debug, Clone)]
 pub struct DriveTable {
     phi_sq_i: Vec<f64>,
     phi_sq_ii: Vec<f64>,
+    step_starts: Vec<LocalDrive>,
 }
 
 impl DriveTable {
@@ -17,10 +19,20 @@ impl DriveTable {
         let (phi_sq_i, phi_sq_ii) = (0..=2 * n)
             .map(|k| p.phi_sq_at(k as f64 * half_step))
             .unzip();
+        let step_starts = (0..n)
+            .map(|k| LocalDrive::new(p, 2.0 * k as f64 * half_step))
+            .collect();
         DriveTable {
             phi_sq_i,
             phi_sq_ii,
+            step_starts,
         }
+    }
+
+    /// The drive anchored at the start of step `k`.
+    #[inline]
+    pub fn step_start(&self, k: usize) -> &LocalDrive {
+        &self.step_starts[k]
     }
 
     /// (φ_I², φ_II²) at half-step `k` of the period.

@@ -45,6 +45,8 @@ pub struct Lanes<const L: usize> {
     pub collision: [Option<Collision>; L],
     /// Whole forcing periods done.
     pub period: u64,
+    /// The period at which each lane's trajectory started (collision times count from it).
+    start_period: [u64; L],
 }
 
 impl<const L: usize> Lanes<L> {
@@ -96,6 +98,7 @@ impl Rk4 {
             mode: [0.0; L],
             collision: [None; L],
             period: 0,
+            start_period: [0; L],
         };
         for i in 0..L {
             if !(x[i].is_finite() && v[i].is_finite() && self.field.inside(x[i])) {
@@ -119,7 +122,6 @@ impl Rk4 {
         let (h, f) = (self.h, &self.field);
         let half = 0.5 * h;
         let sixth = h / 6.0;
-        let tau_start = lanes.period as f64 * self.params.period();
         for k in 0..self.n {
             let (phi_i_mid, phi_ii_mid) = self.table.at(2 * k + 1);
             let (phi_i_end, phi_ii_end) = self.table.at(2 * k + 2);
@@ -174,20 +176,25 @@ impl Rk4 {
                 lanes.mode[i] = m_end;
             }
             if trouble {
-                let tau0 = tau_start + k as f64 * h;
+                // the drive is T-periodic: split steps are anchored at the step's phase within
+                // the period, so a trajectory never depends on how many periods its lane ran
+                let phase_tau = k as f64 * h;
                 for i in 0..L {
                     if lanes.collision[i].is_some() {
                         continue;
                     }
                     if switched[i] {
                         let start_mode = Mode::from_code(mode0[i]);
-                        let (x, v) = self.split_step(x0[i], v0[i], tau0, h, start_mode);
+                        let unsplit = ([lanes.x[i], lanes.v[i]], lanes.a[i]);
+                        let drive = self.table.step_start(k);
+                        let [x, v] = self.split_step([x0[i], v0[i]], drive, h, start_mode, unsplit);
                         lanes.x[i] = x;
                         lanes.v[i] = v;
                         (lanes.a[i], lanes.mode[i]) = f.accel_coded(x, v, phi_i_end, phi_ii_end);
                     }
                     if !(f.inside(lanes.x[i]) && lanes.v[i].is_finite()) {
-                        self.freeze(lanes, i, tau0 + h);
+                        let periods = (lanes.period - lanes.start_period[i]) as f64;
+                        self.freeze(lanes, i, periods * self.params.period() + phase_tau + h);
                     }
                 }
             }
@@ -199,6 +206,26 @@ impl Rk4 {
             observe(k, &before, &after);
         }
         lanes.period += 1;
+    }
+
+    /// Puts a new trajectory in lane `i`, starting at the current period boundary (forcing
+    /// phase 0, as at τ = 0).
+    pub fn restart_lane<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize, x: f64, v: f64) {
+        lanes.collision[i] = None;
+        lanes.start_period[i] = lanes.period;
+        lanes.x[i] = x;
+        lanes.v[i] = v;
+        if !(x.is_finite() && v.is_finite() && self.field.inside(x)) {
+            self.freeze(lanes, i, 0.0);
+            return;
+        }
+        let (phi_i, phi_ii) = self.table.at(0);
+        (lanes.a[i], lanes.mode[i]) = self.field.accel_coded(x, v, phi_i, phi_ii);
+    }
+
+    /// Parks lane `i` with no trajectory in it (reported as a collision at τ = 0).
+    pub fn park_lane<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize) {
+        self.freeze(lanes, i, 0.0);
     }
 
     /// Marks lane `i` as collided at `tau` and parks it at rest at λ_p.
@@ -216,13 +243,13 @@ impl Rk4 {
     fn step_in_mode(
         &self,
         drive: &LocalDrive,
-        x: f64,
-        v: f64,
+        y: [f64; 2],
         t: f64,
         h: f64,
         mode: Mode,
-    ) -> (f64, f64) {
+    ) -> [f64; 2] {
         let f = &self.field;
+        let [x, v] = y;
         let (pi0, pii0) = drive.phi_sq(t);
         let (pim, piim) = drive.phi_sq(t + 0.5 * h);
         let (pi1, pii1) = drive.phi_sq(t + h);
@@ -233,59 +260,92 @@ impl Rk4 {
         let a3 = f.accel_in_mode(x3, v3, pim, piim, mode);
         let (x4, v4) = (x + h * v3, v + h * a3);
         let a4 = f.accel_in_mode(x4, v4, pi1, pii1, mode);
-        (
+        [
             x + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
             v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
-        )
+        ]
     }
 
-    /// A step of length `h` from τ₀ split at every switch of a membrane between taut and
-    /// slack, each piece integrated on its own smooth piece of the field.
-    pub fn split_step(&self, x0: f64, v0: f64, tau0: f64, h: f64, mode0: Mode) -> (f64, f64) {
-        let drive = LocalDrive::new(&self.params, tau0);
-        // time is counted from τ₀ inside the step
-        let (mut x, mut v, mut t, mut mode) = (x0, v0, 0.0, mode0);
+    /// A step of length `h` from τ₀ (where `drive` is anchored) split where a membrane switches between taut and
+    /// slack, each side integrated on its own smooth piece. `unsplit` is the same step taken
+    /// through the kink (its end state and true acceleration there): its cubic Hermite
+    /// interpolant places the switch to O(h³), and a switch misplaced by δ costs only O(δ²),
+    /// so two sub-steps finish the job. Anything less simple (no sign change on that
+    /// interpolant, or another switch after the first) goes to [`Self::split_from`].
+    pub fn split_step(
+        &self,
+        start: [f64; 2],
+        drive: &LocalDrive,
+        h: f64,
+        mode0: Mode,
+        unsplit: ([f64; 2], f64),
+    ) -> [f64; 2] {
+        let f = &self.field;
+        let a0 = {
+            let (pi, pii) = drive.phi_sq(0.0);
+            f.accel_in_mode(start[0], start[1], pi, pii, mode0)
+        };
+        let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0) else {
+            return self.split_from(drive, start, 0.0, h, mode0);
+        };
+        let s = switch.at;
+        let at_switch = self.step_in_mode(drive, start, 0.0, s, mode0);
+        let mode1 = mode0.flipped(switch.membrane);
+        let end = self.step_in_mode(drive, at_switch, s, h - s, mode1);
+        let (pi, pii) = drive.phi_sq(h);
+        if f.mode_at(end[0], end[1], pi, pii) == mode1 {
+            end
+        } else {
+            self.split_from(drive, at_switch, s, h, mode1)
+        }
+    }
+
+    /// The careful split: from time `t` of a step of length `h`, take trial steps on the
+    /// current piece, locate the first switch on each, and go on from it.
+    fn split_from(&self, drive: &LocalDrive, y: [f64; 2], t: f64, h: f64, mode: Mode) -> [f64; 2] {
+        let f = &self.field;
+        let (mut y, mut t, mut mode) = (y, t, mode);
+        let accel = |t: f64, y: [f64; 2], mode: Mode| {
+            let (pi, pii) = drive.phi_sq(t);
+            f.accel_in_mode(y[0], y[1], pi, pii, mode)
+        };
         for _ in 0..MAX_SWITCHES_PER_STEP {
             let hs = h - t;
             if hs <= 0.0 {
-                break;
+                return y;
             }
-            let (x1, v1) = self.step_in_mode(&drive, x, v, t, hs, mode);
-            match self.first_switch(&drive, [x, v], [x1, v1], t, hs, mode) {
-                None => return (x1, v1),
-                Some((s, membrane)) => {
-                    (x, v) = self.step_in_mode(&drive, x, v, t, s, mode);
-                    t += s;
-                    mode = mode.flipped(membrane);
+            let y1 = self.step_in_mode(drive, y, t, hs, mode);
+            let ends = ((y, accel(t, y, mode)), (y1, accel(t + hs, y1, mode)));
+            match self.first_switch(drive, ends.0, ends.1, t, hs, mode) {
+                None => return y1,
+                Some(switch) => {
+                    y = self.step_in_mode(drive, y, t, switch.at, mode);
+                    t += switch.at;
+                    mode = mode.flipped(switch.membrane);
                 }
             }
         }
         let hs = h - t;
         if hs > 0.0 {
-            (x, v) = self.step_in_mode(&drive, x, v, t, hs, mode);
+            y = self.step_in_mode(drive, y, t, hs, mode);
         }
-        (x, v)
+        y
     }
 
-    /// The first time inside a trial step `y0` → `y1` (from τ₀ + `t0`, length `h`) on piece
-    /// `mode` where a membrane's tension crosses zero against its mode: (offset from t0,
-    /// membrane).
+    /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
+    /// after `h`, on piece `mode`, where a membrane's tension crosses zero against its mode,
+    /// located on the step's cubic Hermite interpolant: (offset from t0, membrane).
     fn first_switch(
         &self,
         drive: &LocalDrive,
-        y0: [f64; 2],
-        y1: [f64; 2],
+        (y0, a0): ([f64; 2], f64),
+        (y1, a1): ([f64; 2], f64),
         t0: f64,
         h: f64,
         mode: Mode,
-    ) -> Option<(f64, Membrane)> {
+    ) -> Option<Switch> {
         let f = &self.field;
         let ([x0, v0], [x1, v1]) = (y0, y1);
-        let accel_at = |t: f64, x: f64, v: f64| {
-            let (pi, pii) = drive.phi_sq(t);
-            f.accel_in_mode(x, v, pi, pii, mode)
-        };
-        let (a0, a1) = (accel_at(t0, x0, v0), accel_at(t0 + h, x1, v1));
         // switching functions, positive while the mode holds
         let g = |s: f64| -> (f64, f64) {
             let x = hermite::value(x0, v0, x1, v1, h, s);
@@ -318,16 +378,39 @@ impl Rk4 {
         }?;
         let (lo, hi, gi, gii) = bracket;
         // locate each membrane's crossing, keep the earlier
-        let root_i = (gi < 0.0).then(|| crossing(|s| g(s).0, lo, hi));
-        let root_ii = (gii < 0.0).then(|| crossing(|s| g(s).1, lo, hi));
+        // one membrane's switching function along the interpolant
+        let along = |m: Membrane, s: f64| {
+            let x = hermite::value(x0, v0, x1, v1, h, s);
+            let v = hermite::value(v0, a0, v1, a1, h, s);
+            let (pi, pii) = drive.phi_sq(t0 + s * h);
+            let p = f.tension_of(m, x, v, pi, pii);
+            let taut = match m {
+                Membrane::I => mode.taut_i,
+                Membrane::Ii => mode.taut_ii,
+            };
+            if taut { p } else { -p }
+        };
+        let root_i = (gi < 0.0).then(|| crossing(|s| along(Membrane::I, s), lo, hi, gi));
+        let root_ii = (gii < 0.0).then(|| crossing(|s| along(Membrane::Ii, s), lo, hi, gii));
         let (s_root, membrane) = match (root_i, root_ii) {
             (Some(a), Some(b)) if b < a => (b, Membrane::Ii),
             (Some(a), _) => (a, Membrane::I),
             (None, Some(b)) => (b, Membrane::Ii),
             (None, None) => unreachable!("one switching function is negative"),
         };
-        Some((s_root * h, membrane))
+        Some(Switch {
+            at: s_root * h,
+            membrane,
+        })
     }
+}
+
+/// A located switch inside a step.
+#[derive(Debug, Clone, Copy)]
+struct Switch {
+    /// Time from the start of the (sub-)step.
+    at: f64,
+    membrane: Membrane,
 }
 
 /// The end points of one RK4 step: λ_I, velocity and acceleration of each lane.
@@ -338,12 +421,13 @@ pub struct StepEnds<const L: usize> {
     pub a: [f64; L],
 }
 
-/// The point where `g` turns negative in (lo, hi], given g(lo) ≥ 0 > g(hi) (or g(lo) < 0,
-/// in which case lo itself): regula falsi with the Anderson–Björck correction, stopped when
-/// successive estimates agree to 1e-10 of the step (a switch misplaced by δ costs O(δ²)).
-fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+/// The point where `g` turns negative in (lo, hi], given g(hi) = `g_hi` < 0 (if g(lo) < 0
+/// too, lo itself): regula falsi with the Anderson–Björck correction, stopped when successive
+/// estimates agree to 1e-6 of the step. A switch misplaced by δ costs only O(δ²), and the
+/// interpolant itself is good to O(h³), so more digits would buy nothing.
+fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64, g_hi: f64) -> f64 {
     let (mut a, mut b) = (lo, hi);
-    let (mut ga, mut gb) = (g(a), g(b));
+    let (mut ga, mut gb) = (g(a), g_hi);
     if ga < 0.0 {
         return a;
     }
@@ -351,7 +435,7 @@ fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     for _ in 0..60 {
         let c = (a * gb - b * ga) / (gb - ga);
         let c = if c > a && c < b { c } else { 0.5 * (a + b) };
-        if (c - last).abs() < 1e-10 || b - a < 1e-10 {
+        if (c - last).abs() < 1e-6 || b - a < 1e-6 {
             return c;
         }
         last = c;
@@ -413,4 +497,3 @@ mod tests {
         assert!(!lanes.any_alive());
     }
 }
-

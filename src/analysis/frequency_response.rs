@@ -1,0 +1,419 @@
+//! Fig 4/5: the frequency response from many initial states. For each ω_e of a grid, a grid of
+//! initial states is integrated to steady state and identical attractors are merged; each ω_e
+//! is then seeded with the responses found at its neighbours so narrow branches are not
+//! missed; stepped sweeps up and down mark the responses no sweep reaches as hidden; and
+//! responses are chained across ω_e into branches.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::AnalysisError;
+use super::Ratio;
+use super::attractor::{SAME_POINT_TOL, same_attractor};
+use super::batch::{KnownAttractors, steady_states};
+use super::grid::Axis;
+use super::progress::Progress;
+use super::steady_state::{Class, SteadyState, SteadyStateSpec};
+use super::stepped_sweep::{SweepStep, stepped_sweep};
+use crate::model::Params;
+use crate::model::error::check;
+
+/// Largest number of trajectories one frequency response may ask for.
+pub const MAX_TRAJECTORIES: usize = 1 << 24;
+/// Rounds of neighbour seeding at most (each is one pass up and one down).
+const MAX_SEED_ROUNDS: usize = 4;
+/// Poincaré sets of one branch at adjacent ω_e lie within this distance (max-norm).
+const BRANCH_LINK_DISTANCE: f64 = 0.15;
+
+/// A frequency-response computation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FrequencyResponseSpec {
+    /// Forcing frequencies ω_e.
+    pub omega: Axis,
+    /// Initial displacements Δλ of the grid of initial states.
+    pub dx: Axis,
+    /// Initial velocities of the grid.
+    pub v: Axis,
+    pub steady: SteadyStateSpec,
+    /// Seed each ω_e with the responses found at its neighbours.
+    pub seed_neighbours: bool,
+    /// Run stepped sweeps up and down to mark hidden responses.
+    pub sweeps: bool,
+    /// Stop trajectories that shadow an attractor already found at the same ω_e.
+    pub early_stop: bool,
+    /// Shadowing distance for the early stop.
+    pub capture: f64,
+}
+
+impl Default for FrequencyResponseSpec {
+    /// Fig 4: ω_e from 0.2 to 6 by 0.05, 15 × 15 initial states.
+    fn default() -> Self {
+        FrequencyResponseSpec {
+            omega: Axis::new(0.2, 6.0, 117),
+            dx: Axis::new(-0.8, 0.8, 15),
+            v: Axis::new(-1.0, 1.0, 15),
+            steady: SteadyStateSpec::default(),
+            seed_neighbours: true,
+            sweeps: true,
+            early_stop: true,
+            capture: 1e-2,
+        }
+    }
+}
+
+/// One distinct steady response at one ω_e.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Response {
+    pub omega_index: usize,
+    pub omega: f64,
+    pub steady: SteadyState,
+    /// Initial states of the grid that reached it.
+    pub count: usize,
+    /// count over the grid's size.
+    pub share: f64,
+    /// First found from a neighbour's response rather than from the grid.
+    pub seeded: bool,
+    /// Neither stepped sweep reaches it (periodic responses, when sweeps were run).
+    pub hidden: Option<bool>,
+    /// The branch it belongs to (periodic responses).
+    pub branch: Option<usize>,
+}
+
+/// Responses of one type chained across adjacent ω_e.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Branch {
+    pub id: usize,
+    pub period: usize,
+    pub ratio: Ratio,
+    pub response_type: String,
+    pub omega_min: f64,
+    pub omega_max: f64,
+    pub peak_amplitude: f64,
+    pub peak_omega: f64,
+    pub points: usize,
+    /// Every response on it is hidden.
+    pub hidden: bool,
+    /// Some response on it is hidden.
+    pub partly_hidden: bool,
+}
+
+/// The full result.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrequencyResponse {
+    pub omegas: Vec<f64>,
+    /// Ordered by ω_e, then by first appearance.
+    pub responses: Vec<Response>,
+    pub branches: Vec<Branch>,
+    pub forward: Vec<SweepStep>,
+    pub backward: Vec<SweepStep>,
+}
+
+impl FrequencyResponse {
+    /// The responses at ω_e index `i`.
+    pub fn at(&self, i: usize) -> impl Iterator<Item = &Response> {
+        self.responses.iter().filter(move |r| r.omega_index == i)
+    }
+}
+
+/// Computes the frequency response of `params` (its ω_e is replaced by the spec's grid).
+pub fn frequency_response(
+    params: &Params,
+    spec: &FrequencyResponseSpec,
+    progress: &Progress,
+) -> Result<FrequencyResponse, AnalysisError> {
+    spec.omega.validate("omega", 100_000)?;
+    check("omega", spec.omega.min, |w| w > 0.0, "> 0")?;
+    spec.dx.validate("dx", 4096)?;
+    spec.v.validate("v", 4096)?;
+    spec.steady.validate()?;
+    check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+    let grid_size = spec.dx.points * spec.v.points;
+    let total = grid_size * spec.omega.points;
+    check(
+        "trajectories",
+        total as f64,
+        |t| t <= MAX_TRAJECTORIES as f64,
+        format!("<= {MAX_TRAJECTORIES} (ω points × initial states)"),
+    )?;
+    let omegas = spec.omega.values();
+    let at_omega: Vec<Params> = omegas
+        .iter()
+        .map(|&w| params.with_omega(w))
+        .collect::<Result<_, _>>()?;
+    let sweep_steps = if spec.sweeps { 2 * omegas.len() } else { 0 };
+    progress.set_total(total + sweep_steps);
+    let ics: Vec<[f64; 2]> = (0..grid_size)
+        .map(|c| {
+            [
+                params.lambda_p() + spec.dx.at(c / spec.v.points),
+                spec.v.at(c % spec.v.points),
+            ]
+        })
+        .collect();
+    let cancel = progress.cancel_flag();
+
+    // 1. the grid of initial states at every ω_e
+    let per_omega: Vec<Option<Vec<Response>>> = at_omega
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut known = spec.early_stop.then(|| KnownAttractors::new(spec.capture));
+            let outcomes = steady_states(p, &ics, &spec.steady, known.as_mut(), cancel, |_| {
+                progress.add(1)
+            })?;
+            let mut found: Vec<Response> = Vec::new();
+            for s in outcomes {
+                match found.iter_mut().find(|r| same_response(&r.steady, &s)) {
+                    Some(r) => r.count += 1,
+                    None => found.push(Response {
+                        omega_index: i,
+                        omega: omegas[i],
+                        steady: s,
+                        count: 1,
+                        share: 0.0,
+                        seeded: false,
+                        hidden: None,
+                        branch: None,
+                    }),
+                }
+            }
+            for r in &mut found {
+                r.share = r.count as f64 / grid_size as f64;
+            }
+            Some(found)
+        })
+        .collect();
+    let mut per_omega: Vec<Vec<Response>> = per_omega
+        .into_iter()
+        .collect::<Option<_>>()
+        .ok_or(AnalysisError::Cancelled)?;
+
+    // 2. seed each ω_e with its neighbours' responses until nothing new turns up
+    if spec.seed_neighbours && omegas.len() > 1 {
+        for _ in 0..MAX_SEED_ROUNDS {
+            let mut new = 0;
+            let up: Vec<usize> = (1..omegas.len()).collect();
+            let down: Vec<usize> = (0..omegas.len() - 1).rev().collect();
+            for (order, from) in [(up, -1isize), (down, 1)] {
+                for i in order {
+                    let j = (i as isize + from) as usize;
+                    new += seed_from(&mut per_omega, i, j, &at_omega[i], spec, cancel)?;
+                }
+            }
+            if new == 0 {
+                break;
+            }
+        }
+    }
+
+    // 3. stepped sweeps up and down for the hidden flags
+    let (forward, backward) = if spec.sweeps {
+        let rest = [params.lambda_p(), 0.0];
+        let down: Vec<f64> = omegas.iter().rev().copied().collect();
+        let (fw, bw) = rayon::join(
+            || {
+                stepped_sweep(params, &omegas, rest, &spec.steady, cancel, |_| {
+                    progress.add(1)
+                })
+            },
+            || {
+                stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| {
+                    progress.add(1)
+                })
+            },
+        );
+        let (fw, mut bw) = (fw?, bw?);
+        bw.reverse();
+        for (i, responses) in per_omega.iter_mut().enumerate() {
+            for r in responses
+                .iter_mut()
+                .filter(|r| r.steady.class == Class::Periodic)
+            {
+                let reached = [&fw[i], &bw[i]]
+                    .iter()
+                    .any(|step| same_attractor(&step.steady, &r.steady, SWEEP_MATCH_TOL));
+                r.hidden = Some(!reached);
+            }
+        }
+        (fw, bw)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+
+    let mut responses: Vec<Response> = per_omega.into_iter().flatten().collect();
+    let branches = link_branches(&mut responses, omegas.len());
+    Ok(FrequencyResponse {
+        omegas,
+        responses,
+        branches,
+        forward,
+        backward,
+    })
+}
+
+/// Sweep states converge to 1e-9 like the grid's; allow a little more for the different start.
+const SWEEP_MATCH_TOL: f64 = 1e-4;
+
+/// Same attractor, or the same non-periodic/collision class.
+fn same_response(a: &SteadyState, b: &SteadyState) -> bool {
+    match a.class {
+        Class::Periodic => same_attractor(a, b, SAME_POINT_TOL),
+        other => b.class == other,
+    }
+}
+
+/// Integrates the periodic responses of ω_e index `from` at index `i`; adds what is new.
+fn seed_from(
+    per_omega: &mut [Vec<Response>],
+    i: usize,
+    from: usize,
+    params: &Params,
+    spec: &FrequencyResponseSpec,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<usize, AnalysisError> {
+    let seeds: Vec<[f64; 2]> = per_omega[from]
+        .iter()
+        .filter(|r| r.steady.class == Class::Periodic)
+        .flat_map(|r| r.steady.poincare.iter().copied())
+        .collect();
+    if seeds.is_empty() {
+        return Ok(0);
+    }
+    let mut known = KnownAttractors::new(spec.capture);
+    for r in &per_omega[i] {
+        known.learn(&r.steady, SAME_POINT_TOL);
+    }
+    let outcomes = steady_states(
+        params,
+        &seeds,
+        &spec.steady,
+        Some(&mut known),
+        cancel,
+        |_| {},
+    )
+    .ok_or(AnalysisError::Cancelled)?;
+    let mut new = 0;
+    for s in outcomes {
+        if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))
+        {
+            per_omega[i].push(Response {
+                omega_index: i,
+                omega: params.omega(),
+                steady: s,
+                count: 0,
+                share: 0.0,
+                seeded: true,
+                hidden: None,
+                branch: None,
+            });
+            new += 1;
+        }
+    }
+    Ok(new)
+}
+
+/// Distance between two periodic responses' Poincaré sets (best cyclic alignment).
+fn set_distance(a: &SteadyState, b: &SteadyState) -> f64 {
+    let (p, q) = (&a.poincare, &b.poincare);
+    let k = p.len();
+    if k == 0 || k != q.len() {
+        return f64::INFINITY;
+    }
+    (0..k)
+        .map(|shift| {
+            (0..k)
+                .map(|j| {
+                    let (u, w) = (p[j], q[(j + shift) % k]);
+                    (u[0] - w[0]).abs().max((u[1] - w[1]).abs())
+                })
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Chains periodic responses of the same period and ratio across adjacent ω_e (closest pairs
+/// first, each response linked at most once each way) and summarises each chain.
+fn link_branches(responses: &mut [Response], n_omega: usize) -> Vec<Branch> {
+    let n = responses.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let by_omega: Vec<Vec<usize>> = (0..n_omega)
+        .map(|w| (0..n).filter(|&r| responses[r].omega_index == w).collect())
+        .collect();
+    for w in 1..n_omega {
+        let mut pairs = Vec::new();
+        for &a in &by_omega[w - 1] {
+            for &b in &by_omega[w] {
+                let (ra, rb) = (&responses[a].steady, &responses[b].steady);
+                if ra.class == Class::Periodic
+                    && rb.class == Class::Periodic
+                    && ra.period == rb.period
+                    && ra.ratio == rb.ratio
+                {
+                    let d = set_distance(ra, rb);
+                    if d < BRANCH_LINK_DISTANCE {
+                        pairs.push((d, a, b));
+                    }
+                }
+            }
+        }
+        pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let (mut used_a, mut used_b) = (Vec::new(), Vec::new());
+        for (_, a, b) in pairs {
+            if !used_a.contains(&a) && !used_b.contains(&b) {
+                used_a.push(a);
+                used_b.push(b);
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[rb.max(ra)] = ra.min(rb);
+            }
+        }
+    }
+    let mut branches: Vec<Branch> = Vec::new();
+    let mut id_of_root: Vec<Option<usize>> = vec![None; n];
+    #[allow(clippy::needless_range_loop)] // r is also a node of the union-find
+    for r in 0..n {
+        if responses[r].steady.class != Class::Periodic {
+            continue;
+        }
+        let root_r = root(&mut parent, r);
+        let id = *id_of_root[root_r].get_or_insert_with(|| {
+            let s = &responses[r].steady;
+            branches.push(Branch {
+                id: branches.len(),
+                period: s.period.unwrap_or(0),
+                ratio: s.ratio.unwrap_or(Ratio::new(0, 1)),
+                response_type: s.response_type(),
+                omega_min: f64::INFINITY,
+                omega_max: f64::NEG_INFINITY,
+                peak_amplitude: f64::NEG_INFINITY,
+                peak_omega: 0.0,
+                points: 0,
+                hidden: true,
+                partly_hidden: false,
+            });
+            branches.len() - 1
+        });
+        let resp = &mut responses[r];
+        resp.branch = Some(id);
+        let b = &mut branches[id];
+        b.omega_min = b.omega_min.min(resp.omega);
+        b.omega_max = b.omega_max.max(resp.omega);
+        let amp = resp.steady.amplitude.unwrap_or(0.0);
+        if amp > b.peak_amplitude {
+            b.peak_amplitude = amp;
+            b.peak_omega = resp.omega;
+        }
+        b.points += 1;
+        let hidden = resp.hidden.unwrap_or(false);
+        b.hidden &= hidden;
+        b.partly_hidden |= hidden;
+    }
+    branches
+}

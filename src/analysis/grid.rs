@@ -1,0 +1,67 @@
+//! Evenly spaced axes for grids of initial states and parameter ranges.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::error::{ParamError, check};
+
+/// `points` values from `min` to `max` inclusive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axis {
+    pub min: f64,
+    pub max: f64,
+    pub points: usize,
+}
+
+impl Axis {
+    pub fn new(min: f64, max: f64, points: usize) -> Self {
+        Axis { min, max, points }
+    }
+
+    /// Checks the range and that 1 ≤ points ≤ `max_points`; names the axis in the error.
+    pub fn validate(&self, name: &'static str, max_points: usize) -> Result<(), ParamError> {
+        check(name, self.min, |_| true, "a finite number")?;
+        check(
+            name,
+            self.max,
+            |m| m >= self.min,
+            format!(">= min = {}", self.min),
+        )?;
+        check(
+            name,
+            self.points as f64,
+            |n| n >= 1.0 && n <= max_points as f64,
+            format!("between 1 and {max_points} points"),
+        )?;
+        if self.points == 1 && self.max != self.min {
+            return Err(ParamError {
+                field: name,
+                value: self.points as f64,
+                allowed: "at least 2 points for a range with max > min".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The i-th value.
+    pub fn at(&self, i: usize) -> f64 {
+        if self.points <= 1 {
+            self.min
+        } else {
+            self.min + (self.max - self.min) * i as f64 / (self.points - 1) as f64
+        }
+    }
+
+    pub fn values(&self) -> Vec<f64> {
+        (0..self.points).map(|i| self.at(i)).collect()
+    }
+
+    /// The step between values (0 for a single point).
+    pub fn step(&self) -> f64 {
+        if self.points <= 1 {
+            0.0
+        } else {
+            (self.max - self.min) / (self.points - 1) as f64
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! The two-stage period test of MODEL.md §4b on a stream of stroboscopic points.
+
+use std::collections::VecDeque;
+
+use super::steady_state::SteadyStateSpec;
+
+/// Watches stroboscopic points and says when, and with which period, they have converged.
+#[derive(Debug, Clone)]
+pub struct PeriodDetector {
+    history: VecDeque<[f64; 2]>,
+    max_period: usize,
+    tol_converged: f64,
+    tol_match: f64,
+    periods: usize,
+}
+
+impl PeriodDetector {
+    pub fn new(spec: &SteadyStateSpec) -> Self {
+        PeriodDetector {
+            history: VecDeque::with_capacity(2 * spec.max_period + 1),
+            max_period: spec.max_period,
+            tol_converged: spec.tol_converged,
+            tol_match: spec.tol_match,
+            periods: 0,
+        }
+    }
+
+    /// Forcing periods seen so far.
+    pub fn periods(&self) -> usize {
+        self.periods
+    }
+
+    /// Takes the next point; returns the period k once some k ≤ `max_period` repeats to
+    /// `tol_converged`: the smallest k that repeats to `tol_match`.
+    pub fn push(&mut self, point: [f64; 2]) -> Option<usize> {
+        self.periods += 1;
+        if self.history.len() == 2 * self.max_period {
+            self.history.pop_front();
+        }
+        self.history.push_back(point);
+        // cheap precheck: the newest point must be back within tol_converged of the point k
+        // periods before for some k, or nothing has converged
+        let n = self.history.len();
+        let newest = self.history[n - 1];
+        let near = |k: usize| {
+            let b = self.history[n - 1 - k];
+            (newest[0] - b[0]).abs().max((newest[1] - b[1]).abs()) < self.tol_converged
+        };
+        if !(1..=self.max_period).any(|k| 2 * k <= n && near(k)) {
+            return None;
+        }
+        let mut smallest_match = None;
+        for k in 1..=self.max_period {
+            if 2 * k > n {
+                break;
+            }
+            let d = self.mismatch(k);
+            if d < self.tol_match && smallest_match.is_none() {
+                smallest_match = Some(k);
+            }
+            if d < self.tol_converged {
+                return smallest_match;
+            }
+        }
+        None
+    }
+
+    /// max over the last k points of the distance to the point k periods earlier.
+    fn mismatch(&self, k: usize) -> f64 {
+        let h = &self.history;
+        let n = h.len();
+        (0..k)
+            .map(|j| {
+                let (a, b) = (h[n - 1 - j], h[n - 1 - j - k]);
+                (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
+            })
+            .fold(0.0, f64::max)
+    }
+}

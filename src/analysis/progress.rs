@@ -1,0 +1,54 @@
+//! Progress and cancellation shared between an analysis and whoever watches it.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Counters a viewer polls: work done of total, and the cancel flag it may set.
+#[derive(Debug, Default)]
+pub struct Progress {
+    done: AtomicUsize,
+    total: AtomicUsize,
+    cancel: AtomicBool,
+}
+
+impl Progress {
+    pub fn new(total: usize) -> Self {
+        Progress {
+            total: AtomicUsize::new(total),
+            ..Progress::default()
+        }
+    }
+
+    /// (done, total).
+    pub fn get(&self) -> (usize, usize) {
+        (
+            self.done.load(Ordering::Relaxed),
+            self.total.load(Ordering::Relaxed),
+        )
+    }
+
+    /// Fraction done in [0, 1].
+    pub fn fraction(&self) -> f64 {
+        let (d, t) = self.get();
+        if t == 0 { 1.0 } else { d as f64 / t as f64 }
+    }
+
+    pub fn add(&self, n: usize) {
+        self.done.fetch_add(n, Ordering::Relaxed);
+    }
+
+    pub fn set_total(&self, total: usize) {
+        self.total.store(total, Ordering::Relaxed);
+    }
+
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    pub fn cancel_flag(&self) -> &AtomicBool {
+        &self.cancel
+    }
+
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}

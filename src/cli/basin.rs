@@ -1,0 +1,82 @@
+//! `isola basin`: the basin of attraction on a grid of initial states.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use isola::analysis::Progress;
+use isola::analysis::basin::{BasinSpec, basin};
+use isola::analysis::grid::Axis;
+use isola::jobs::JobContext;
+
+use super::model_args::ModelArgs;
+use super::output;
+use super::parse;
+
+#[derive(Debug, Args)]
+pub struct BasinArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Grid size NΔλ x Nv.
+    #[arg(long, default_value = "201x251", value_parser = parse::grid)]
+    grid: (usize, usize),
+    /// Range of initial Δλ.
+    #[arg(long = "dx-range", default_value = "-0.8:0.8", value_parser = parse::interval, allow_hyphen_values = true)]
+    dx_range: (f64, f64),
+    /// Range of initial velocity.
+    #[arg(long = "v-range", default_value = "-1:1", value_parser = parse::interval, allow_hyphen_values = true)]
+    v_range: (f64, f64),
+    /// Integrate every cell to full convergence (no early stop on known attractors).
+    #[arg(long = "no-early-stop")]
+    no_early_stop: bool,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write one row per cell to this CSV file, and the attractor table beside it.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
+    let params = args.model.params()?;
+    let spec = BasinSpec {
+        dx: Axis::new(args.dx_range.0, args.dx_range.1, args.grid.0),
+        v: Axis::new(args.v_range.0, args.v_range.1, args.grid.1),
+        early_stop: !args.no_early_stop,
+        ..BasinSpec::default()
+    };
+    let progress = std::sync::Arc::new(Progress::new(0));
+    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let started = Instant::now();
+    let result = ctx.run(|| basin(&params, &spec, &progress, &|_| {}))??;
+    let elapsed = started.elapsed();
+    println!(
+        "basin {}x{} at ADR {}, ω_e {}: {} cells in {:.2} s ({} threads)",
+        args.grid.0,
+        args.grid.1,
+        params
+            .drive_i()
+            .adr()
+            .map_or("-".into(), |a| format!("{a}")),
+        params.omega(),
+        result.labels.len(),
+        elapsed.as_secs_f64(),
+        ctx.pool.current_num_threads()
+    );
+    for a in &result.table.attractors {
+        let r = &a.response;
+        println!(
+            "  #{}  {:<18} period {:<4} amplitude {:<10} fraction {:.4}",
+            a.id,
+            r.response_type(),
+            r.period.map_or("-".into(), |k| k.to_string()),
+            r.amplitude.map_or("-".into(), |x| format!("{x:.6}")),
+            result.fraction(a.id)
+        );
+    }
+    if let Some(path) = &args.csv {
+        output::basin_csv(&result, &params, path)?;
+        println!("wrote {} and its .attractors.csv", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,155 @@
+//! Background jobs: each analysis runs on its own rayon pool, publishes progress and partial
+//! results, honours a cancel flag, and turns a worker's panic into an error of the job.
+
+use std::panic::AssertUnwindSafe;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::thread::JoinHandle;
+
+pub use crate::analysis::Progress;
+
+/// Why a job produced no result.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum JobError {
+    #[error("cancelled")]
+    Cancelled,
+    #[error("a worker panicked: {0}")]
+    Panicked(String),
+    #[error("{0}")]
+    Failed(String),
+}
+
+/// What a running analysis sees: its pool, its progress, and where to send partial results.
+pub struct JobContext<P> {
+    pub pool: rayon::ThreadPool,
+    pub progress: Arc<Progress>,
+    partial: Sender<P>,
+}
+
+impl<P> JobContext<P> {
+    /// A context with its own pool of `threads` workers (0: one per core).
+    pub fn new(threads: usize, progress: Arc<Progress>) -> Result<(Self, Receiver<P>), JobError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("isola-worker-{i}"))
+            .build()
+            .map_err(|e| JobError::Failed(e.to_string()))?;
+        let (partial, rx) = channel();
+        Ok((
+            JobContext {
+                pool,
+                progress,
+                partial,
+            },
+            rx,
+        ))
+    }
+
+    /// Sends a partial result to the viewer (ignored if nobody listens).
+    pub fn publish(&self, p: P) {
+        let _ = self.partial.send(p);
+    }
+
+    /// Runs `f` on the pool; a panic anywhere in it becomes [`JobError::Panicked`].
+    pub fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> Result<T, JobError> {
+        std::panic::catch_unwind(AssertUnwindSafe(|| self.pool.install(f))).map_err(|e| {
+            let msg = e
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| e.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            JobError::Panicked(msg)
+        })
+    }
+
+    /// `Err(Cancelled)` once the cancel flag is set.
+    pub fn check_cancel(&self) -> Result<(), JobError> {
+        if self.progress.is_cancelled() {
+            Err(JobError::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// A job running on a background thread.
+pub struct Job<T, P> {
+    pub progress: Arc<Progress>,
+    pub partial: Receiver<P>,
+    handle: JoinHandle<Result<T, JobError>>,
+}
+
+impl<T: Send + 'static, P: Send + 'static> Job<T, P> {
+    /// Starts `work` on a new thread with a pool of `threads` workers.
+    pub fn spawn(
+        threads: usize,
+        work: impl FnOnce(&JobContext<P>) -> Result<T, JobError> + Send + 'static,
+    ) -> Result<Self, JobError> {
+        let progress = Arc::new(Progress::new(0));
+        let (ctx, partial) = JobContext::new(threads, progress.clone())?;
+        let handle = std::thread::Builder::new()
+            .name("isola-job".into())
+            .spawn(move || ctx.run(|| work(&ctx)).and_then(|r| r))
+            .map_err(|e| JobError::Failed(e.to_string()))?;
+        Ok(Job {
+            progress,
+            partial,
+            handle,
+        })
+    }
+
+    pub fn is_finished(&self) -> bool {
+        self.handle.is_finished()
+    }
+
+    pub fn cancel(&self) {
+        self.progress.cancel();
+    }
+
+    /// Waits for the result.
+    pub fn join(self) -> Result<T, JobError> {
+        self.handle
+            .join()
+            .unwrap_or_else(|_| Err(JobError::Panicked("job thread".into())))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rayon::prelude::*;
+
+    #[test]
+    fn a_worker_panic_is_an_error_of_the_job() {
+        let job = Job::<usize, ()>::spawn(2, |ctx| {
+            ctx.progress.set_total(100);
+            Ok((0..100usize)
+                .into_par_iter()
+                .map(|i| {
+                    if i == 57 {
+                        panic!("boom at {i}");
+                    }
+                    i
+                })
+                .sum())
+        })
+        .unwrap();
+        match job.join() {
+            Err(JobError::Panicked(msg)) => assert!(msg.contains("boom"), "{msg}"),
+            other => panic!("expected a panic error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn cancel_is_seen_by_the_work() {
+        let job = Job::<(), ()>::spawn(1, |ctx| {
+            loop {
+                ctx.check_cancel()?;
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+        })
+        .unwrap();
+        job.cancel();
+        assert_eq!(job.join(), Err(JobError::Cancelled));
+    }
+}
