@@ -44,7 +44,7 @@ pub fn interval(s: &str) -> Result<(f64, f64), String> {
         .trim()
         .parse()
         .map_err(|_| format!("'{b}' is not a number"))?;
-    if !(a < b) {
+    if a >= b || a.is_nan() || b.is_nan() {
         return Err(format!("'{s}': MIN must be below MAX"));
     }
     Ok((a, b))
