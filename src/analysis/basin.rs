@@ -98,7 +98,7 @@ pub fn basin(
             ]
         })
         .collect();
-    progress.set_total(cells);
+    progress.grow_total(cells);
     let seeds = if spec.early_stop {
         Some(seed_attractors(params, spec, &ics, progress)?)
     } else {

@@ -22,7 +22,8 @@ use crate::model::error::check;
 pub const MAX_TRAJECTORIES: usize = 1 << 24;
 /// Rounds of neighbour seeding at most (each is one pass up and one down).
 const MAX_SEED_ROUNDS: usize = 4;
-/// Poincaré sets of one branch at adjacent ω_e lie within this distance (max-norm).
+/// Poincaré sets of one branch at adjacent ω_e lie within this distance (max-norm), plus
+/// half the larger amplitude: large orbits move faster with ω_e.
 const BRANCH_LINK_DISTANCE: f64 = 0.15;
 
 /// A frequency-response computation.
@@ -142,7 +143,7 @@ pub fn frequency_response(
         .map(|&w| params.with_omega(w))
         .collect::<Result<_, _>>()?;
     let sweep_steps = if spec.sweeps { 2 * omegas.len() } else { 0 };
-    progress.set_total(total + sweep_steps);
+    progress.grow_total(total + sweep_steps);
     let ics: Vec<[f64; 2]> = (0..grid_size)
         .map(|c| {
             [
@@ -358,7 +359,8 @@ fn link_branches(responses: &mut [Response], n_omega: usize) -> Vec<Branch> {
                     && ra.ratio == rb.ratio
                 {
                     let d = set_distance(ra, rb);
-                    if d < BRANCH_LINK_DISTANCE {
+                    let amp = ra.amplitude.unwrap_or(0.0).max(rb.amplitude.unwrap_or(0.0));
+                    if d < BRANCH_LINK_DISTANCE + 0.5 * amp {
                         pairs.push((d, a, b));
                     }
                 }

@@ -3,6 +3,8 @@
 pub mod attractor;
 pub mod basin;
 pub mod batch;
+pub mod chirp_sweep;
+pub mod family;
 pub mod force_curve;
 pub mod frequency_response;
 pub mod grid;
@@ -10,6 +12,7 @@ pub mod period_detector;
 pub mod period_map;
 pub mod progress;
 pub mod ratio;
+pub mod scalogram;
 pub mod steady_state;
 pub mod stepped_sweep;
 

@@ -40,6 +40,11 @@ impl Progress {
         self.total.store(total, Ordering::Relaxed);
     }
 
+    /// Announces `n` more units of work (an analysis made of several calls adds each one's).
+    pub fn grow_total(&self, n: usize) {
+        self.total.fetch_add(n, Ordering::Relaxed);
+    }
+
     pub fn cancel(&self) {
         self.cancel.store(true, Ordering::Relaxed);
     }

@@ -1,11 +1,14 @@
 //! The command line: clap definitions and one module per command.
 
 mod basin;
+mod family;
+mod force;
 mod model_args;
 mod orbit;
 mod output;
 mod parse;
 mod response;
+mod sweep;
 
 use std::process::ExitCode;
 
@@ -23,10 +26,16 @@ struct Cli {
 enum Command {
     /// Integrate one orbit to its steady state and classify it.
     Orbit(orbit::OrbitArgs),
+    /// Static force curves f_II − f_I against Δλ (Fig 2).
+    Force(force::ForceArgs),
+    /// Frequency sweep: a chirp with its envelope and scalogram, or stepped (Fig 3).
+    Sweep(sweep::SweepArgs),
     /// Basin of attraction on a grid of initial states (Fig 6).
     Basin(basin::BasinArgs),
     /// Frequency response from many initial states, with hidden responses and branches (Fig 4/5).
     Response(response::ResponseArgs),
+    /// A frequency response per value of one parameter (Fig 7–12).
+    Family(family::FamilyArgs),
 }
 
 /// Parses the command line and runs the command; errors go to stderr with exit code 1.
@@ -36,6 +45,9 @@ pub fn run() -> ExitCode {
         Command::Orbit(args) => orbit::run(&args),
         Command::Basin(args) => basin::run(&args),
         Command::Response(args) => response::run(&args),
+        Command::Force(args) => force::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Family(args) => family::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,10 +4,12 @@
 pub mod drive;
 pub mod error;
 pub mod forces;
+pub mod forcing;
 pub mod params;
 pub mod units;
 
 pub use drive::{Drive, DriveSpec};
 pub use error::ParamError;
+pub use forcing::{Chirp, Forcing};
 pub use params::{ParamSpec, Params};
 pub use units::Device;

@@ -10,8 +10,8 @@ use serde::{Deserialize, Serialize};
 
 use super::Collision;
 use super::field::{Field, Membrane, Mode};
-use crate::model::Params;
 use crate::model::error::{ParamError, check};
+use crate::model::{Forcing, Params};
 
 /// Local error tolerance per step, relative and absolute.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -125,22 +125,32 @@ enum Event {
     Collision,
 }
 
-/// The adaptive integrator for one parameter set.
+/// The adaptive integrator for one parameter set, under its periodic drive or another
+/// [`Forcing`] (a chirp).
 #[derive(Debug, Clone)]
-pub struct Dopri5 {
+pub struct Dopri5<F: Forcing = Params> {
     params: Params,
+    forcing: F,
     field: Field,
     tol: Tolerance,
     h_max: f64,
 }
 
-impl Dopri5 {
+impl Dopri5<Params> {
     pub fn new(params: &Params, tol: Tolerance) -> Self {
+        Self::with_forcing(params, *params, tol, (params.period() / 16.0).min(0.1))
+    }
+}
+
+impl<F: Forcing> Dopri5<F> {
+    /// The model of `params` driven by `forcing`, steps at most `h_max`.
+    pub fn with_forcing(params: &Params, forcing: F, tol: Tolerance, h_max: f64) -> Self {
         Dopri5 {
             params: *params,
+            forcing,
             field: Field::new(params),
             tol,
-            h_max: (params.period() / 16.0).min(0.1),
+            h_max,
         }
     }
 
@@ -150,7 +160,7 @@ impl Dopri5 {
 
     /// A state at time `tau`, in the mode its tensions give.
     pub fn state(&self, tau: f64, x: f64, v: f64) -> State {
-        let (pi, pii) = self.params.phi_sq_at(tau);
+        let (pi, pii) = self.forcing.phi_sq(tau);
         State {
             tau,
             x,
@@ -161,7 +171,7 @@ impl Dopri5 {
     }
 
     fn deriv(&self, t: f64, y: [f64; 2], mode: Mode) -> [f64; 2] {
-        let (pi, pii) = self.params.phi_sq_at(t);
+        let (pi, pii) = self.forcing.phi_sq(t);
         [y[1], self.field.accel_in_mode(y[0], y[1], pi, pii, mode)]
     }
 
@@ -286,7 +296,7 @@ impl Dopri5 {
     /// Event functions, all positive while the step may go on: p_I and p_II signed by the
     /// mode, and the distance to the frames and Gent limits.
     fn event_values(&self, t: f64, y: [f64; 2], mode: Mode) -> [f64; 3] {
-        let (pi, pii) = self.params.phi_sq_at(t);
+        let (pi, pii) = self.forcing.phi_sq(t);
         let (p_i, p_ii) = self.field.tensions(y[0], y[1], pi, pii);
         let x_ii = self.field.two_lambda_p() - y[0];
         let upper = crate::model::forces::gent_poles(self.params.j()).1;

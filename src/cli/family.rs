@@ -1,0 +1,137 @@
+//! `isola family`: a frequency response per value of one parameter (Fig 7–12).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use isola::analysis::Progress;
+use isola::analysis::family::{FamilyParameter, FamilySpec, family};
+use isola::analysis::frequency_response::FrequencyResponseSpec;
+use isola::analysis::grid::Axis;
+use isola::jobs::JobContext;
+
+use super::model_args::ModelArgs;
+use super::{output, parse};
+
+#[derive(Debug, Args)]
+pub struct FamilyArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// The parameter to vary: adr, e_a, c_tilde, lambda_p or j.
+    #[arg(long, value_parser = |s: &str| FamilyParameter::parse(s).ok_or_else(|| format!("'{s}': one of adr, e_a, c_tilde, lambda_p, j")))]
+    vary: FamilyParameter,
+    /// Its values, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_negative_numbers = true
+    )]
+    values: Vec<f64>,
+    /// Forcing frequencies START:END:STEP.
+    #[arg(long = "omega-range", default_value = "0.2:6.0:0.05", value_parser = parse::range)]
+    omega_range: Axis,
+    /// Grid of initial states NΔλ x Nv.
+    #[arg(long, default_value = "15x15", value_parser = parse::grid)]
+    ics: (usize, usize),
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write one row per branch per value to this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
+    let params = args.model.params()?;
+    let spec = FamilySpec {
+        parameter: args.vary,
+        values: args.values.clone(),
+        response: FrequencyResponseSpec {
+            omega: args.omega_range,
+            dx: Axis::new(-0.8, 0.8, args.ics.0),
+            v: Axis::new(-1.0, 1.0, args.ics.1),
+            ..FrequencyResponseSpec::default()
+        },
+    };
+    let progress = std::sync::Arc::new(Progress::new(0));
+    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let started = Instant::now();
+    let name = args.vary.name();
+    let members = ctx.run(|| {
+        family(&params, &spec, &progress, |m| {
+            let subs: Vec<String> = m
+                .subharmonic_branches()
+                .map(|b| {
+                    format!(
+                        "{} ω {:.2}–{:.2} peak {:.3}{}",
+                        b.response_type,
+                        b.omega_min,
+                        b.omega_max,
+                        b.peak_amplitude,
+                        if b.hidden {
+                            " hidden"
+                        } else if b.partly_hidden {
+                            " attached, partly hidden"
+                        } else {
+                            " attached"
+                        }
+                    )
+                })
+                .collect();
+            println!(
+                "{name} = {:<8} {}",
+                m.value,
+                if subs.is_empty() {
+                    "no subharmonic".into()
+                } else {
+                    subs.join("; ")
+                }
+            );
+        })
+    })??;
+    println!(
+        "{} members in {:.2} s",
+        members.len(),
+        started.elapsed().as_secs_f64()
+    );
+    if let Some(path) = &args.csv {
+        output::write_atomic(path, |w| {
+            w.write_record([
+                name,
+                "branch",
+                "period_forcing_periods",
+                "ratio",
+                "response_type",
+                "omega_min",
+                "omega_max",
+                "peak_amplitude_stretch",
+                "peak_omega",
+                "points",
+                "hidden",
+                "partly_hidden",
+            ])?;
+            for m in &members {
+                for b in &m.response.branches {
+                    w.write_record([
+                        m.value.to_string(),
+                        b.id.to_string(),
+                        b.period.to_string(),
+                        b.ratio.to_string(),
+                        b.response_type.clone(),
+                        format!("{:.6}", b.omega_min),
+                        format!("{:.6}", b.omega_max),
+                        format!("{:.9}", b.peak_amplitude),
+                        format!("{:.6}", b.peak_omega),
+                        b.points.to_string(),
+                        b.hidden.to_string(),
+                        b.partly_hidden.to_string(),
+                    ])?;
+                }
+            }
+            Ok(())
+        })?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,164 @@
+//! `isola sweep`: frequency sweeps, as a chirp (with envelope and scalogram) or stepped (Fig 3).
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use clap::Args;
+use isola::analysis::SteadyStateSpec;
+use isola::analysis::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::grid::Axis;
+use isola::analysis::scalogram::{ScalogramSpec, scalogram};
+use isola::analysis::stepped_sweep::stepped_sweep;
+use isola::model::Device;
+
+use super::model_args::ModelArgs;
+use super::{output, parse};
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Frequencies: START:END for a chirp (either direction), START:END:STEP when --stepped.
+    #[arg(long = "omega-range", default_value = "0:6")]
+    omega_range: String,
+    /// Duration of the chirp in τ.
+    #[arg(long, default_value_t = 12000.0)]
+    span: f64,
+    /// Step through the frequencies, settling to steady state at each (instead of a chirp).
+    #[arg(long)]
+    stepped: bool,
+    /// Envelope window of the chirp, in τ.
+    #[arg(long, default_value_t = 20.0)]
+    window: f64,
+    /// Write the envelope (chirp) or the steps (stepped) to this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Write the chirp's Morlet scalogram (one row per time × frequency) to this CSV file.
+    #[arg(long = "scalogram-csv")]
+    scalogram_csv: Option<PathBuf>,
+}
+
+pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
+    let params = args.model.params()?;
+    let never = AtomicBool::new(false);
+    let dev = Device::silicone();
+    let started = Instant::now();
+    if args.stepped {
+        let axis: Axis = parse::range(&args.omega_range).map_err(anyhow::Error::msg)?;
+        let omegas: Vec<f64> = axis.values();
+        let start = [params.lambda_p(), 0.0];
+        let steps = stepped_sweep(
+            &params,
+            &omegas,
+            start,
+            &SteadyStateSpec::default(),
+            &never,
+            |_| {},
+        )?;
+        println!(
+            "stepped sweep, {} steps in {:.2} s",
+            steps.len(),
+            started.elapsed().as_secs_f64()
+        );
+        for s in &steps {
+            println!(
+                "  ω_e {:.3} ({:.2} Hz)  {:<18} amplitude {}",
+                s.omega,
+                dev.hz(s.omega),
+                s.steady.response_type(),
+                s.steady.amplitude.map_or("-".into(), |a| format!("{a:.5}"))
+            );
+        }
+        if let Some(path) = &args.csv {
+            output::write_atomic(path, |w| {
+                let mut header = vec!["step", "omega", "frequency_hz", "restarted"];
+                header.extend(output::STEADY_COLUMNS);
+                w.write_record(&header)?;
+                for (i, s) in steps.iter().enumerate() {
+                    let mut row = vec![
+                        i.to_string(),
+                        format!("{:.6}", s.omega),
+                        format!("{:.4}", dev.hz(s.omega)),
+                        s.restarted.to_string(),
+                    ];
+                    row.extend(output::steady_fields(&s.steady));
+                    w.write_record(&row)?;
+                }
+                Ok(())
+            })?;
+            println!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
+    let (a, b) = args
+        .omega_range
+        .split_once(':')
+        .and_then(|(a, b)| Some((a.parse::<f64>().ok()?, b.parse::<f64>().ok()?)))
+        .ok_or_else(|| anyhow::anyhow!("--omega-range: expected START:END for a chirp"))?;
+    let spec = ChirpSpec {
+        omega_start: a,
+        omega_end: b,
+        span: args.span,
+        window: args.window,
+        ..ChirpSpec::default()
+    };
+    let sweep = chirp_sweep(&params, &spec, &never, |_| {})?;
+    println!(
+        "chirp ω_e {a} → {b} over τ = {} ({:.1} s): {} samples in {:.2} s{}",
+        args.span,
+        dev.seconds(args.span),
+        sweep.lambda.len(),
+        started.elapsed().as_secs_f64(),
+        sweep
+            .collision_tau
+            .map_or(String::new(), |t| format!(", hit a frame at τ = {t:.1}"))
+    );
+    let peak = sweep
+        .envelope
+        .iter()
+        .fold([0.0; 3], |m, e| if e[2] > m[2] { *e } else { m });
+    println!("  largest envelope {:.4} at ω_e {:.3}", peak[2], peak[1]);
+    if let Some(path) = &args.csv {
+        output::write_atomic(path, |w| {
+            w.write_record(["tau", "omega", "frequency_hz", "amplitude_stretch"])?;
+            for e in &sweep.envelope {
+                w.write_record([
+                    format!("{:.3}", e[0]),
+                    format!("{:.6}", e[1]),
+                    format!("{:.4}", dev.hz(e[1])),
+                    format!("{:.9}", e[2]),
+                ])?;
+            }
+            Ok(())
+        })?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.scalogram_csv {
+        let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
+        let omega_e = |t: f64| a + (b - a) * (t / args.span).clamp(0.0, 1.0);
+        output::write_atomic(path, |w| {
+            w.write_record([
+                "tau",
+                "omega_e",
+                "omega_r",
+                "magnitude_stretch",
+                "ridge_ratio",
+            ])?;
+            for (c, &t) in sc.times.iter().enumerate() {
+                for (f, &om) in sc.frequencies.iter().enumerate() {
+                    w.write_record([
+                        format!("{t:.3}"),
+                        format!("{:.6}", omega_e(t)),
+                        format!("{om:.6}"),
+                        format!("{:.9}", sc.magnitude[f][c]),
+                        format!("{:.4}", sc.ridge[c] / omega_e(t)),
+                    ])?;
+                }
+            }
+            Ok(())
+        })?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

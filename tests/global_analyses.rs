@@ -1,0 +1,289 @@
+//! The paper's global claims (MODEL.md §5) at E_a = 0.2², λ_p = 1.02, c̃ = 0.04, as the
+//! analyses compute them, plus the properties of the job machinery: determinism whatever the
+//! thread count, cancellation, progress.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use isola::analysis::basin::{Basin, BasinSpec, basin};
+use isola::analysis::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::frequency_response::{
+    FrequencyResponse, FrequencyResponseSpec, frequency_response,
+};
+use isola::analysis::grid::Axis;
+use isola::analysis::scalogram::{ScalogramSpec, scalogram};
+use isola::analysis::{Class, Progress};
+use isola::jobs::{Job, JobError};
+use isola::model::{DriveSpec, ParamSpec, Params};
+
+fn params(adr: f64, omega: f64) -> Params {
+    ParamSpec {
+        omega,
+        drive: DriveSpec::EaAdr { e_a: 0.04, adr },
+        ..ParamSpec::default()
+    }
+    .build()
+    .unwrap()
+}
+
+fn on_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+fn response(adr: f64, omega: Axis) -> FrequencyResponse {
+    let spec = FrequencyResponseSpec {
+        omega,
+        ..FrequencyResponseSpec::default()
+    };
+    frequency_response(&params(adr, 1.0), &spec, &Progress::new(0)).unwrap()
+}
+
+fn periodic_at(
+    fr: &FrequencyResponse,
+    omega: f64,
+) -> Vec<&isola::analysis::frequency_response::Response> {
+    let i = fr
+        .omegas
+        .iter()
+        .position(|w| (w - omega).abs() < 1e-9)
+        .unwrap();
+    fr.at(i)
+        .filter(|r| r.steady.class == Class::Periodic)
+        .collect()
+}
+
+/// Fig 4 (ADR 0.6, ω_e 0.2–6 by 0.05, 15 × 15 initial states): two coexisting responses at the
+/// super-harmonic and at the primary resonance; a 1:2 branch through ω_e = 3.7 that no sweep
+/// reaches (hidden), more than ten times the 1:1 amplitude beside it.
+#[test]
+fn fig4_adr_0_6_has_a_hidden_subharmonic_isola() {
+    let fr = response(0.6, Axis::new(0.2, 6.0, 117));
+    // super-harmonic resonance: a 2:1 response coexisting with another near ω_e 1.2
+    let coexisting_2_1 = fr
+        .omegas
+        .iter()
+        .filter(|&&w| (1.1..1.45).contains(&w))
+        .any(|&w| {
+            let rs = periodic_at(&fr, w);
+            rs.len() >= 2
+                && rs
+                    .iter()
+                    .any(|r| r.steady.ratio.unwrap().to_string() == "2:1")
+        });
+    assert!(coexisting_2_1, "no coexisting super-harmonic responses");
+    // primary resonance: a high and a low 1:1 response at ω_e 1.8
+    let rs = periodic_at(&fr, 1.8);
+    let amps: Vec<f64> = rs.iter().map(|r| r.steady.amplitude.unwrap()).collect();
+    assert!(
+        amps.iter().any(|&a| a > 0.4) && amps.iter().any(|&a| a < 0.05),
+        "{amps:?}"
+    );
+    // the 1:2 isola
+    let at_3_7 = periodic_at(&fr, 3.7);
+    let sub = at_3_7
+        .iter()
+        .find(|r| r.steady.period == Some(2))
+        .expect("1:2 at ω_e 3.7");
+    let one = at_3_7
+        .iter()
+        .find(|r| r.steady.period == Some(1))
+        .expect("1:1 at ω_e 3.7");
+    assert!(sub.steady.amplitude.unwrap() > 10.0 * one.steady.amplitude.unwrap());
+    assert_eq!(sub.hidden, Some(true));
+    let branch = &fr.branches[sub.branch.unwrap()];
+    assert!(
+        branch.hidden,
+        "every point of the isola is hidden: {branch:?}"
+    );
+    assert!(branch.omega_min <= 3.7 && branch.omega_max >= 3.7 && branch.points >= 10);
+    assert_eq!(branch.ratio.to_string(), "1:2");
+}
+
+/// Fig 5 (ADR 1.0): the 1:2 branch is attached (a sweep reaches part of it), and a period-3
+/// response (the paper's 1:3) appears near ω_e 3.6.
+#[test]
+fn fig5_adr_1_0_subharmonic_is_attached_and_a_period_3_response_appears() {
+    let fr = response(1.0, Axis::new(3.0, 6.0, 61));
+    let subs: Vec<_> = fr.branches.iter().filter(|b| b.period == 2).collect();
+    assert!(!subs.is_empty());
+    assert!(
+        subs.iter().any(|b| !b.hidden),
+        "some 1:2 response is reached by a sweep: {subs:?}"
+    );
+    let p3 = fr
+        .responses
+        .iter()
+        .find(|r| r.steady.period == Some(3))
+        .expect("a period-3 response");
+    assert!((3.5..=3.75).contains(&p3.omega), "{}", p3.omega);
+    assert_eq!(p3.steady.response_type(), "1:3 subharmonic");
+}
+
+/// Fig 12: at λ_p = 1.2, E_a = 0.3² no subharmonic response exists.
+#[test]
+fn fig12_no_subharmonic_at_higher_prestretch() {
+    let p = ParamSpec {
+        lambda_p: 1.2,
+        drive: DriveSpec::EaAdr {
+            e_a: 0.09,
+            adr: 0.6,
+        },
+        ..ParamSpec::default()
+    }
+    .build()
+    .unwrap();
+    let spec = FrequencyResponseSpec {
+        dx: Axis::new(-0.8, 0.8, 9),
+        v: Axis::new(-1.0, 1.0, 9),
+        ..FrequencyResponseSpec::default()
+    };
+    let fr = frequency_response(&p, &spec, &Progress::new(0)).unwrap();
+    assert!(
+        fr.responses
+            .iter()
+            .all(|r| r.steady.period.unwrap_or(1) == 1)
+    );
+}
+
+fn small_basin(early_stop: bool, threads: usize) -> Basin {
+    let spec = BasinSpec {
+        dx: Axis::new(-0.8, 0.8, 41),
+        v: Axis::new(-1.0, 1.0, 51),
+        early_stop,
+        ..BasinSpec::default()
+    };
+    on_pool(threads, || {
+        basin(&params(0.6, 3.7), &spec, &Progress::new(0), &|_| {}).unwrap()
+    })
+}
+
+/// Fig 6A (ADR 0.6, ω_e 3.7) on a 41 × 51 grid: the 1:1 basin is the largest, the 1:2 basin
+/// sizeable, and it spirals: along the line v = 0 the label changes many times.
+#[test]
+fn fig6a_basin_1_1_largest_1_2_spiral() {
+    let b = small_basin(true, 2);
+    let find = |k: usize| {
+        b.table
+            .attractors
+            .iter()
+            .find(|a| a.response.period == Some(k))
+            .unwrap()
+    };
+    let (one, two) = (find(1), find(2));
+    assert!(b.fraction(one.id) > 0.6, "{}", b.fraction(one.id));
+    assert!(b.fraction(two.id) > 0.1, "{}", b.fraction(two.id));
+    // the spiral: count label changes along v = 0 (middle column)
+    let nv = b.v.len();
+    let along: Vec<usize> = (0..b.dx.len()).map(|i| b.labels[i * nv + nv / 2]).collect();
+    let changes = along.windows(2).filter(|w| w[0] != w[1]).count();
+    assert!(changes >= 4, "{along:?}");
+}
+
+/// The early stop gives the plain method's classes and amplitudes (1e-4), and the labels do
+/// not depend on the number of threads.
+#[test]
+fn basin_early_stop_and_threads_do_not_change_results() {
+    let plain = small_basin(false, 2);
+    let fast = small_basin(true, 2);
+    let fast_1 = small_basin(true, 1);
+    assert_eq!(fast.labels, fast_1.labels);
+    assert_eq!(fast.table, fast_1.table);
+    for (c, (&a, &b)) in plain.labels.iter().zip(&fast.labels).enumerate() {
+        let (ra, rb) = (
+            &plain.table.attractors[a].response,
+            &fast.table.attractors[b].response,
+        );
+        assert_eq!((ra.class, ra.period), (rb.class, rb.period), "cell {c}");
+        if let (Some(x), Some(y)) = (ra.amplitude, rb.amplitude) {
+            assert!((x - y).abs() < 1e-4, "cell {c}: {x} vs {y}");
+        }
+    }
+}
+
+/// A running basin stops within 0.5 s of a cancel; a finished one reports done = total once.
+#[test]
+fn basin_job_cancels_quickly_and_counts_to_total() {
+    let p = params(0.6, 3.7);
+    let job = Job::<Basin, ()>::spawn(2, move |ctx| {
+        basin(&p, &BasinSpec::default(), &ctx.progress, &|_| {})
+            .map_err(|e| JobError::Failed(e.to_string()))
+    })
+    .unwrap();
+    let progress = Arc::clone(&job.progress);
+    while progress.get().0 < 100 {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let asked = Instant::now();
+    job.cancel();
+    let result = job.join();
+    assert!(
+        asked.elapsed() < Duration::from_millis(500),
+        "{:?}",
+        asked.elapsed()
+    );
+    assert!(result.is_err());
+
+    let spec = BasinSpec {
+        dx: Axis::new(-0.8, 0.8, 11),
+        v: Axis::new(-1.0, 1.0, 13),
+        ..BasinSpec::default()
+    };
+    let progress = Progress::new(0);
+    basin(&p, &spec, &progress, &|_| {}).unwrap();
+    assert_eq!(progress.get(), (143, 143));
+}
+
+/// Fig 3: the backward chirp rides the high primary branch where the forward one stays low;
+/// at ADR 0.6 the forward sweep's scalogram never shows the 1:2 line (the isola is hidden),
+/// at ADR 1.0 it does (ω_r/ω_e = 1/2 above ω_e ≈ 5).
+#[test]
+fn fig3_sweeps_and_scalograms() {
+    let never = AtomicBool::new(false);
+    let p = params(0.6, 1.0);
+    let forward = chirp_sweep(&p, &ChirpSpec::default(), &never, |_| {}).unwrap();
+    let back_spec = ChirpSpec {
+        omega_start: 6.0,
+        omega_end: 0.0,
+        ..ChirpSpec::default()
+    };
+    let backward = chirp_sweep(&p, &back_spec, &never, |_| {}).unwrap();
+    let peak_near = |s: &isola::analysis::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
+        s.envelope
+            .iter()
+            .filter(|e| e[1] > lo && e[1] < hi)
+            .map(|e| e[2])
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        peak_near(&backward, 1.8, 1.9) > 0.4,
+        "{}",
+        peak_near(&backward, 1.8, 1.9)
+    );
+    assert!(peak_near(&forward, 1.8, 1.9) < 0.05);
+    let ratio_range = |s: &isola::analysis::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
+        let sc = scalogram(&s.lambda, s.dt, &ScalogramSpec::default()).unwrap();
+        let ratios = sc.ridge_ratio(|t| 6.0 * t / 12000.0);
+        sc.times
+            .iter()
+            .zip(ratios)
+            .filter(|(t, _)| (lo..hi).contains(&(6.0 * *t / 12000.0)))
+            .map(|(_, r)| r)
+            .collect::<Vec<f64>>()
+    };
+    assert!(
+        ratio_range(&forward, 3.0, 5.0)
+            .iter()
+            .all(|r| (r - 1.0).abs() < 0.1)
+    );
+    let forward_1 = chirp_sweep(&params(1.0, 1.0), &ChirpSpec::default(), &never, |_| {}).unwrap();
+    assert!(
+        ratio_range(&forward_1, 5.1, 5.4)
+            .iter()
+            .any(|r| (r - 0.5).abs() < 0.05)
+    );
+}
