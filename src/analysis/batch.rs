@@ -17,16 +17,26 @@ use crate::solver::Rk4;
 
 /// Trajectories integrated side by side.
 pub const LANES: usize = 16;
-/// Consecutive periods a trajectory must shadow a known attractor to take its result.
-const CAPTURE_PERIODS: usize = 2;
+/// Response periods (of k forcing periods each), plus one forcing period, that a trajectory
+/// must shadow a known attractor in its phase order before it takes its result. A transient
+/// spiralling into one attractor can pass near another's points for a period or two (a 1:1
+/// focus with multipliers near e^{±2πi/3} mimics the period-3 orbit born beside it), but not
+/// for several rounds inside a ball much smaller than the attractors' separation.
+const CAPTURE_CYCLES: usize = 3;
+/// An attractor's capture ball is at most this fraction of its distance to the nearest point
+/// of another known attractor (or between its own points).
+const CAPTURE_SEPARATION_FRACTION: f64 = 0.25;
 
 /// Attractors found so far, for the early stop.
 #[derive(Debug, Clone, Default)]
 pub struct KnownAttractors {
     /// Periodic steady states whose Poincaré points a trajectory may shadow.
     pub responses: Vec<SteadyState>,
-    /// Distance (max-norm on [λ_I, v]) within which a point shadows an attractor's point.
+    /// Largest distance (max-norm on [λ_I, v]) within which a point shadows an attractor's
+    /// point.
     pub capture: f64,
+    /// Each attractor's own capture radius: `capture`, or less when other points are near.
+    radius: Vec<f64>,
 }
 
 impl KnownAttractors {
@@ -34,6 +44,7 @@ impl KnownAttractors {
         KnownAttractors {
             responses: Vec::new(),
             capture,
+            radius: Vec::new(),
         }
     }
 
@@ -46,15 +57,39 @@ impl KnownAttractors {
                 .any(|r| super::attractor::same_attractor(r, s, tol))
         {
             self.responses.push(s.clone());
+            self.update_radii();
         }
     }
 
-    /// (attractor index, phase j) with `p` within `capture` of the attractor's point j.
+    /// Shrinks each attractor's capture ball below its separation from every other point.
+    fn update_radii(&mut self) {
+        let points: Vec<(usize, [f64; 2])> = self
+            .responses
+            .iter()
+            .enumerate()
+            .flat_map(|(a, r)| r.poincare.iter().map(move |&p| (a, p)))
+            .collect();
+        self.radius = (0..self.responses.len())
+            .map(|a| {
+                let mut nearest = f64::INFINITY;
+                for (i, &(ai, p)) in points.iter().enumerate() {
+                    for (j, &(_, q)) in points.iter().enumerate() {
+                        if ai == a && i != j {
+                            nearest = nearest.min((p[0] - q[0]).abs().max((p[1] - q[1]).abs()));
+                        }
+                    }
+                }
+                self.capture.min(CAPTURE_SEPARATION_FRACTION * nearest)
+            })
+            .collect();
+    }
+
+    /// (attractor index, phase j) with `p` within the attractor's radius of its point j.
     fn nearest(&self, p: [f64; 2]) -> Option<(usize, usize)> {
         self.responses.iter().enumerate().find_map(|(a, r)| {
             r.poincare
                 .iter()
-                .position(|q| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < self.capture)
+                .position(|q| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < self.radius[a])
                 .map(|j| (a, j))
         })
     }
@@ -67,8 +102,7 @@ enum LaneState {
     Transient {
         ic: usize,
         detector: PeriodDetector,
-        /// (attractor, expected next phase, periods shadowed so far)
-        shadow: Option<(usize, usize, usize)>,
+        shadow: Option<Shadow>,
     },
     Recording {
         ic: usize,
@@ -211,31 +245,54 @@ fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4
     }
 }
 
-/// Advances the shadowing count; returns the attractor once it has been shadowed
-/// `CAPTURE_PERIODS` times in a row in its own phase order.
+/// A trajectory following a known attractor's points.
+#[derive(Debug, Clone)]
+struct Shadow {
+    attractor: usize,
+    /// The attractor's point the next stroboscopic point should be near.
+    next: usize,
+    /// Consecutive periods shadowed.
+    periods: usize,
+    /// Distance at the last visit of each of the attractor's points.
+    last_distance: Vec<f64>,
+}
+
+/// Advances the shadowing; returns the attractor once it has been shadowed for
+/// `CAPTURE_CYCLES` response periods.
 fn shadow_step(
     known: &KnownAttractors,
     point: [f64; 2],
-    shadow: &mut Option<(usize, usize, usize)>,
+    shadow: &mut Option<Shadow>,
 ) -> Option<usize> {
-    let near = |a: usize, j: usize| {
+    let distance = |a: usize, j: usize| {
         let q = known.responses[a].poincare[j];
-        (point[0] - q[0]).abs().max((point[1] - q[1]).abs()) < known.capture
+        (point[0] - q[0]).abs().max((point[1] - q[1]).abs())
     };
-    *shadow = match *shadow {
-        Some((a, j, n)) if near(a, j) => {
+    let continued = shadow.as_mut().and_then(|s| {
+        let d = distance(s.attractor, s.next);
+        (d < known.radius[s.attractor]).then(|| {
+            s.last_distance[s.next] = d;
+            s.next = (s.next + 1) % s.last_distance.len();
+            s.periods += 1;
+        })
+    });
+    if continued.is_none() {
+        *shadow = known.nearest(point).map(|(a, j)| {
             let k = known.responses[a].poincare.len();
-            Some((a, (j + 1) % k, n + 1))
-        }
-        _ => known.nearest(point).map(|(a, j)| {
-            let k = known.responses[a].poincare.len();
-            (a, (j + 1) % k, 1)
-        }),
-    };
-    match *shadow {
-        Some((a, _, n)) if n >= CAPTURE_PERIODS => Some(a),
-        _ => None,
+            let mut last_distance = vec![f64::NAN; k];
+            last_distance[j] = distance(a, j);
+            Shadow {
+                attractor: a,
+                next: (j + 1) % k,
+                periods: 1,
+                last_distance,
+            }
+        });
     }
+    shadow.as_ref().and_then(|s| {
+        let needed = CAPTURE_CYCLES * s.last_distance.len() + 1;
+        (s.periods >= needed).then_some(s.attractor)
+    })
 }
 
 /// A known attractor's result for a trajectory that reached it after `periods`.

@@ -58,7 +58,7 @@ impl Default for FrequencyResponseSpec {
             seed_neighbours: true,
             sweeps: true,
             early_stop: true,
-            capture: 1e-2,
+            capture: 1e-3,
         }
     }
 }
@@ -123,6 +123,17 @@ pub fn frequency_response(
     spec: &FrequencyResponseSpec,
     progress: &Progress,
 ) -> Result<FrequencyResponse, AnalysisError> {
+    frequency_response_live(params, spec, progress, &|_| {})
+}
+
+/// The same, handing the grid's responses at each ω_e to `on_omega` as soon as they are known
+/// (before seeding, sweeps and branches), for a live view.
+pub fn frequency_response_live(
+    params: &Params,
+    spec: &FrequencyResponseSpec,
+    progress: &Progress,
+    on_omega: &(dyn Fn(&[Response]) + Sync),
+) -> Result<FrequencyResponse, AnalysisError> {
     spec.omega.validate("omega", 100_000)?;
     check("omega", spec.omega.min, |w| w > 0.0, "> 0")?;
     spec.dx.validate("dx", 4096)?;
@@ -182,6 +193,7 @@ pub fn frequency_response(
             for r in &mut found {
                 r.share = r.count as f64 / grid_size as f64;
             }
+            on_omega(&found);
             Some(found)
         })
         .collect();

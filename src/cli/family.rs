@@ -28,9 +28,6 @@ pub struct FamilyArgs {
         allow_negative_numbers = true
     )]
     values: Vec<f64>,
-    /// Forcing frequencies START:END:STEP.
-    #[arg(long = "omega-range", default_value = "0.2:6.0:0.05", value_parser = parse::range)]
-    omega_range: Axis,
     /// Grid of initial states NΔλ x Nv.
     #[arg(long, default_value = "15x15", value_parser = parse::grid)]
     ics: (usize, usize),
@@ -43,12 +40,14 @@ pub struct FamilyArgs {
 }
 
 pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
-    let params = args.model.params()?;
+    let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
+        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let params = args.model.params_at(omega.min)?;
     let spec = FamilySpec {
         parameter: args.vary,
         values: args.values.clone(),
         response: FrequencyResponseSpec {
-            omega: args.omega_range,
+            omega,
             dx: Axis::new(-0.8, 0.8, args.ics.0),
             v: Axis::new(-1.0, 1.0, args.ics.1),
             ..FrequencyResponseSpec::default()

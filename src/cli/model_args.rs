@@ -33,9 +33,10 @@ pub struct ModelArgs {
     /// AC voltage amplitude φ_AC (non-dimensional).
     #[arg(long = "phi-ac", requires = "phi_dc", allow_negative_numbers = true)]
     pub phi_ac: Option<f64>,
-    /// Forcing frequency ω_e (non-dimensional).
-    #[arg(long, default_value_t = 3.7, allow_negative_numbers = true)]
-    pub omega: f64,
+    /// Forcing frequency ω_e (non-dimensional, default 3.7); commands over many frequencies
+    /// take a range START:END:STEP (response, family, stepped sweep) or START:END (chirp).
+    #[arg(long, allow_hyphen_values = true)]
+    pub omega: Option<String>,
     /// DC voltage on membrane II, φ_DC,II (default: membrane II undriven).
     #[arg(
         long = "phi-dc-ii",
@@ -60,8 +61,24 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
-    /// The validated parameters, or an error naming the bad field.
+    /// The validated parameters at the single --omega given (3.7 by default).
     pub fn params(&self) -> anyhow::Result<Params> {
+        let omega = match &self.omega {
+            None => 3.7,
+            Some(text) => text.trim().parse::<f64>().map_err(|_| {
+                anyhow::anyhow!("--omega '{text}': this command takes one value, e.g. --omega 3.7")
+            })?,
+        };
+        self.params_at(omega)
+    }
+
+    /// The text of --omega, or `default` when it was not given.
+    pub fn omega_text<'a>(&'a self, default: &'a str) -> &'a str {
+        self.omega.as_deref().unwrap_or(default)
+    }
+
+    /// The validated parameters at forcing frequency `omega`, or an error naming the bad field.
+    pub fn params_at(&self, omega: f64) -> anyhow::Result<Params> {
         let drive = match (self.phi_dc, self.phi_ac) {
             (Some(phi_dc), Some(phi_ac)) => DriveSpec::Phi { phi_dc, phi_ac },
             _ => DriveSpec::EaAdr {
@@ -77,7 +94,7 @@ impl ModelArgs {
             lambda_p: self.lambda_p,
             j: self.j,
             c_tilde: self.damping,
-            omega: self.omega,
+            omega,
             drive,
             drive_ii,
             phase_ii: self.phase_ii,

@@ -50,6 +50,25 @@ pub fn interval(s: &str) -> Result<(f64, f64), String> {
     Ok((a, b))
 }
 
+/// `START:END` in either direction, both finite.
+pub fn interval_any(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("'{s}': expected START:END"))?;
+    let a: f64 = a
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{a}' is not a number"))?;
+    let b: f64 = b
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{b}' is not a number"))?;
+    if !(a.is_finite() && b.is_finite()) || a == b {
+        return Err(format!("'{s}': START and END must be finite and differ"));
+    }
+    Ok((a, b))
+}
+
 /// `NXxNV`, e.g. `201x251`.
 pub fn grid(s: &str) -> Result<(usize, usize), String> {
     let (a, b) = s

@@ -17,9 +17,6 @@ use super::{output, parse};
 pub struct ResponseArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// Forcing frequencies START:END:STEP (non-dimensional).
-    #[arg(long = "omega-range", default_value = "0.2:6.0:0.05", value_parser = parse::range)]
-    omega_range: Axis,
     /// Grid of initial states NΔλ x Nv.
     #[arg(long, default_value = "15x15", value_parser = parse::grid)]
     ics: (usize, usize),
@@ -47,9 +44,11 @@ pub struct ResponseArgs {
 }
 
 pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
-    let params = args.model.params()?;
+    let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
+        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let params = args.model.params_at(omega.min)?;
     let spec = FrequencyResponseSpec {
-        omega: args.omega_range,
+        omega,
         dx: Axis::new(args.dx_range.0, args.dx_range.1, args.ics.0),
         v: Axis::new(args.v_range.0, args.v_range.1, args.ics.1),
         seed_neighbours: !args.no_seeding,

@@ -19,9 +19,6 @@ use super::{output, parse};
 pub struct SweepArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequencies: START:END for a chirp (either direction), START:END:STEP when --stepped.
-    #[arg(long = "omega-range", default_value = "0:6")]
-    omega_range: String,
     /// Duration of the chirp in τ.
     #[arg(long, default_value_t = 12000.0)]
     span: f64,
@@ -40,12 +37,23 @@ pub struct SweepArgs {
 }
 
 pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
-    let params = args.model.params()?;
+    let omega_text = args
+        .model
+        .omega_text(if args.stepped { "0.2:6.0:0.05" } else { "0:6" });
+    let first = omega_text
+        .split(':')
+        .next()
+        .unwrap_or("")
+        .trim()
+        .parse::<f64>()
+        .unwrap_or(0.0);
+    // ω_e of the parameter set only seeds validation; the sweep sets its own
+    let params = args.model.params_at(first.max(1e-3))?;
     let never = AtomicBool::new(false);
     let dev = Device::silicone();
     let started = Instant::now();
     if args.stepped {
-        let axis: Axis = parse::range(&args.omega_range).map_err(anyhow::Error::msg)?;
+        let axis: Axis = parse::range(omega_text).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
         let omegas: Vec<f64> = axis.values();
         let start = [params.lambda_p(), 0.0];
         let steps = stepped_sweep(
@@ -91,11 +99,8 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let (a, b) = args
-        .omega_range
-        .split_once(':')
-        .and_then(|(a, b)| Some((a.parse::<f64>().ok()?, b.parse::<f64>().ok()?)))
-        .ok_or_else(|| anyhow::anyhow!("--omega-range: expected START:END for a chirp"))?;
+    let (a, b) = parse::interval_any(omega_text)
+        .map_err(|e| anyhow::anyhow!("--omega: {e} (a chirp takes START:END)"))?;
     let spec = ChirpSpec {
         omega_start: a,
         omega_end: b,

@@ -69,26 +69,6 @@ fn gent_fraction(lambda: f64, j: f64, j_plus_2: f64) -> (f64, f64) {
     )
 }
 
-/// Both tensions scaled by their Gent denominators: P = p·den.
-struct ScaledTensions {
-    big_p_i: f64,
-    big_p_ii: f64,
-    den_i: f64,
-    den_ii: f64,
-}
-
-impl ScaledTensions {
-    /// f_II − f_I on piece `mode`, with one division.
-    #[inline(always)]
-    fn net(&self, mode: Mode) -> f64 {
-        let d_i = if mode.taut_i { self.den_i } else { 1.0 };
-        let d_ii = if mode.taut_ii { self.den_ii } else { 1.0 };
-        let q_i = if mode.taut_i { self.big_p_i } else { 0.0 };
-        let q_ii = if mode.taut_ii { self.big_p_ii } else { 0.0 };
-        q_ii.mul_add(d_i, -q_i * d_ii) / (d_i * d_ii)
-    }
-}
-
 impl Field {
     pub fn new(p: &Params) -> Self {
         Field {
@@ -115,12 +95,22 @@ impl Field {
     /// f_II − f_I = (P_II·den_I − P_I·den_II)/(den_I·den_II) with slack terms dropped.
     #[inline(always)]
     pub fn accel(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, Mode) {
-        let t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
-        let mode = Mode {
-            taut_i: t.big_p_i > 0.0 && t.den_i > 0.0,
-            taut_ii: t.big_p_ii > 0.0 && t.den_ii > 0.0,
-        };
-        (t.net(mode), mode)
+        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
+        let x_ii = self.two_lambda_p - x;
+        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
+        let cv = self.c_tilde * v;
+        let big_p_i = (-phi_sq_i.mul_add(x, -cv)).mul_add(den_i, num_i);
+        let big_p_ii = (-phi_sq_ii.mul_add(x_ii, cv)).mul_add(den_ii, num_ii);
+        let taut_i = big_p_i > 0.0 && den_i > 0.0;
+        let taut_ii = big_p_ii > 0.0 && den_ii > 0.0;
+        let d_i = if taut_i { den_i } else { 1.0 };
+        let d_ii = if taut_ii { den_ii } else { 1.0 };
+        let q_i = if taut_i { big_p_i } else { 0.0 };
+        let q_ii = if taut_ii { big_p_ii } else { 0.0 };
+        (
+            q_ii.mul_add(d_i, -q_i * d_ii) / (d_i * d_ii),
+            Mode { taut_i, taut_ii },
+        )
     }
 
     /// Acceleration on one smooth piece: taut membranes pull with p even where p < 0. This
@@ -131,20 +121,6 @@ impl Field {
         let f_i = if mode.taut_i { p_i } else { 0.0 };
         let f_ii = if mode.taut_ii { p_ii } else { 0.0 };
         f_ii - f_i
-    }
-
-    #[inline(always)]
-    fn scaled_tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> ScaledTensions {
-        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
-        let x_ii = self.two_lambda_p - x;
-        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
-        let cv = self.c_tilde * v;
-        ScaledTensions {
-            big_p_i: (-phi_sq_i.mul_add(x, -cv)).mul_add(den_i, num_i),
-            big_p_ii: (-phi_sq_ii.mul_add(x_ii, cv)).mul_add(den_ii, num_ii),
-            den_i,
-            den_ii,
-        }
     }
 
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
