@@ -15,6 +15,7 @@ pub mod ratio;
 pub mod scalogram;
 pub mod steady_state;
 pub mod stepped_sweep;
+pub mod time_history;
 
 pub use period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};
 pub use progress::Progress;

@@ -2,6 +2,7 @@
 
 use clap::Args;
 use isola::analysis::period_map::Rk4PeriodMap;
+use isola::analysis::time_history::{TimeHistorySpec, time_history};
 use isola::analysis::{DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state_with};
 use isola::model::{Device, Params};
 use isola::solver::{Resolution, Tolerance};
@@ -37,6 +38,9 @@ pub struct OrbitArgs {
     /// Print one JSON object instead of a summary.
     #[arg(long)]
     json: bool,
+    /// Write the time history and phase path (transient and steady part) to this CSV file.
+    #[arg(long = "history-csv")]
+    history_csv: Option<std::path::PathBuf>,
 }
 
 /// The JSON record of one orbit: the inputs and the classified steady state.
@@ -85,6 +89,44 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
             &spec,
         )
     };
+    if let Some(path) = &args.history_csv {
+        let spec = TimeHistorySpec {
+            dx0: args.x0,
+            v0: args.v0,
+            steady: spec,
+            ..TimeHistorySpec::default()
+        };
+        let history = time_history(&params, &spec)?;
+        super::output::write_atomic(path, |w| {
+            w.write_record([
+                "tau",
+                "time_s",
+                "lambda_stretch",
+                "v_per_tau",
+                "phi_i",
+                "steady",
+            ])?;
+            let dev = Device::silicone();
+            for s in &history.samples {
+                w.write_record([
+                    format!("{:.6}", s.tau),
+                    format!("{:.8}", dev.seconds(s.tau)),
+                    format!("{:.9}", s.lambda),
+                    format!("{:.9}", s.v),
+                    format!("{:.6}", s.phi_i),
+                    s.steady.to_string(),
+                ])?;
+            }
+            Ok(())
+        })?;
+        if !args.json {
+            println!(
+                "wrote {} ({} samples)",
+                path.display(),
+                history.samples.len()
+            );
+        }
+    }
     if args.json {
         let d = params.drive_i();
         let report = OrbitReport {
