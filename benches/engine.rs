@@ -5,6 +5,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::sync::atomic::AtomicBool;
+
+use isola::analysis::batch::steady_states;
 use isola::analysis::{SteadyStateSpec, steady_state};
 use isola::model::{DriveSpec, ParamSpec, Params};
 use isola::solver::{Resolution, Rk4};
@@ -84,6 +87,15 @@ fn classify(c: &mut Criterion) {
                 .map(|&(dx, v)| steady_state(&p, p.lambda_p() + dx, v, &spec).transient_periods)
                 .sum::<usize>()
         })
+    });
+    // the same 64 cells in SIMD lanes (one core), integrated to full convergence
+    let ics: Vec<[f64; 2]> = cells
+        .iter()
+        .map(|&(dx, v)| [p.lambda_p() + dx, v])
+        .collect();
+    let never = AtomicBool::new(false);
+    g.bench_function("fig6a_grid_8x8_lanes", |b| {
+        b.iter(|| steady_states(&p, &ics, &spec, None, &never, |_| {}).unwrap())
     });
     g.finish();
 }

@@ -287,3 +287,22 @@ fn fig3_sweeps_and_scalograms() {
             .any(|r| (r - 0.5).abs() < 0.05)
     );
 }
+
+/// The frequency response does not depend on the number of threads either.
+#[test]
+fn frequency_response_is_the_same_on_one_or_two_threads() {
+    let spec = FrequencyResponseSpec {
+        omega: Axis::new(3.4, 3.9, 6),
+        dx: Axis::new(-0.8, 0.8, 7),
+        v: Axis::new(-1.0, 1.0, 7),
+        ..FrequencyResponseSpec::default()
+    };
+    let p = params(0.6, 1.0);
+    let one = on_pool(1, || {
+        frequency_response(&p, &spec, &Progress::new(0)).unwrap()
+    });
+    let two = on_pool(2, || {
+        frequency_response(&p, &spec, &Progress::new(0)).unwrap()
+    });
+    assert_eq!(one, two);
+}
