@@ -1,7 +1,5 @@
 //! Fig 6: basins of attraction on a grid of initial states (Δλ, v) at τ = 0.
 
-use std::sync::Mutex;
-
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -78,72 +76,101 @@ pub fn basin(
     progress: &Progress,
     on_chunk: &(dyn Fn(BasinChunk) + Sync),
 ) -> Result<Basin, AnalysisError> {
-    spec.dx.validate("dx", 1 << 14)?;
-    spec.v.validate("v", 1 << 14)?;
-    let cells = spec.dx.points * spec.v.points;
-    check(
-        "cells",
-        cells as f64,
-        |c| c <= MAX_CELLS as f64,
-        format!("<= {MAX_CELLS}"),
-    )?;
-    check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
-    spec.steady.validate()?;
-    let lambda_p = params.lambda_p();
-    let ics: Vec<[f64; 2]> = (0..cells)
-        .map(|c| {
-            [
-                lambda_p + spec.dx.at(c / spec.v.points),
-                spec.v.at(c % spec.v.points),
-            ]
-        })
-        .collect();
-    progress.grow_total(cells);
-    let seeds = if spec.early_stop {
-        Some(seed_attractors(params, spec, &ics, progress)?)
-    } else {
-        None
-    };
-    let failed = Mutex::new(false);
-    let chunks: Vec<Option<Vec<SteadyState>>> = ics
-        .par_chunks(CHUNK_CELLS)
-        .enumerate()
-        .map(|(n, chunk)| {
-            let mut known = seeds.clone();
-            let out = steady_states(
-                params,
-                chunk,
-                &spec.steady,
-                known.as_mut(),
-                progress.cancel_flag(),
-                |_| progress.add(1),
-            );
+    let plan = BasinPlan::new(params, spec, progress)?;
+    progress.grow_total(plan.cells());
+    let chunks: Vec<Option<Vec<SteadyState>>> = (0..plan.chunks())
+        .into_par_iter()
+        .map(|n| {
+            let out = plan.chunk(n, progress);
             if let Some(outcomes) = &out {
                 on_chunk(BasinChunk {
                     start: n * CHUNK_CELLS,
                     outcomes: outcomes.clone(),
                 });
-            } else {
-                *failed.lock().unwrap() = true;
             }
             out
         })
         .collect();
-    if progress.is_cancelled() || *failed.lock().unwrap() {
-        return Err(AnalysisError::Cancelled);
-    }
-    let mut table = AttractorTable::default();
-    let labels = chunks
+    let chunks: Vec<Vec<SteadyState>> = chunks
         .into_iter()
-        .flat_map(|c| c.expect("not cancelled"))
-        .map(|s| table.classify(&s, SAME_POINT_TOL))
-        .collect();
-    Ok(Basin {
-        dx: spec.dx.values(),
-        v: spec.v.values(),
-        labels,
-        table,
-    })
+        .collect::<Option<_>>()
+        .ok_or(AnalysisError::Cancelled)?;
+    Ok(plan.assemble(chunks))
+}
+
+/// A validated basin computation cut into chunks of [`CHUNK_CELLS`] cells, addressed by index,
+/// so that chunks can be computed in any order, on any machine, and saved as they finish.
+pub struct BasinPlan<'a> {
+    params: &'a Params,
+    spec: &'a BasinSpec,
+    ics: Vec<[f64; 2]>,
+    seeds: Option<KnownAttractors>,
+}
+
+impl<'a> BasinPlan<'a> {
+    /// Validates the spec and finds the seed attractors every chunk starts from.
+    pub fn new(params: &'a Params, spec: &'a BasinSpec, progress: &Progress) -> Result<Self, AnalysisError> {
+        spec.dx.validate("dx", 1 << 14)?;
+        spec.v.validate("v", 1 << 14)?;
+        let cells = spec.dx.points * spec.v.points;
+        check("cells", cells as f64, |c| c <= MAX_CELLS as f64, format!("<= {MAX_CELLS}"))?;
+        check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        spec.steady.validate()?;
+        let lambda_p = params.lambda_p();
+        let ics: Vec<[f64; 2]> = (0..cells)
+            .map(|c| [lambda_p + spec.dx.at(c / spec.v.points), spec.v.at(c % spec.v.points)])
+            .collect();
+        let seeds = if spec.early_stop {
+            Some(seed_attractors(params, spec, &ics, progress)?)
+        } else {
+            None
+        };
+        Ok(BasinPlan {
+            params,
+            spec,
+            ics,
+            seeds,
+        })
+    }
+
+    pub fn cells(&self) -> usize {
+        self.ics.len()
+    }
+
+    pub fn chunks(&self) -> usize {
+        self.ics.len().div_ceil(CHUNK_CELLS)
+    }
+
+    /// The outcomes of chunk `n`'s cells; `None` if cancelled.
+    pub fn chunk(&self, n: usize, progress: &Progress) -> Option<Vec<SteadyState>> {
+        let start = n * CHUNK_CELLS;
+        let cells = &self.ics[start..(start + CHUNK_CELLS).min(self.ics.len())];
+        let mut known = self.seeds.clone();
+        steady_states(
+            self.params,
+            cells,
+            &self.spec.steady,
+            known.as_mut(),
+            progress.cancel_flag(),
+            |_| progress.add(1),
+        )
+    }
+
+    /// The basin from every chunk's outcomes, in chunk order.
+    pub fn assemble(&self, chunks: Vec<Vec<SteadyState>>) -> Basin {
+        let mut table = AttractorTable::default();
+        let labels = chunks
+            .into_iter()
+            .flatten()
+            .map(|s| table.classify(&s, SAME_POINT_TOL))
+            .collect();
+        Basin {
+            dx: self.spec.dx.values(),
+            v: self.spec.v.values(),
+            labels,
+            table,
+        }
+    }
 }
 
 /// Attractors found from a fixed 7 × 7 sub-grid, integrated in full: the starting knowledge of

@@ -64,7 +64,7 @@ impl Default for FrequencyResponseSpec {
 }
 
 /// One distinct steady response at one ω_e.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Response {
     pub omega_index: usize,
     pub omega: f64,
@@ -134,135 +134,172 @@ pub fn frequency_response_live(
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
 ) -> Result<FrequencyResponse, AnalysisError> {
-    spec.omega.validate("omega", 100_000)?;
-    check("omega", spec.omega.min, |w| w > 0.0, "> 0")?;
-    spec.dx.validate("dx", 4096)?;
-    spec.v.validate("v", 4096)?;
-    spec.steady.validate()?;
-    check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
-    let grid_size = spec.dx.points * spec.v.points;
-    let total = grid_size * spec.omega.points;
-    check(
-        "trajectories",
-        total as f64,
-        |t| t <= MAX_TRAJECTORIES as f64,
-        format!("<= {MAX_TRAJECTORIES} (ω points × initial states)"),
-    )?;
-    let omegas = spec.omega.values();
-    let at_omega: Vec<Params> = omegas
-        .iter()
-        .map(|&w| params.with_omega(w))
-        .collect::<Result<_, _>>()?;
-    let sweep_steps = if spec.sweeps { 2 * omegas.len() } else { 0 };
-    progress.grow_total(total + sweep_steps);
-    let ics: Vec<[f64; 2]> = (0..grid_size)
-        .map(|c| {
-            [
-                params.lambda_p() + spec.dx.at(c / spec.v.points),
-                spec.v.at(c % spec.v.points),
-            ]
-        })
-        .collect();
-    let cancel = progress.cancel_flag();
-
-    // 1. the grid of initial states at every ω_e
-    let per_omega: Vec<Option<Vec<Response>>> = at_omega
-        .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let mut known = spec.early_stop.then(|| KnownAttractors::new(spec.capture));
-            let outcomes = steady_states(p, &ics, &spec.steady, known.as_mut(), cancel, |_| {
-                progress.add(1)
-            })?;
-            let mut found: Vec<Response> = Vec::new();
-            for s in outcomes {
-                match found.iter_mut().find(|r| same_response(&r.steady, &s)) {
-                    Some(r) => r.count += 1,
-                    None => found.push(Response {
-                        omega_index: i,
-                        omega: omegas[i],
-                        steady: s,
-                        count: 1,
-                        share: 0.0,
-                        seeded: false,
-                        hidden: None,
-                        branch: None,
-                    }),
-                }
-            }
-            for r in &mut found {
-                r.share = r.count as f64 / grid_size as f64;
-            }
+    let plan = ResponsePlan::new(params, spec)?;
+    progress.grow_total(plan.work());
+    let per_omega: Vec<Option<Vec<Response>>> = (0..plan.chunks())
+        .into_par_iter()
+        .map(|i| {
+            let found = plan.grid_at(i, progress)?;
             on_omega(&found);
             Some(found)
         })
         .collect();
-    let mut per_omega: Vec<Vec<Response>> = per_omega
+    let per_omega: Vec<Vec<Response>> = per_omega
         .into_iter()
         .collect::<Option<_>>()
         .ok_or(AnalysisError::Cancelled)?;
+    plan.finish(per_omega, progress)
+}
 
-    // 2. seed each ω_e with its neighbours' responses until nothing new turns up
-    if spec.seed_neighbours && omegas.len() > 1 {
-        for _ in 0..MAX_SEED_ROUNDS {
-            let mut new = 0;
-            let up: Vec<usize> = (1..omegas.len()).collect();
-            let down: Vec<usize> = (0..omegas.len() - 1).rev().collect();
-            for (order, from) in [(up, -1isize), (down, 1)] {
-                for i in order {
-                    let j = (i as isize + from) as usize;
-                    new += seed_from(&mut per_omega, i, j, &at_omega[i], spec, cancel)?;
-                }
-            }
-            if new == 0 {
-                break;
-            }
-        }
+/// A validated frequency response cut into chunks, one per ω_e of the grid (its grid of initial
+/// states); seeding, sweeps and branches follow once every chunk is done.
+pub struct ResponsePlan<'a> {
+    params: &'a Params,
+    spec: &'a FrequencyResponseSpec,
+    omegas: Vec<f64>,
+    at_omega: Vec<Params>,
+    ics: Vec<[f64; 2]>,
+}
+
+impl<'a> ResponsePlan<'a> {
+    pub fn new(params: &'a Params, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
+        spec.omega.validate("omega", 100_000)?;
+        check("omega", spec.omega.min.min(spec.omega.max), |w| w > 0.0, "> 0")?;
+        spec.dx.validate("dx", 4096)?;
+        spec.v.validate("v", 4096)?;
+        spec.steady.validate()?;
+        check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        let grid_size = spec.dx.points * spec.v.points;
+        let total = grid_size * spec.omega.points;
+        check(
+            "trajectories",
+            total as f64,
+            |t| t <= MAX_TRAJECTORIES as f64,
+            format!("<= {MAX_TRAJECTORIES} (ω points × initial states)"),
+        )?;
+        let omegas = spec.omega.values();
+        let at_omega = omegas
+            .iter()
+            .map(|&w| params.with_omega(w))
+            .collect::<Result<_, _>>()?;
+        let ics = (0..grid_size)
+            .map(|c| {
+                [
+                    params.lambda_p() + spec.dx.at(c / spec.v.points),
+                    spec.v.at(c % spec.v.points),
+                ]
+            })
+            .collect();
+        Ok(ResponsePlan {
+            params,
+            spec,
+            omegas,
+            at_omega,
+            ics,
+        })
     }
 
-    // 3. stepped sweeps up and down for the hidden flags
-    let (forward, backward) = if spec.sweeps {
-        let rest = [params.lambda_p(), 0.0];
-        let down: Vec<f64> = omegas.iter().rev().copied().collect();
-        let (fw, bw) = rayon::join(
-            || {
-                stepped_sweep(params, &omegas, rest, &spec.steady, cancel, |_| {
-                    progress.add(1)
-                })
-            },
-            || {
-                stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| {
-                    progress.add(1)
-                })
-            },
-        );
-        let (fw, mut bw) = (fw?, bw?);
-        bw.reverse();
-        for (i, responses) in per_omega.iter_mut().enumerate() {
-            for r in responses
-                .iter_mut()
-                .filter(|r| r.steady.class == Class::Periodic)
-            {
-                let reached = [&fw[i], &bw[i]]
-                    .iter()
-                    .any(|step| same_attractor(&step.steady, &r.steady, SWEEP_MATCH_TOL));
-                r.hidden = Some(!reached);
+    /// One chunk per ω_e.
+    pub fn chunks(&self) -> usize {
+        self.omegas.len()
+    }
+
+    /// Units of progress: every trajectory of the grids, and every step of both sweeps.
+    pub fn work(&self) -> usize {
+        self.ics.len() * self.omegas.len() + if self.spec.sweeps { 2 * self.omegas.len() } else { 0 }
+    }
+
+    /// The distinct responses from the grid of initial states at ω_e index `i`; `None` if
+    /// cancelled.
+    pub fn grid_at(&self, i: usize, progress: &Progress) -> Option<Vec<Response>> {
+        let spec = self.spec;
+        let mut known = spec.early_stop.then(|| KnownAttractors::new(spec.capture));
+        let outcomes = steady_states(
+            &self.at_omega[i],
+            &self.ics,
+            &spec.steady,
+            known.as_mut(),
+            progress.cancel_flag(),
+            |_| progress.add(1),
+        )?;
+        let mut found: Vec<Response> = Vec::new();
+        for s in outcomes {
+            match found.iter_mut().find(|r| same_response(&r.steady, &s)) {
+                Some(r) => r.count += 1,
+                None => found.push(Response {
+                    omega_index: i,
+                    omega: self.omegas[i],
+                    steady: s,
+                    count: 1,
+                    share: 0.0,
+                    seeded: false,
+                    hidden: None,
+                    branch: None,
+                }),
             }
         }
-        (fw, bw)
-    } else {
-        (Vec::new(), Vec::new())
-    };
+        for r in &mut found {
+            r.share = r.count as f64 / self.ics.len() as f64;
+        }
+        Some(found)
+    }
 
-    let mut responses: Vec<Response> = per_omega.into_iter().flatten().collect();
-    let branches = link_branches(&mut responses, omegas.len());
-    Ok(FrequencyResponse {
-        omegas,
-        responses,
-        branches,
-        forward,
-        backward,
-    })
+    /// Seeds each ω_e from its neighbours, runs the sweeps, marks hidden responses and links
+    /// branches.
+    pub fn finish(
+        &self,
+        mut per_omega: Vec<Vec<Response>>,
+        progress: &Progress,
+    ) -> Result<FrequencyResponse, AnalysisError> {
+        let (spec, omegas, params) = (self.spec, &self.omegas, self.params);
+        let cancel = progress.cancel_flag();
+        if spec.seed_neighbours && omegas.len() > 1 {
+            for _ in 0..MAX_SEED_ROUNDS {
+                let mut new = 0;
+                let up: Vec<usize> = (1..omegas.len()).collect();
+                let down: Vec<usize> = (0..omegas.len() - 1).rev().collect();
+                for (order, from) in [(up, -1isize), (down, 1)] {
+                    for i in order {
+                        let j = (i as isize + from) as usize;
+                        new += seed_from(&mut per_omega, i, j, &self.at_omega[i], spec, cancel)?;
+                    }
+                }
+                if new == 0 {
+                    break;
+                }
+            }
+        }
+        let (forward, backward) = if spec.sweeps {
+            let rest = [params.lambda_p(), 0.0];
+            let down: Vec<f64> = omegas.iter().rev().copied().collect();
+            let (fw, bw) = rayon::join(
+                || stepped_sweep(params, omegas, rest, &spec.steady, cancel, |_| progress.add(1)),
+                || stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| progress.add(1)),
+            );
+            let (fw, mut bw) = (fw?, bw?);
+            bw.reverse();
+            for (i, responses) in per_omega.iter_mut().enumerate() {
+                for r in responses.iter_mut().filter(|r| r.steady.class == Class::Periodic) {
+                    let reached = [&fw[i], &bw[i]]
+                        .iter()
+                        .any(|step| same_attractor(&step.steady, &r.steady, SWEEP_MATCH_TOL));
+                    r.hidden = Some(!reached);
+                }
+            }
+            (fw, bw)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let mut responses: Vec<Response> = per_omega.into_iter().flatten().collect();
+        let branches = link_branches(&mut responses, omegas.len());
+        Ok(FrequencyResponse {
+            omegas: omegas.clone(),
+            responses,
+            branches,
+            forward,
+            backward,
+        })
+    }
 }
 
 /// Sweep states converge to 1e-9 like the grid's; allow a little more for the different start.

@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::fmt;
 
-use serde::{Serialize, Serializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// ω_r : ω_e as a reduced fraction: 2:1 super-harmonic, 1:1 harmonic, 1:2 and 1:3
 /// subharmonic...
@@ -22,6 +22,19 @@ impl fmt::Display for Ratio {
 impl Serialize for Ratio {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Ratio {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        let parsed = text
+            .split_once(':')
+            .and_then(|(m, k)| Some((m.parse::<u32>().ok()?, k.parse::<u32>().ok()?)));
+        match parsed {
+            Some((m, k)) if k > 0 => Ok(Ratio::new(m, k)),
+            _ => Err(serde::de::Error::custom(format!("'{text}' is not a ratio m:k"))),
+        }
     }
 }
 

@@ -75,7 +75,7 @@ impl SteadyStateSpec {
 }
 
 /// What a trajectory settles to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Class {
     Periodic,
@@ -94,7 +94,7 @@ impl Class {
 }
 
 /// A classified steady state.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SteadyState {
     pub class: Class,
     /// Response period k in forcing periods (periodic only).

@@ -19,7 +19,7 @@ pub use resolution::Resolution;
 pub use rk4::{Lanes, Rk4, StepEnds};
 
 /// Where a trajectory ends when it leaves the model (MODEL.md §1).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Collision {
     /// Non-dimensional time of the collision (located to the step, or exactly by `dopri`).
     pub tau: f64,
