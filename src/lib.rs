@@ -1,4 +1,5 @@
 pub mod analysis;
 pub mod jobs;
 pub mod model;
+pub mod session;
 pub mod solver;

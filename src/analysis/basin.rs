@@ -109,16 +109,30 @@ pub struct BasinPlan<'a> {
 
 impl<'a> BasinPlan<'a> {
     /// Validates the spec and finds the seed attractors every chunk starts from.
-    pub fn new(params: &'a Params, spec: &'a BasinSpec, progress: &Progress) -> Result<Self, AnalysisError> {
+    pub fn new(
+        params: &'a Params,
+        spec: &'a BasinSpec,
+        progress: &Progress,
+    ) -> Result<Self, AnalysisError> {
         spec.dx.validate("dx", 1 << 14)?;
         spec.v.validate("v", 1 << 14)?;
         let cells = spec.dx.points * spec.v.points;
-        check("cells", cells as f64, |c| c <= MAX_CELLS as f64, format!("<= {MAX_CELLS}"))?;
+        check(
+            "cells",
+            cells as f64,
+            |c| c <= MAX_CELLS as f64,
+            format!("<= {MAX_CELLS}"),
+        )?;
         check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
         spec.steady.validate()?;
         let lambda_p = params.lambda_p();
         let ics: Vec<[f64; 2]> = (0..cells)
-            .map(|c| [lambda_p + spec.dx.at(c / spec.v.points), spec.v.at(c % spec.v.points)])
+            .map(|c| {
+                [
+                    lambda_p + spec.dx.at(c / spec.v.points),
+                    spec.v.at(c % spec.v.points),
+                ]
+            })
             .collect();
         let seeds = if spec.early_stop {
             Some(seed_attractors(params, spec, &ics, progress)?)

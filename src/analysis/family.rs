@@ -72,7 +72,7 @@ pub struct FamilySpec {
 }
 
 /// One member of the family.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FamilyMember {
     pub value: f64,
     pub response: FrequencyResponse,

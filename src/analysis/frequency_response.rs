@@ -82,7 +82,7 @@ pub struct Response {
 }
 
 /// Responses of one type chained across adjacent ω_e.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Branch {
     pub id: usize,
     pub period: usize,
@@ -100,7 +100,7 @@ pub struct Branch {
 }
 
 /// The full result.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FrequencyResponse {
     pub omegas: Vec<f64>,
     /// Ordered by ω_e, then by first appearance.
@@ -164,7 +164,12 @@ pub struct ResponsePlan<'a> {
 impl<'a> ResponsePlan<'a> {
     pub fn new(params: &'a Params, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
         spec.omega.validate("omega", 100_000)?;
-        check("omega", spec.omega.min.min(spec.omega.max), |w| w > 0.0, "> 0")?;
+        check(
+            "omega",
+            spec.omega.min.min(spec.omega.max),
+            |w| w > 0.0,
+            "> 0",
+        )?;
         spec.dx.validate("dx", 4096)?;
         spec.v.validate("v", 4096)?;
         spec.steady.validate()?;
@@ -206,7 +211,12 @@ impl<'a> ResponsePlan<'a> {
 
     /// Units of progress: every trajectory of the grids, and every step of both sweeps.
     pub fn work(&self) -> usize {
-        self.ics.len() * self.omegas.len() + if self.spec.sweeps { 2 * self.omegas.len() } else { 0 }
+        self.ics.len() * self.omegas.len()
+            + if self.spec.sweeps {
+                2 * self.omegas.len()
+            } else {
+                0
+            }
     }
 
     /// The distinct responses from the grid of initial states at ω_e index `i`; `None` if
@@ -273,13 +283,24 @@ impl<'a> ResponsePlan<'a> {
             let rest = [params.lambda_p(), 0.0];
             let down: Vec<f64> = omegas.iter().rev().copied().collect();
             let (fw, bw) = rayon::join(
-                || stepped_sweep(params, omegas, rest, &spec.steady, cancel, |_| progress.add(1)),
-                || stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| progress.add(1)),
+                || {
+                    stepped_sweep(params, omegas, rest, &spec.steady, cancel, |_| {
+                        progress.add(1)
+                    })
+                },
+                || {
+                    stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| {
+                        progress.add(1)
+                    })
+                },
             );
             let (fw, mut bw) = (fw?, bw?);
             bw.reverse();
             for (i, responses) in per_omega.iter_mut().enumerate() {
-                for r in responses.iter_mut().filter(|r| r.steady.class == Class::Periodic) {
+                for r in responses
+                    .iter_mut()
+                    .filter(|r| r.steady.class == Class::Periodic)
+                {
                     let reached = [&fw[i], &bw[i]]
                         .iter()
                         .any(|step| same_attractor(&step.steady, &r.steady, SWEEP_MATCH_TOL));

@@ -33,7 +33,9 @@ impl<'de> Deserialize<'de> for Ratio {
             .and_then(|(m, k)| Some((m.parse::<u32>().ok()?, k.parse::<u32>().ok()?)));
         match parsed {
             Some((m, k)) if k > 0 => Ok(Ratio::new(m, k)),
-            _ => Err(serde::de::Error::custom(format!("'{text}' is not a ratio m:k"))),
+            _ => Err(serde::de::Error::custom(format!(
+                "'{text}' is not a ratio m:k"
+            ))),
         }
     }
 }

@@ -8,7 +8,7 @@ use super::steady_state::{SteadyState, SteadyStateSpec, steady_state};
 use crate::model::Params;
 
 /// One step of a stepped sweep.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SweepStep {
     pub omega: f64,
     pub steady: SteadyState,

@@ -10,7 +10,6 @@ use isola::analysis::grid::Axis;
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;
-use super::output;
 use super::parse;
 
 #[derive(Debug, Args)]
@@ -75,7 +74,7 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        output::basin_csv(&result, &params, path)?;
+        isola::session::export::basin_csv(&result, &params, path)?;
         println!("wrote {} and its .attractors.csv", path.display());
     }
     Ok(())

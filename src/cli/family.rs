@@ -11,7 +11,7 @@ use isola::analysis::grid::Axis;
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;
-use super::{output, parse};
+use super::parse;
 
 #[derive(Debug, Args)]
 pub struct FamilyArgs {
@@ -95,7 +95,7 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
         started.elapsed().as_secs_f64()
     );
     if let Some(path) = &args.csv {
-        output::write_atomic(path, |w| {
+        isola::session::export::write_atomic(path, |w| {
             w.write_record([
                 name,
                 "branch",

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use isola::analysis::force_curve::{ForceCurveSpec, force_curves};
 
-use super::{output, parse};
+use super::parse;
 
 #[derive(Debug, Args)]
 pub struct ForceArgs {
@@ -58,7 +58,7 @@ pub fn run(args: &ForceArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        output::write_atomic(path, |w| {
+        isola::session::export::write_atomic(path, |w| {
             w.write_record(["lambda_p", "phi_i", "dx_stretch", "force_nondim"])?;
             for c in &curves {
                 for p in &c.points {

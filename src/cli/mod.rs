@@ -5,9 +5,9 @@ mod family;
 mod force;
 mod model_args;
 mod orbit;
-mod output;
 mod parse;
 mod response;
+mod run;
 mod sweep;
 
 use std::process::ExitCode;
@@ -36,6 +36,10 @@ enum Command {
     Response(response::ResponseArgs),
     /// A frequency response per value of one parameter (Fig 7–12).
     Family(family::FamilyArgs),
+    /// Run a session's analyses headless; resumes after a crash, can be sharded.
+    Run(run::RunArgs),
+    /// Export a selection of a session's result to CSV.
+    Export(run::ExportArgs),
 }
 
 /// Parses the command line and runs the command; errors go to stderr with exit code 1.
@@ -48,6 +52,8 @@ pub fn run() -> ExitCode {
         Command::Force(args) => force::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Family(args) => family::run(&args),
+        Command::Run(args) => run::run(&args),
+        Command::Export(args) => run::export(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -97,7 +97,7 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
             ..TimeHistorySpec::default()
         };
         let history = time_history(&params, &spec)?;
-        super::output::write_atomic(path, |w| {
+        isola::session::export::write_atomic(path, |w| {
             w.write_record([
                 "tau",
                 "time_s",

@@ -11,7 +11,7 @@ use isola::jobs::JobContext;
 use isola::model::Device;
 
 use super::model_args::ModelArgs;
-use super::{output, parse};
+use super::parse;
 
 #[derive(Debug, Args)]
 pub struct ResponseArgs {
@@ -95,7 +95,7 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        output::response_csv(&fr, path)?;
+        isola::session::export::response_csv(&fr, path)?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -13,7 +13,7 @@ use isola::analysis::stepped_sweep::stepped_sweep;
 use isola::model::Device;
 
 use super::model_args::ModelArgs;
-use super::{output, parse};
+use super::parse;
 
 #[derive(Debug, Args)]
 pub struct SweepArgs {
@@ -79,9 +79,9 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             );
         }
         if let Some(path) = &args.csv {
-            output::write_atomic(path, |w| {
+            isola::session::export::write_atomic(path, |w| {
                 let mut header = vec!["step", "omega", "frequency_hz", "restarted"];
-                header.extend(output::STEADY_COLUMNS);
+                header.extend(isola::session::export::STEADY_COLUMNS);
                 w.write_record(&header)?;
                 for (i, s) in steps.iter().enumerate() {
                     let mut row = vec![
@@ -90,7 +90,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
                         format!("{:.4}", dev.hz(s.omega)),
                         s.restarted.to_string(),
                     ];
-                    row.extend(output::steady_fields(&s.steady));
+                    row.extend(isola::session::export::steady_fields(&s.steady));
                     w.write_record(&row)?;
                 }
                 Ok(())
@@ -125,7 +125,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         .fold([0.0; 3], |m, e| if e[2] > m[2] { *e } else { m });
     println!("  largest envelope {:.4} at ω_e {:.3}", peak[2], peak[1]);
     if let Some(path) = &args.csv {
-        output::write_atomic(path, |w| {
+        isola::session::export::write_atomic(path, |w| {
             w.write_record(["tau", "omega", "frequency_hz", "amplitude_stretch"])?;
             for e in &sweep.envelope {
                 w.write_record([
@@ -142,7 +142,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.scalogram_csv {
         let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
         let omega_e = |t: f64| a + (b - a) * (t / args.span).clamp(0.0, 1.0);
-        output::write_atomic(path, |w| {
+        isola::session::export::write_atomic(path, |w| {
             w.write_record([
                 "tau",
                 "omega_e",

@@ -1,0 +1,251 @@
+//! `isola run`: a session's analyses headless, resumable, shardable; `isola export`: a
+//! selection of a result to CSV.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use isola::analysis::Progress;
+use isola::jobs::JobContext;
+use isola::session::Session;
+use isola::session::run::{Outcome, ResultPaths, Shard, run_analysis};
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The session file.
+    session: PathBuf,
+    /// Run only this analysis.
+    #[arg(long)]
+    only: Option<String>,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Compute only chunks with index ≡ I mod N (for a cluster): `--shard I/N`.
+    #[arg(long, value_parser = parse_shard)]
+    shard: Option<Shard>,
+}
+
+fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (i, n) = s.split_once('/').ok_or("expected I/N, e.g. 0/4")?;
+    let (index, count): (usize, usize) = (
+        i.parse().map_err(|_| format!("'{i}' is not a number"))?,
+        n.parse().map_err(|_| format!("'{n}' is not a number"))?,
+    );
+    if count == 0 || index >= count {
+        return Err(format!("'{s}': need 0 <= I < N"));
+    }
+    Ok(Shard { index, count })
+}
+
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    let session = Session::load(&args.session)?;
+    let entries: Vec<_> = match &args.only {
+        Some(name) => vec![session.analysis(name).ok_or_else(|| {
+            let names: Vec<&str> = session.analyses.iter().map(|a| a.name.as_str()).collect();
+            anyhow::anyhow!(
+                "no analysis '{name}' in {}: one of {}",
+                args.session.display(),
+                names.join(", ")
+            )
+        })?],
+        None => session.analyses.iter().collect(),
+    };
+    let shard = args.shard.unwrap_or(Shard::ALL);
+    let total_started = Instant::now();
+    for entry in entries {
+        let progress = Arc::new(Progress::new(0));
+        let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
+        let done = Arc::new(AtomicBool::new(false));
+        let reporter = spawn_reporter(entry.name.clone(), progress.clone(), done.clone());
+        let started = Instant::now();
+        let outcome = ctx.run(|| run_analysis(&session, entry, shard, &progress));
+        done.store(true, Ordering::Relaxed);
+        let _ = reporter.join();
+        let outcome = outcome??;
+        let csv = ResultPaths::new(&session, &entry.name).csv;
+        match outcome {
+            Outcome::UpToDate => println!("{}: up to date ({})", entry.name, csv.display()),
+            Outcome::Completed {
+                chunks_computed,
+                seconds,
+            } => println!(
+                "{}: done in {:.2} s ({} chunks computed now, {:.2} s in all) → {}",
+                entry.name,
+                started.elapsed().as_secs_f64(),
+                chunks_computed,
+                seconds,
+                csv.display()
+            ),
+            Outcome::ShardDone {
+                chunks_computed,
+                missing,
+            } => println!(
+                "{}: shard {}/{} computed {} chunks; {} chunks still missing",
+                entry.name, shard.index, shard.count, chunks_computed, missing
+            ),
+        }
+    }
+    println!(
+        "session done in {:.2} s",
+        total_started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// A progress bar on a terminal; a plain line every 10 s otherwise (nohup, batch jobs).
+fn spawn_reporter(
+    name: String,
+    progress: Arc<Progress>,
+    done: Arc<AtomicBool>,
+) -> std::thread::JoinHandle<()> {
+    std::thread::spawn(move || {
+        if std::io::stderr().is_terminal() {
+            let bar = indicatif::ProgressBar::new(0);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{msg:12} [{bar:40}] {pos}/{len} {per_sec} eta {eta}",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+                .progress_chars("=> "),
+            );
+            bar.set_message(name);
+            while !done.load(Ordering::Relaxed) {
+                let (d, t) = progress.get();
+                bar.set_length(t as u64);
+                bar.set_position(d as u64);
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            bar.finish_and_clear();
+        } else {
+            let started = Instant::now();
+            let mut last = Instant::now();
+            while !done.load(Ordering::Relaxed) {
+                std::thread::sleep(Duration::from_millis(100));
+                if last.elapsed() >= Duration::from_secs(10) {
+                    let (d, t) = progress.get();
+                    eprintln!(
+                        "{name}: {d}/{t} ({:.0} %) after {:.0} s",
+                        100.0 * progress.fraction(),
+                        started.elapsed().as_secs_f64()
+                    );
+                    last = Instant::now();
+                }
+            }
+        }
+    })
+}
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The session file.
+    session: PathBuf,
+    /// The analysis whose result to export.
+    #[arg(long)]
+    analysis: String,
+    /// Keep rows where COLUMN OP VALUE holds (OP: = != < <= > >=); repeat to combine.
+    #[arg(long = "where", value_name = "COLUMN OP VALUE")]
+    filters: Vec<String>,
+    /// Where to write the selection.
+    #[arg(long)]
+    csv: PathBuf,
+}
+
+/// One `--where` condition.
+struct Filter {
+    column: String,
+    op: &'static str,
+    value: String,
+}
+
+fn parse_filter(s: &str) -> anyhow::Result<Filter> {
+    for op in ["<=", ">=", "!=", "=", "<", ">"] {
+        if let Some((c, v)) = s.split_once(op) {
+            return Ok(Filter {
+                column: c.trim().to_string(),
+                op,
+                value: v.trim().to_string(),
+            });
+        }
+    }
+    anyhow::bail!("--where '{s}': expected COLUMN OP VALUE with OP one of = != < <= > >=")
+}
+
+impl Filter {
+    fn keeps(&self, cell: &str) -> bool {
+        use std::cmp::Ordering as O;
+        let order = match (cell.parse::<f64>(), self.value.parse::<f64>()) {
+            (Ok(a), Ok(b)) => a.partial_cmp(&b),
+            _ => Some(cell.cmp(self.value.as_str())),
+        };
+        matches!(
+            (self.op, order),
+            ("=", Some(O::Equal))
+                | ("!=", Some(O::Less | O::Greater))
+                | ("<", Some(O::Less))
+                | ("<=", Some(O::Less | O::Equal))
+                | (">", Some(O::Greater))
+                | (">=", Some(O::Greater | O::Equal))
+        )
+    }
+}
+
+pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
+    let session = Session::load(&args.session)?;
+    let entry = session.analysis(&args.analysis).ok_or_else(|| {
+        anyhow::anyhow!(
+            "no analysis '{}' in {}",
+            args.analysis,
+            args.session.display()
+        )
+    })?;
+    let paths = ResultPaths::new(&session, &entry.name);
+    if !isola::session::run::is_current(&session, entry) {
+        anyhow::bail!(
+            "{}: no current result (run `isola run {} --only {}` first; a result of changed settings is stale)",
+            entry.name,
+            args.session.display(),
+            entry.name
+        );
+    }
+    let filters: Vec<Filter> = args
+        .filters
+        .iter()
+        .map(|f| parse_filter(f))
+        .collect::<anyhow::Result<_>>()?;
+    let mut reader = csv::Reader::from_path(&paths.csv)?;
+    let headers = reader.headers()?.clone();
+    let columns: Vec<usize> = filters
+        .iter()
+        .map(|f| {
+            headers.iter().position(|h| h == f.column).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--where: no column '{}'; columns: {}",
+                    f.column,
+                    headers.iter().collect::<Vec<_>>().join(", ")
+                )
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let mut kept = 0;
+    isola::session::export::write_atomic(&args.csv, |w| {
+        w.write_record(&headers)?;
+        for row in reader.records() {
+            let row = row?;
+            if filters.iter().zip(&columns).all(|(f, &c)| f.keeps(&row[c])) {
+                w.write_record(&row)?;
+                kept += 1;
+            }
+        }
+        Ok(())
+    })?;
+    println!(
+        "wrote {} rows of {} to {}",
+        kept,
+        entry.name,
+        args.csv.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,270 @@
+//! Tidy CSV for every result (one header row naming units), written atomically.
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::SteadyState;
+use crate::analysis::basin::Basin;
+use crate::analysis::frequency_response::FrequencyResponse;
+use crate::model::{Device, Params};
+
+/// Writes a CSV file atomically (see [`super::atomic::write_atomic`]): the rows are built in
+/// memory, so a failure while filling leaves the old file as it was.
+pub fn write_atomic(
+    path: &Path,
+    fill: impl FnOnce(&mut csv::Writer<&mut Vec<u8>>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut bytes = Vec::new();
+    {
+        let mut w = csv::Writer::from_writer(&mut bytes);
+        fill(&mut w)?;
+        w.flush()?;
+    }
+    super::atomic::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+/// The columns describing one steady state.
+pub const STEADY_COLUMNS: [&str; 7] = [
+    "class",
+    "period_forcing_periods",
+    "ratio",
+    "response_type",
+    "amplitude_stretch",
+    "lambda_min",
+    "lambda_max",
+];
+
+pub fn steady_fields(s: &SteadyState) -> [String; 7] {
+    let opt = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:.9}"));
+    [
+        s.class.as_str().into(),
+        s.period.map_or(String::new(), |k| k.to_string()),
+        s.ratio.map_or(String::new(), |r| r.to_string()),
+        s.response_type(),
+        opt(s.amplitude),
+        opt(s.lambda_min),
+        opt(s.lambda_max),
+    ]
+}
+
+/// One row per cell (`dx_stretch, v_per_tau, attractor`) and, beside it, the attractor table.
+pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record(["dx_stretch", "v_per_tau", "attractor", "ratio"])?;
+        let nv = b.v.len();
+        for (c, &label) in b.labels.iter().enumerate() {
+            let r = &b.table.attractors[label].response;
+            w.write_record([
+                format!("{:.6}", b.dx[c / nv]),
+                format!("{:.6}", b.v[c % nv]),
+                label.to_string(),
+                r.ratio.map_or(r.class.as_str().into(), |r| r.to_string()),
+            ])?;
+        }
+        Ok(())
+    })?;
+    let table: PathBuf = path.with_extension("attractors.csv");
+    write_atomic(&table, |w| {
+        let mut header = vec!["attractor", "omega", "cells", "fraction"];
+        header.extend(STEADY_COLUMNS);
+        header.extend(["poincare_lambda", "poincare_v"]);
+        w.write_record(&header)?;
+        for a in &b.table.attractors {
+            let mut row = vec![
+                a.id.to_string(),
+                params.omega().to_string(),
+                a.count.to_string(),
+                format!("{:.6}", b.fraction(a.id)),
+            ];
+            row.extend(steady_fields(&a.response));
+            let join = |i: usize| {
+                a.response
+                    .poincare
+                    .iter()
+                    .map(|p| format!("{:.9}", p[i]))
+                    .collect::<Vec<_>>()
+                    .join(";")
+            };
+            row.extend([join(0), join(1)]);
+            w.write_record(&row)?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per response per ω_e.
+pub fn response_csv(fr: &FrequencyResponse, path: &Path) -> anyhow::Result<()> {
+    let dev = Device::silicone();
+    write_atomic(path, |w| {
+        let mut header = vec![
+            "omega",
+            "frequency_hz",
+            "branch",
+            "hidden",
+            "seeded",
+            "share",
+        ];
+        header.extend(STEADY_COLUMNS);
+        header.extend(["poincare_lambda", "poincare_v"]);
+        w.write_record(&header)?;
+        for r in &fr.responses {
+            let mut row = vec![
+                format!("{:.6}", r.omega),
+                format!("{:.4}", dev.hz(r.omega)),
+                r.branch.map_or(String::new(), |b| b.to_string()),
+                r.hidden.map_or(String::new(), |h| h.to_string()),
+                r.seeded.to_string(),
+                format!("{:.6}", r.share),
+            ];
+            row.extend(steady_fields(&r.steady));
+            let join = |i: usize| {
+                r.steady
+                    .poincare
+                    .iter()
+                    .map(|p| format!("{:.9}", p[i]))
+                    .collect::<Vec<_>>()
+                    .join(";")
+            };
+            row.extend([join(0), join(1)]);
+            w.write_record(&row)?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per point of each force curve.
+pub fn force_csv(
+    curves: &[crate::analysis::force_curve::ForceCurve],
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record(["lambda_p", "phi_i", "dx_stretch", "force_nondim"])?;
+        for c in curves {
+            for p in &c.points {
+                w.write_record([
+                    c.lambda_p.to_string(),
+                    c.phi_i.to_string(),
+                    format!("{:.6}", p[0]),
+                    format!("{:.9}", p[1]),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// One row per sample of a time history.
+pub fn history_csv(
+    h: &crate::analysis::time_history::TimeHistory,
+    device: &Device,
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record([
+            "tau",
+            "time_s",
+            "lambda_stretch",
+            "v_per_tau",
+            "phi_i",
+            "steady",
+        ])?;
+        for s in &h.samples {
+            w.write_record([
+                format!("{:.6}", s.tau),
+                format!("{:.8}", device.seconds(s.tau)),
+                format!("{:.9}", s.lambda),
+                format!("{:.9}", s.v),
+                format!("{:.6}", s.phi_i),
+                s.steady.to_string(),
+            ])?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per envelope window of a chirp sweep.
+pub fn chirp_csv(
+    s: &crate::analysis::chirp_sweep::ChirpSweep,
+    device: &Device,
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record(["tau", "omega", "frequency_hz", "amplitude_stretch"])?;
+        for e in &s.envelope {
+            w.write_record([
+                format!("{:.3}", e[0]),
+                format!("{:.6}", e[1]),
+                format!("{:.4}", device.hz(e[1])),
+                format!("{:.9}", e[2]),
+            ])?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per step of a stepped sweep.
+pub fn stepped_csv(
+    steps: &[crate::analysis::stepped_sweep::SweepStep],
+    device: &Device,
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        let mut header = vec!["step", "omega", "frequency_hz", "restarted"];
+        header.extend(STEADY_COLUMNS);
+        w.write_record(&header)?;
+        for (i, s) in steps.iter().enumerate() {
+            let mut row = vec![
+                i.to_string(),
+                format!("{:.6}", s.omega),
+                format!("{:.4}", device.hz(s.omega)),
+                s.restarted.to_string(),
+            ];
+            row.extend(steady_fields(&s.steady));
+            w.write_record(&row)?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per branch per member of a family.
+pub fn family_csv(
+    parameter: &str,
+    members: &[crate::analysis::family::FamilyMember],
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record([
+            parameter,
+            "branch",
+            "period_forcing_periods",
+            "ratio",
+            "response_type",
+            "omega_min",
+            "omega_max",
+            "peak_amplitude_stretch",
+            "peak_omega",
+            "points",
+            "hidden",
+            "partly_hidden",
+        ])?;
+        for m in members {
+            for b in &m.response.branches {
+                w.write_record([
+                    m.value.to_string(),
+                    b.id.to_string(),
+                    b.period.to_string(),
+                    b.ratio.to_string(),
+                    b.response_type.clone(),
+                    format!("{:.6}", b.omega_min),
+                    format!("{:.6}", b.omega_max),
+                    format!("{:.9}", b.peak_amplitude),
+                    format!("{:.6}", b.peak_omega),
+                    b.points.to_string(),
+                    b.hidden.to_string(),
+                    b.partly_hidden.to_string(),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}

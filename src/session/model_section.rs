@@ -1,0 +1,134 @@
+//! The `[model]` table of a session: non-dimensional values, or physical ones converted with
+//! the session's device.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::error::ParamError;
+use crate::model::{Device, DriveSpec, ParamSpec};
+
+/// Model parameters as a session writes them. Every key is optional (the paper's baseline
+/// fills the gaps); a quantity may be given non-dimensionally or physically, not both.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    pub lambda_p: Option<f64>,
+    pub j: Option<f64>,
+    pub c_tilde: Option<f64>,
+    /// Physical damping coefficient c, N·s/m (instead of c_tilde).
+    pub damping_n_s_per_m: Option<f64>,
+    pub omega: Option<f64>,
+    /// Forcing frequency in Hz (instead of omega).
+    pub frequency_hz: Option<f64>,
+    pub e_a: Option<f64>,
+    pub adr: Option<f64>,
+    pub phi_dc: Option<f64>,
+    pub phi_ac: Option<f64>,
+    /// DC and AC voltages in kV (instead of phi_dc, phi_ac).
+    pub dc_kv: Option<f64>,
+    pub ac_kv: Option<f64>,
+    pub phi_dc_ii: Option<f64>,
+    pub phi_ac_ii: Option<f64>,
+    pub phase_ii: Option<f64>,
+}
+
+fn one_of(a: Option<f64>, name_a: &'static str, b: Option<f64>) -> Result<Option<f64>, ParamError> {
+    match (a, b) {
+        (Some(_), Some(v)) => Err(ParamError {
+            field: name_a,
+            value: v,
+            allowed: "one form only: the non-dimensional value or the physical one".into(),
+        }),
+        (a, b) => Ok(a.or(b)),
+    }
+}
+
+impl ModelSection {
+    /// These values over `base` (a session's model under an analysis' overrides).
+    pub fn over(&self, base: &ModelSection) -> ModelSection {
+        macro_rules! pick {
+            ($($f:ident),*) => { ModelSection { $($f: self.$f.or(base.$f)),* } };
+        }
+        pick!(
+            lambda_p,
+            j,
+            c_tilde,
+            damping_n_s_per_m,
+            omega,
+            frequency_hz,
+            e_a,
+            adr,
+            phi_dc,
+            phi_ac,
+            dc_kv,
+            ac_kv,
+            phi_dc_ii,
+            phi_ac_ii,
+            phase_ii
+        )
+    }
+
+    /// The non-dimensional parameters, converting physical values with `device`.
+    pub fn to_spec(&self, device: &Device) -> Result<ParamSpec, ParamError> {
+        let base = ParamSpec::default();
+        let c_tilde = one_of(
+            self.c_tilde,
+            "c_tilde",
+            self.damping_n_s_per_m.map(|c| device.c_tilde(c)),
+        )?;
+        let omega = one_of(
+            self.omega,
+            "omega",
+            self.frequency_hz.map(|f| device.omega_from_hz(f)),
+        )?;
+        let phi_dc = one_of(
+            self.phi_dc,
+            "phi_dc",
+            self.dc_kv.map(|v| device.phi_from_kv(v)),
+        )?;
+        let phi_ac = one_of(
+            self.phi_ac,
+            "phi_ac",
+            self.ac_kv.map(|v| device.phi_from_kv(v)),
+        )?;
+        let drive = match (phi_dc, phi_ac, self.e_a, self.adr) {
+            (Some(_), _, Some(e), _) | (_, Some(_), Some(e), _) => {
+                return Err(ParamError {
+                    field: "e_a",
+                    value: e,
+                    allowed: "either e_a/adr or phi_dc/phi_ac (or dc_kv/ac_kv), not both".into(),
+                });
+            }
+            (Some(_), _, _, Some(a)) | (_, Some(_), _, Some(a)) => {
+                return Err(ParamError {
+                    field: "adr",
+                    value: a,
+                    allowed: "either e_a/adr or phi_dc/phi_ac (or dc_kv/ac_kv), not both".into(),
+                });
+            }
+            (None, None, e_a, adr) => DriveSpec::EaAdr {
+                e_a: e_a.unwrap_or(0.04),
+                adr: adr.unwrap_or(0.6),
+            },
+            (dc, ac, _, _) => DriveSpec::Phi {
+                phi_dc: dc.unwrap_or(0.0),
+                phi_ac: ac.unwrap_or(0.0),
+            },
+        };
+        let drive_ii = match (self.phi_dc_ii, self.phi_ac_ii) {
+            (None, None) => None,
+            (dc, ac) => Some(DriveSpec::Phi {
+                phi_dc: dc.unwrap_or(0.0),
+                phi_ac: ac.unwrap_or(0.0),
+            }),
+        };
+        Ok(ParamSpec {
+            lambda_p: self.lambda_p.unwrap_or(base.lambda_p),
+            j: self.j.unwrap_or(base.j),
+            c_tilde: c_tilde.unwrap_or(base.c_tilde),
+            omega: omega.unwrap_or(base.omega),
+            drive,
+            drive_ii,
+            phase_ii: self.phase_ii.unwrap_or(0.0),
+        })
+    }
+}

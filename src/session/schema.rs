@@ -1,0 +1,431 @@
+//! The session file: `schema = 1`, an optional device, the model, and named analyses.
+//!
+//! ```toml
+//! schema = 1
+//! description = "Fig 4: frequency response at ADR 0.6"
+//! [model]
+//! adr = 0.6
+//! [[analysis]]
+//! name = "response"
+//! kind = "frequency_response"
+//! [analysis.settings]
+//! omega = { min = 0.2, max = 6.0, points = 117 }
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::model_section::ModelSection;
+use crate::analysis::SteadyStateSpec;
+use crate::analysis::basin::BasinSpec;
+use crate::analysis::chirp_sweep::ChirpSpec;
+use crate::analysis::family::FamilySpec;
+use crate::analysis::force_curve::ForceCurveSpec;
+use crate::analysis::frequency_response::FrequencyResponseSpec;
+use crate::analysis::grid::Axis;
+use crate::analysis::time_history::TimeHistorySpec;
+use crate::model::{Device, ParamSpec, Params};
+
+/// The one schema version this build reads and writes.
+pub const SCHEMA: u32 = 1;
+
+/// What can go wrong with a session file.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// Malformed TOML or a key/value the schema does not allow; the message has line and column.
+    #[error("{path}: {message}")]
+    Syntax { path: PathBuf, message: String },
+    /// A value out of range, with where it is.
+    #[error("{path}: {location}: {source}")]
+    Value {
+        path: PathBuf,
+        location: String,
+        source: crate::model::ParamError,
+    },
+}
+
+/// The file as written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SessionFile {
+    pub schema: u32,
+    #[serde(default)]
+    pub description: Option<String>,
+    /// The device for physical units (default: the paper's silicone device).
+    #[serde(default)]
+    pub device: Option<Device>,
+    #[serde(default)]
+    pub model: ModelSection,
+    #[serde(default)]
+    pub analysis: Vec<RawAnalysis>,
+}
+
+/// One `[[analysis]]` table as written: its settings are read once its kind is known.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawAnalysis {
+    pub name: String,
+    pub kind: String,
+    /// Model values for this analysis only.
+    #[serde(default)]
+    pub model: ModelSection,
+    #[serde(default)]
+    pub settings: Option<toml::Table>,
+}
+
+/// One named analysis: its model overrides and settings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnalysisEntry {
+    pub name: String,
+    pub model: ModelSection,
+    pub settings: Settings,
+}
+
+/// The analysis kinds and their settings (every setting has a default but a family's
+/// parameter and values).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Settings {
+    ForceCurve(ForceCurveSpec),
+    TimeHistory(TimeHistorySpec),
+    ChirpSweep(ChirpSpec),
+    SteppedSweep(SteppedSweepSpec),
+    FrequencyResponse(FrequencyResponseSpec),
+    Basin(BasinSpec),
+    Family(FamilySpec),
+}
+
+/// The kinds a session may name.
+pub const KINDS: [&str; 7] = [
+    "force_curve",
+    "time_history",
+    "chirp_sweep",
+    "stepped_sweep",
+    "frequency_response",
+    "basin",
+    "family",
+];
+
+impl Settings {
+    /// Reads the settings table of an analysis of `kind`.
+    pub fn read(kind: &str, table: Option<toml::Table>) -> Result<Settings, String> {
+        fn get<T: serde::de::DeserializeOwned + Default>(
+            t: Option<toml::Table>,
+        ) -> Result<T, String> {
+            match t {
+                None => Ok(T::default()),
+                Some(t) => toml::Value::Table(t)
+                    .try_into()
+                    .map_err(|e: toml::de::Error| e.message().to_string()),
+            }
+        }
+        Ok(match kind {
+            "force_curve" => Settings::ForceCurve(get(table)?),
+            "time_history" => Settings::TimeHistory(get(table)?),
+            "chirp_sweep" => Settings::ChirpSweep(get(table)?),
+            "stepped_sweep" => Settings::SteppedSweep(get(table)?),
+            "frequency_response" => Settings::FrequencyResponse(get(table)?),
+            "basin" => Settings::Basin(get(table)?),
+            "family" => {
+                let t = table.ok_or("a family needs settings: parameter and values")?;
+                Settings::Family(
+                    toml::Value::Table(t)
+                        .try_into()
+                        .map_err(|e: toml::de::Error| e.message().to_string())?,
+                )
+            }
+            other => {
+                return Err(format!(
+                    "unknown kind '{other}': one of {}",
+                    KINDS.join(", ")
+                ));
+            }
+        })
+    }
+
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Settings::ForceCurve(_) => "force_curve",
+            Settings::TimeHistory(_) => "time_history",
+            Settings::ChirpSweep(_) => "chirp_sweep",
+            Settings::SteppedSweep(_) => "stepped_sweep",
+            Settings::FrequencyResponse(_) => "frequency_response",
+            Settings::Basin(_) => "basin",
+            Settings::Family(_) => "family",
+        }
+    }
+}
+
+/// A stepped sweep in a session: its ω grid in order (reverse min and max to step down).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SteppedSweepSpec {
+    pub omega: Axis,
+    pub dx0: f64,
+    pub v0: f64,
+    pub steady: SteadyStateSpec,
+}
+
+impl Default for SteppedSweepSpec {
+    fn default() -> Self {
+        SteppedSweepSpec {
+            omega: Axis::new(0.2, 6.0, 117),
+            dx0: 0.0,
+            v0: 0.0,
+            steady: SteadyStateSpec::default(),
+        }
+    }
+}
+
+/// A loaded session: the parsed file, its analyses, its text (for saving with the user's
+/// comments), and where it lives.
+#[derive(Debug, Clone)]
+pub struct Session {
+    pub path: PathBuf,
+    pub file: SessionFile,
+    pub analyses: Vec<AnalysisEntry>,
+    document: toml_edit::DocumentMut,
+}
+
+impl Session {
+    /// Reads and validates a session file.
+    pub fn load(path: &Path) -> Result<Self, SessionError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(path, &text)
+    }
+
+    /// Parses and validates session text (`path` is for messages and results).
+    pub fn parse(path: &Path, text: &str) -> Result<Self, SessionError> {
+        let syntax = |message: String| SessionError::Syntax {
+            path: path.to_path_buf(),
+            message,
+        };
+        let document: toml_edit::DocumentMut = text
+            .parse()
+            .map_err(|e: toml_edit::TomlError| syntax(e.to_string()))?;
+        let file: SessionFile = toml::from_str(text).map_err(|e| syntax(e.to_string()))?;
+        if file.schema != SCHEMA {
+            return Err(syntax(format!(
+                "schema = {}: this isola reads schema = {SCHEMA}",
+                file.schema
+            )));
+        }
+        let mut analyses = Vec::with_capacity(file.analysis.len());
+        for (i, raw) in file.analysis.iter().enumerate() {
+            let settings = Settings::read(&raw.kind, raw.settings.clone()).map_err(|message| {
+                let line = settings_line(text, i, &message)
+                    .map_or(String::new(), |l| format!("line {l}: "));
+                syntax(format!(
+                    "{line}analysis '{}' ({}): {message}",
+                    raw.name, raw.kind
+                ))
+            })?;
+            analyses.push(AnalysisEntry {
+                name: raw.name.clone(),
+                model: raw.model.clone(),
+                settings,
+            });
+        }
+        let session = Session {
+            path: path.to_path_buf(),
+            file,
+            analyses,
+            document,
+        };
+        session.validate()?;
+        Ok(session)
+    }
+
+    /// Checks the model, every analysis' parameters, and that names are unique.
+    fn validate(&self) -> Result<(), SessionError> {
+        let value_error = |location: String, source| SessionError::Value {
+            path: self.path.clone(),
+            location,
+            source,
+        };
+        self.device()
+            .validate()
+            .map_err(|e| value_error("[device]".into(), e))?;
+        self.params(None)
+            .map_err(|e| value_error("[model]".into(), e))?;
+        for (i, entry) in self.analyses.iter().enumerate() {
+            if self.analyses[..i].iter().any(|a| a.name == entry.name) {
+                return Err(SessionError::Syntax {
+                    path: self.path.clone(),
+                    message: format!("analysis name '{}' is used twice", entry.name),
+                });
+            }
+            let valid_name = !entry.name.is_empty()
+                && entry
+                    .name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+            if !valid_name {
+                return Err(SessionError::Syntax {
+                    path: self.path.clone(),
+                    message: format!(
+                        "analysis name '{}': use letters, digits, _ and -",
+                        entry.name
+                    ),
+                });
+            }
+            let location = format!("analysis '{}'", entry.name);
+            self.params(Some(entry))
+                .map_err(|e| value_error(location.clone(), e))?;
+            check_settings(&entry.settings).map_err(|e| value_error(location, e))?;
+        }
+        Ok(())
+    }
+
+    pub fn device(&self) -> Device {
+        self.file.device.unwrap_or_default()
+    }
+
+    /// The model for `entry` (its overrides over the session's model), or the session's own.
+    pub fn params(
+        &self,
+        entry: Option<&AnalysisEntry>,
+    ) -> Result<Params, crate::model::ParamError> {
+        self.param_spec(entry)?.build()
+    }
+
+    fn param_spec(
+        &self,
+        entry: Option<&AnalysisEntry>,
+    ) -> Result<ParamSpec, crate::model::ParamError> {
+        let model = match entry {
+            Some(e) => e.model.over(&self.file.model),
+            None => self.file.model.clone(),
+        };
+        model.to_spec(&self.device())
+    }
+
+    /// The analysis called `name`.
+    pub fn analysis(&self, name: &str) -> Option<&AnalysisEntry> {
+        self.analyses.iter().find(|a| a.name == name)
+    }
+
+    /// A stable fingerprint of what `entry` computes (model and settings): results with another
+    /// fingerprint are stale.
+    pub fn fingerprint(&self, entry: &AnalysisEntry) -> String {
+        let spec = self.param_spec(Some(entry)).ok();
+        let json = serde_json::to_string(&(spec, &entry.settings)).unwrap_or_default();
+        // FNV-1a, 64 bits: stable across builds and platforms
+        let hash = json.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+        });
+        format!("{hash:016x}")
+    }
+
+    /// Sets a key of `[model]` in the document (comments and layout kept) and re-validates.
+    pub fn set_model_value(&mut self, key: &str, value: f64) -> Result<(), SessionError> {
+        let mut document = self.document.clone();
+        if !document.contains_key("model") {
+            document["model"] = toml_edit::table();
+        }
+        document["model"][key] = toml_edit::value(value);
+        let reparsed = Session::parse(&self.path, &document.to_string())?;
+        *self = reparsed;
+        Ok(())
+    }
+
+    /// The session's text as it will be saved.
+    pub fn to_text(&self) -> String {
+        self.document.to_string()
+    }
+
+    /// Saves atomically to `path` (and makes it this session's path).
+    pub fn save_as(&mut self, path: &Path) -> Result<(), SessionError> {
+        super::atomic::write_atomic(path, self.to_text().as_bytes()).map_err(|source| {
+            SessionError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
+        self.path = path.to_path_buf();
+        Ok(())
+    }
+
+    /// Where the results of this session live: `NAME.results/` beside the file.
+    pub fn results_dir(&self) -> PathBuf {
+        let stem = self
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        self.path.with_file_name(format!("{stem}.results"))
+    }
+}
+
+/// Range checks of an analysis' settings that its own function would otherwise do late.
+fn check_settings(settings: &Settings) -> Result<(), crate::model::ParamError> {
+    match settings {
+        Settings::Basin(b) => {
+            b.dx.validate("dx", 1 << 14)?;
+            b.v.validate("v", 1 << 14)?;
+            b.steady.validate()
+        }
+        Settings::FrequencyResponse(f) => {
+            f.omega.validate("omega", 100_000)?;
+            f.dx.validate("dx", 4096)?;
+            f.v.validate("v", 4096)?;
+            f.steady.validate()
+        }
+        Settings::Family(f) => {
+            f.response.omega.validate("omega", 100_000)?;
+            f.response.steady.validate()
+        }
+        Settings::SteppedSweep(s) => {
+            s.omega.validate("omega", 100_000)?;
+            s.steady.validate()
+        }
+        Settings::TimeHistory(t) => t.steady.validate(),
+        Settings::ForceCurve(_) | Settings::ChirpSweep(_) => Ok(()),
+    }
+}
+
+/// The line of the key an error message names (`unknown field `x``, `invalid type ... for key
+/// `x``) inside the settings of analysis `index`, or of that analysis' table.
+fn settings_line(text: &str, index: usize, message: &str) -> Option<usize> {
+    let doc = toml_edit::Document::parse(text.to_string()).ok()?;
+    let entry = doc.get("analysis")?.as_array_of_tables()?.get(index)?;
+    let key = message.split('`').nth(1);
+    let mut span = entry.span();
+    if let (Some(key), Some(settings)) = (key, entry.get("settings")) {
+        if let Some(found) = find_key(settings, key) {
+            span = Some(found);
+        } else if let Some(s) = settings.span() {
+            span = Some(s);
+        }
+    }
+    let offset = span?.start;
+    Some(text[..offset.min(text.len())].matches('\n').count() + 1)
+}
+
+/// The span of `key` anywhere inside `item`.
+fn find_key(item: &toml_edit::Item, key: &str) -> Option<std::ops::Range<usize>> {
+    let table = item.as_table_like()?;
+    for (k, v) in table.iter() {
+        if k == key {
+            return table.get_key_value(k).and_then(|(k, _)| k.span());
+        }
+        if let Some(span) = find_key(v, key) {
+            return Some(span);
+        }
+        if let Some(inline) = v.as_value().and_then(|v| v.as_inline_table()) {
+            if let Some((k2, _)) = inline.get_key_value(key) {
+                return k2.span();
+            }
+        }
+    }
+    None
+}

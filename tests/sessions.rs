@@ -1,0 +1,289 @@
+//! Session files, results beside them, headless runs that survive a kill, and export.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use isola::analysis::Progress;
+use isola::session::run::{ResultPaths, Shard, is_current, run_analysis};
+use isola::session::{Session, Settings};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("isola-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn examples() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
+    v.sort();
+    v
+}
+
+/// Every figure of the paper has its session; each loads, and its cheapest analysis runs and
+/// writes its CSV with a complete manifest.
+#[test]
+fn every_example_session_loads_and_its_cheapest_analysis_runs() {
+    let files = examples();
+    for fig in [
+        "fig02a", "fig02b", "fig03", "fig04", "fig05", "fig06a", "fig06b", "fig07", "fig08",
+        "fig09", "fig10", "fig11a", "fig11b", "fig12",
+    ] {
+        assert!(
+            files
+                .iter()
+                .any(|f| f.file_name().unwrap().to_string_lossy().starts_with(fig)),
+            "{fig}"
+        );
+    }
+    let dir = scratch("examples");
+    for file in files {
+        let copy = dir.join(file.file_name().unwrap());
+        std::fs::copy(&file, &copy).unwrap();
+        let session = Session::load(&copy).unwrap_or_else(|e| panic!("{e}"));
+        assert!(session.file.description.is_some(), "{}", file.display());
+        let cheap = session
+            .analyses
+            .iter()
+            .find(|a| {
+                matches!(
+                    a.settings,
+                    Settings::ForceCurve(_) | Settings::TimeHistory(_)
+                )
+            })
+            .or_else(|| {
+                session
+                    .analyses
+                    .iter()
+                    .find(|a| matches!(a.settings, Settings::ChirpSweep(_)))
+            })
+            .expect("a cheap analysis");
+        run_analysis(&session, cheap, Shard::ALL, &Progress::new(0)).unwrap();
+        assert!(is_current(&session, cheap), "{}", file.display());
+        assert!(ResultPaths::new(&session, &cheap.name).csv.exists());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Load → edit → save → load keeps the user's comments and layout, and applies the edit.
+#[test]
+fn round_trip_keeps_comments() {
+    let dir = scratch("roundtrip");
+    let src = examples()
+        .into_iter()
+        .find(|p| p.to_string_lossy().contains("fig04"))
+        .unwrap();
+    let path = dir.join("s.toml");
+    std::fs::copy(&src, &path).unwrap();
+    let original = std::fs::read_to_string(&path).unwrap();
+    let mut s = Session::load(&path).unwrap();
+    s.save_as(&path).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        original,
+        "an unedited save is byte-identical"
+    );
+    s.set_model_value("lambda_p", 1.03).unwrap();
+    s.save_as(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    for comment in original.lines().filter(|l| l.trim_start().starts_with('#')) {
+        assert!(text.contains(comment), "lost comment: {comment}");
+    }
+    assert!(text.contains("# starts in the 1:2 basin"));
+    let again = Session::load(&path).unwrap();
+    assert_eq!(again.params(None).unwrap().lambda_p(), 1.03);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn error_of(text: &str) -> String {
+    Session::parse(Path::new("t.toml"), text)
+        .unwrap_err()
+        .to_string()
+}
+
+/// Malformed TOML, unknown keys, bad values and huge grids give messages a user can act on.
+#[test]
+fn bad_files_get_clear_errors() {
+    let good = "schema = 1\n[model]\nadr = 0.6\n\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 21 }\n";
+    assert!(Session::parse(Path::new("t.toml"), good).is_ok());
+    let e = error_of(&good.replace("adr = 0.6", "adr = = 0.6"));
+    assert!(e.contains("line 3, column 7"), "{e}");
+    let e = error_of(&good.replace("[model]", "colour = 1\n[model]"));
+    assert!(e.contains("colour") && e.contains("line 2"), "{e}");
+    let e = error_of(&good.replace("points = 21 }", "points = 21, stpe = 3 }"));
+    assert!(e.contains("stpe") && e.contains("line 9"), "{e}");
+    let e = error_of(&good.replace("kind = \"basin\"", "kind = \"basin\"\nkolor = 2"));
+    assert!(e.contains("kolor") && e.contains("line 8"), "{e}");
+    let e = error_of(&good.replace("adr = 0.6", "adr = -0.6"));
+    assert!(e.contains("adr = -0.6") && e.contains(">= 0"), "{e}");
+    let e = error_of(&good.replace("points = 21", "points = 1000000000"));
+    assert!(e.contains("dx = 1000000000") && e.contains("16384"), "{e}");
+    let e = error_of(&good.replace("kind = \"basin\"", "kind = \"basins\""));
+    assert!(e.contains("unknown kind 'basins'"), "{e}");
+    let e = error_of(&good.replace("schema = 1", "schema = 2"));
+    assert!(e.contains("schema = 2"), "{e}");
+    let e = error_of(&good.replace("adr = 0.6", "omega = 3.7\nfrequency_hz = 50"));
+    assert!(e.contains("omega") && e.contains("one form only"), "{e}");
+}
+
+/// Physical units in the model table: Hz and kV are converted with the device.
+#[test]
+fn physical_model_values_are_converted() {
+    let text = "schema = 1\n[model]\nfrequency_hz = 25.6235\ndc_kv = 2.34\nac_kv = 1.40\n";
+    let s = Session::parse(Path::new("t.toml"), text).unwrap();
+    let p = s.params(None).unwrap();
+    assert!((p.omega() - 1.8).abs() < 1e-4, "{}", p.omega());
+    assert!((p.drive_i().phi_dc() - 0.1841).abs() < 1e-3);
+}
+
+fn run_binary(session: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_isola"))
+        .args(["run", &session.to_string_lossy(), "--threads", "2"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap()
+}
+
+const BASIN_SESSION: &str = "schema = 1\n[model]\nadr = 1.0\nomega = 3.6\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 161 }\nv = { min = -1.0, max = 1.0, points = 201 }\n";
+
+/// Kill -9 in the middle of a basin, run again: only the missing chunks are computed, and the
+/// CSVs are byte for byte those of an uninterrupted run.
+#[test]
+fn killed_run_resumes_to_identical_results() {
+    let dir = scratch("resume");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    let (sa, sb) = (a.join("s.toml"), b.join("s.toml"));
+    std::fs::write(&sa, BASIN_SESSION).unwrap();
+    std::fs::write(&sb, BASIN_SESSION).unwrap();
+    // uninterrupted
+    assert!(run_binary(&sb).wait().unwrap().success());
+    // interrupted once some chunks are saved
+    let mut child = run_binary(&sa);
+    let chunks = a.join("s.results/basin.chunks");
+    let started = Instant::now();
+    while std::fs::read_dir(&chunks).map_or(0, |d| d.count()) < 6 {
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "no chunks appeared"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !a.join("s.results/basin.csv").exists(),
+        "killed before the end"
+    );
+    let saved = std::fs::read_dir(&chunks).unwrap().count();
+    let out = run_binary(&sa).wait_with_output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let total = (161 * 201usize).div_ceil(isola::analysis::basin::CHUNK_CELLS);
+    let computed: usize = text
+        .split(" chunks computed now")
+        .next()
+        .unwrap()
+        .rsplit('(')
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    assert!(
+        computed + saved >= total && computed < total,
+        "{text}: saved {saved}, total {total}"
+    );
+    for f in ["basin.csv", "basin.attractors.csv"] {
+        let (x, y) = (
+            std::fs::read(a.join("s.results").join(f)).unwrap(),
+            std::fs::read(b.join("s.results").join(f)).unwrap(),
+        );
+        assert!(x == y, "{f} differs");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A changed setting makes the stored result stale rather than mixing it in.
+#[test]
+fn changed_settings_make_results_stale() {
+    let dir = scratch("stale");
+    let path = dir.join("s.toml");
+    std::fs::write(
+        &path,
+        "schema = 1\n[[analysis]]\nname = \"o\"\nkind = \"time_history\"\n",
+    )
+    .unwrap();
+    let mut s = Session::load(&path).unwrap();
+    let entry = s.analyses[0].clone();
+    run_analysis(&s, &entry, Shard::ALL, &Progress::new(0)).unwrap();
+    assert!(is_current(&s, &entry));
+    s.set_model_value("omega", 1.8).unwrap();
+    let entry = s.analyses[0].clone();
+    assert!(!is_current(&s, &entry));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A write that fails before its rename leaves the old file as it was, and no temporary.
+#[test]
+fn interrupted_save_leaves_the_old_file() {
+    let dir = scratch("atomic");
+    let path = dir.join("r.csv");
+    std::fs::write(&path, "old,contents\n").unwrap();
+    let result = isola::session::export::write_atomic(&path, |w| {
+        w.write_record(["new", "half"])?;
+        anyhow::bail!("interrupted")
+    });
+    assert!(result.is_err());
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old,contents\n");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "no temporary left behind: {names:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `isola export --where` selects rows of a stored result.
+#[test]
+fn export_selects_rows() {
+    let dir = scratch("export");
+    let path = dir.join("s.toml");
+    std::fs::write(&path, "schema = 1\n[model]\nomega = 3.7\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 11 }\nv = { min = -1.0, max = 1.0, points = 11 }\n").unwrap();
+    let s = Session::load(&path).unwrap();
+    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
+    let out = dir.join("sel.csv");
+    let status = Command::new(env!("CARGO_BIN_EXE_isola"))
+        .args([
+            "export",
+            &path.to_string_lossy(),
+            "--analysis",
+            "b",
+            "--where",
+            "ratio=1:2",
+            "--where",
+            "dx_stretch>=0",
+            "--csv",
+            &out.to_string_lossy(),
+        ])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    assert!(!rows.is_empty());
+    for r in rows {
+        let cells: Vec<&str> = r.split(',').collect();
+        assert_eq!(cells[3], "1:2");
+        assert!(cells[0].parse::<f64>().unwrap() >= 0.0);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
