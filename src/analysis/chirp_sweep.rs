@@ -58,6 +58,8 @@ pub struct ChirpSweep {
     pub omega: Vec<f64>,
     /// One row per window: (τ at its centre, ω_e there, max − min of λ_I in it).
     pub envelope: Vec<[f64; 3]>,
+    /// Samples per envelope window.
+    pub window_samples: usize,
     /// Where the mass met a frame, if it did (the record stops there).
     pub collision_tau: Option<f64>,
 }
@@ -141,6 +143,7 @@ pub fn chirp_sweep(
         lambda,
         omega,
         envelope,
+        window_samples: per_window,
         collision_tau,
     })
 }

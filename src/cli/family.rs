@@ -95,41 +95,7 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
         started.elapsed().as_secs_f64()
     );
     if let Some(path) = &args.csv {
-        isola::session::export::write_atomic(path, |w| {
-            w.write_record([
-                name,
-                "branch",
-                "period_forcing_periods",
-                "ratio",
-                "response_type",
-                "omega_min",
-                "omega_max",
-                "peak_amplitude_stretch",
-                "peak_omega",
-                "points",
-                "hidden",
-                "partly_hidden",
-            ])?;
-            for m in &members {
-                for b in &m.response.branches {
-                    w.write_record([
-                        m.value.to_string(),
-                        b.id.to_string(),
-                        b.period.to_string(),
-                        b.ratio.to_string(),
-                        b.response_type.clone(),
-                        format!("{:.6}", b.omega_min),
-                        format!("{:.6}", b.omega_max),
-                        format!("{:.9}", b.peak_amplitude),
-                        format!("{:.6}", b.peak_omega),
-                        b.points.to_string(),
-                        b.hidden.to_string(),
-                        b.partly_hidden.to_string(),
-                    ])?;
-                }
-            }
-            Ok(())
-        })?;
+        isola::session::export::family_csv(name, &members, path)?;
         println!("wrote {}", path.display());
     }
     Ok(())

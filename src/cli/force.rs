@@ -58,20 +58,7 @@ pub fn run(args: &ForceArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        isola::session::export::write_atomic(path, |w| {
-            w.write_record(["lambda_p", "phi_i", "dx_stretch", "force_nondim"])?;
-            for c in &curves {
-                for p in &c.points {
-                    w.write_record([
-                        c.lambda_p.to_string(),
-                        c.phi_i.to_string(),
-                        format!("{:.6}", p[0]),
-                        format!("{:.9}", p[1]),
-                    ])?;
-                }
-            }
-            Ok(())
-        })?;
+        isola::session::export::force_csv(&curves, path)?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -97,28 +97,7 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
             ..TimeHistorySpec::default()
         };
         let history = time_history(&params, &spec)?;
-        isola::session::export::write_atomic(path, |w| {
-            w.write_record([
-                "tau",
-                "time_s",
-                "lambda_stretch",
-                "v_per_tau",
-                "phi_i",
-                "steady",
-            ])?;
-            let dev = Device::silicone();
-            for s in &history.samples {
-                w.write_record([
-                    format!("{:.6}", s.tau),
-                    format!("{:.8}", dev.seconds(s.tau)),
-                    format!("{:.9}", s.lambda),
-                    format!("{:.9}", s.v),
-                    format!("{:.6}", s.phi_i),
-                    s.steady.to_string(),
-                ])?;
-            }
-            Ok(())
-        })?;
+        isola::session::export::history_csv(&history, &Device::silicone(), path)?;
         if !args.json {
             println!(
                 "wrote {} ({} samples)",

@@ -28,7 +28,7 @@ pub struct SweepArgs {
     /// Envelope window of the chirp, in τ.
     #[arg(long, default_value_t = 20.0)]
     window: f64,
-    /// Write the envelope (chirp) or the steps (stepped) to this CSV file.
+    /// Write the samples with their envelope (chirp) or the steps (stepped) to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
     /// Write the chirp's Morlet scalogram (one row per time × frequency) to this CSV file.
@@ -79,22 +79,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             );
         }
         if let Some(path) = &args.csv {
-            isola::session::export::write_atomic(path, |w| {
-                let mut header = vec!["step", "omega", "frequency_hz", "restarted"];
-                header.extend(isola::session::export::STEADY_COLUMNS);
-                w.write_record(&header)?;
-                for (i, s) in steps.iter().enumerate() {
-                    let mut row = vec![
-                        i.to_string(),
-                        format!("{:.6}", s.omega),
-                        format!("{:.4}", dev.hz(s.omega)),
-                        s.restarted.to_string(),
-                    ];
-                    row.extend(isola::session::export::steady_fields(&s.steady));
-                    w.write_record(&row)?;
-                }
-                Ok(())
-            })?;
+            isola::session::export::stepped_csv(&steps, &dev, path)?;
             println!("wrote {}", path.display());
         }
         return Ok(());
@@ -125,18 +110,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         .fold([0.0; 3], |m, e| if e[2] > m[2] { *e } else { m });
     println!("  largest envelope {:.4} at ω_e {:.3}", peak[2], peak[1]);
     if let Some(path) = &args.csv {
-        isola::session::export::write_atomic(path, |w| {
-            w.write_record(["tau", "omega", "frequency_hz", "amplitude_stretch"])?;
-            for e in &sweep.envelope {
-                w.write_record([
-                    format!("{:.3}", e[0]),
-                    format!("{:.6}", e[1]),
-                    format!("{:.4}", dev.hz(e[1])),
-                    format!("{:.9}", e[2]),
-                ])?;
-            }
-            Ok(())
-        })?;
+        isola::session::export::chirp_csv(&sweep, &dev, path)?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.scalogram_csv {

@@ -182,20 +182,30 @@ pub fn history_csv(
     })
 }
 
-/// One row per envelope window of a chirp sweep.
+/// One row per sample of a chirp sweep, with the envelope (max − min of λ_I over the sample's
+/// window) beside it.
 pub fn chirp_csv(
     s: &crate::analysis::chirp_sweep::ChirpSweep,
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
+    let per_window = s.window_samples.max(1);
     write_atomic(path, |w| {
-        w.write_record(["tau", "omega", "frequency_hz", "amplitude_stretch"])?;
-        for e in &s.envelope {
+        w.write_record([
+            "tau",
+            "omega",
+            "frequency_hz",
+            "lambda_stretch",
+            "envelope_amplitude_stretch",
+        ])?;
+        for (j, (&lambda, &omega)) in s.lambda.iter().zip(&s.omega).enumerate() {
+            let envelope = s.envelope.get(j / per_window).map_or(0.0, |e| e[2]);
             w.write_record([
-                format!("{:.3}", e[0]),
-                format!("{:.6}", e[1]),
-                format!("{:.4}", device.hz(e[1])),
-                format!("{:.9}", e[2]),
+                format!("{:.4}", j as f64 * s.dt),
+                format!("{omega:.6}"),
+                format!("{:.4}", device.hz(omega)),
+                format!("{lambda:.9}"),
+                format!("{envelope:.9}"),
             ])?;
         }
         Ok(())
