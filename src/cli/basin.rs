@@ -6,11 +6,11 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::basin::{BasinSpec, basin};
-use isola::analysis::grid::Axis;
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;
 use super::parse;
+use super::start_ranges::StartRanges;
 
 #[derive(Debug, Args)]
 pub struct BasinArgs {
@@ -19,12 +19,8 @@ pub struct BasinArgs {
     /// Grid size NΔλ x Nv.
     #[arg(long, default_value = "201x251", value_parser = parse::grid)]
     grid: (usize, usize),
-    /// Range of initial Δλ.
-    #[arg(long = "dx-range", default_value = "-0.8:0.8", value_parser = parse::interval, allow_hyphen_values = true)]
-    dx_range: (f64, f64),
-    /// Range of initial velocity.
-    #[arg(long = "v-range", default_value = "-1:1", value_parser = parse::interval, allow_hyphen_values = true)]
-    v_range: (f64, f64),
+    #[command(flatten)]
+    starts: StartRanges,
     /// Integrate every cell to full convergence (no early stop on known attractors).
     #[arg(long = "no-early-stop")]
     no_early_stop: bool,
@@ -38,9 +34,10 @@ pub struct BasinArgs {
 
 pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
     let params = args.model.params()?;
+    let (dx, v) = args.starts.axes(args.grid);
     let spec = BasinSpec {
-        dx: Axis::new(args.dx_range.0, args.dx_range.1, args.grid.0),
-        v: Axis::new(args.v_range.0, args.v_range.1, args.grid.1),
+        dx,
+        v,
         early_stop: !args.no_early_stop,
         ..BasinSpec::default()
     };

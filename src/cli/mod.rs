@@ -8,6 +8,7 @@ mod orbit;
 mod parse;
 mod response;
 mod run;
+mod start_ranges;
 mod sweep;
 
 use std::process::ExitCode;

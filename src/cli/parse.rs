@@ -33,38 +33,28 @@ pub fn range(s: &str) -> Result<Axis, String> {
 
 /// `MIN:MAX`, both finite, MIN < MAX.
 pub fn interval(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(':')
-        .ok_or_else(|| format!("'{s}': expected MIN:MAX"))?;
-    let a: f64 = a
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{a}' is not a number"))?;
-    let b: f64 = b
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{b}' is not a number"))?;
-    if a >= b || a.is_nan() || b.is_nan() {
+    let (a, b) = interval_any(s)?;
+    if a > b {
         return Err(format!("'{s}': MIN must be below MAX"));
     }
     Ok((a, b))
 }
 
-/// `START:END` in either direction, both finite.
+/// `START:END` in either direction, both finite and different.
 pub fn interval_any(s: &str) -> Result<(f64, f64), String> {
     let (a, b) = s
         .split_once(':')
         .ok_or_else(|| format!("'{s}': expected START:END"))?;
-    let a: f64 = a
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{a}' is not a number"))?;
-    let b: f64 = b
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{b}' is not a number"))?;
-    if !(a.is_finite() && b.is_finite()) || a == b {
-        return Err(format!("'{s}': START and END must be finite and differ"));
+    let number = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("'{t}' is not a finite number"))
+    };
+    let (a, b) = (number(a)?, number(b)?);
+    if a == b {
+        return Err(format!("'{s}': START and END must differ"));
     }
     Ok((a, b))
 }

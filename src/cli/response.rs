@@ -6,12 +6,12 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
-use isola::analysis::grid::Axis;
 use isola::jobs::JobContext;
 use isola::model::Device;
 
 use super::model_args::ModelArgs;
 use super::parse;
+use super::start_ranges::StartRanges;
 
 #[derive(Debug, Args)]
 pub struct ResponseArgs {
@@ -20,12 +20,8 @@ pub struct ResponseArgs {
     /// Grid of initial states NΔλ x Nv.
     #[arg(long, default_value = "15x15", value_parser = parse::grid)]
     ics: (usize, usize),
-    /// Range of initial Δλ.
-    #[arg(long = "dx-range", default_value = "-0.8:0.8", value_parser = parse::interval, allow_hyphen_values = true)]
-    dx_range: (f64, f64),
-    /// Range of initial velocity.
-    #[arg(long = "v-range", default_value = "-1:1", value_parser = parse::interval, allow_hyphen_values = true)]
-    v_range: (f64, f64),
+    #[command(flatten)]
+    starts: StartRanges,
     /// Do not seed each ω with its neighbours' responses.
     #[arg(long = "no-seeding")]
     no_seeding: bool,
@@ -47,10 +43,11 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
     let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
         .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
     let params = args.model.params_at(omega.min)?;
+    let (dx, v) = args.starts.axes(args.ics);
     let spec = FrequencyResponseSpec {
         omega,
-        dx: Axis::new(args.dx_range.0, args.dx_range.1, args.ics.0),
-        v: Axis::new(args.v_range.0, args.v_range.1, args.ics.1),
+        dx,
+        v,
         seed_neighbours: !args.no_seeding,
         sweeps: !args.no_sweeps,
         early_stop: !args.no_early_stop,

@@ -47,6 +47,17 @@ pub fn steady_fields(s: &SteadyState) -> [String; 7] {
     ]
 }
 
+/// The stroboscopic points as two columns, λ_I values and v values, each `;`-separated.
+fn poincare_fields(s: &SteadyState) -> [String; 2] {
+    [0, 1].map(|i| {
+        s.poincare
+            .iter()
+            .map(|p| format!("{:.9}", p[i]))
+            .collect::<Vec<_>>()
+            .join(";")
+    })
+}
+
 /// One row per cell (`dx_stretch, v_per_tau, attractor`) and, beside it, the attractor table.
 pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> {
     write_atomic(path, |w| {
@@ -77,15 +88,7 @@ pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> 
                 format!("{:.6}", b.fraction(a.id)),
             ];
             row.extend(steady_fields(&a.response));
-            let join = |i: usize| {
-                a.response
-                    .poincare
-                    .iter()
-                    .map(|p| format!("{:.9}", p[i]))
-                    .collect::<Vec<_>>()
-                    .join(";")
-            };
-            row.extend([join(0), join(1)]);
+            row.extend(poincare_fields(&a.response));
             w.write_record(&row)?;
         }
         Ok(())
@@ -117,15 +120,7 @@ pub fn response_csv(fr: &FrequencyResponse, path: &Path) -> anyhow::Result<()> {
                 format!("{:.6}", r.share),
             ];
             row.extend(steady_fields(&r.steady));
-            let join = |i: usize| {
-                r.steady
-                    .poincare
-                    .iter()
-                    .map(|p| format!("{:.9}", p[i]))
-                    .collect::<Vec<_>>()
-                    .join(";")
-            };
-            row.extend([join(0), join(1)]);
+            row.extend(poincare_fields(&r.steady));
             w.write_record(&row)?;
         }
         Ok(())
