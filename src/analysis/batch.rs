@@ -26,6 +26,10 @@ const CAPTURE_CYCLES: usize = 3;
 /// An attractor's capture ball is at most this fraction of its distance to the nearest point
 /// of another known attractor (or between its own points).
 const CAPTURE_SEPARATION_FRACTION: f64 = 0.25;
+/// ... and at most this times (1 − its contraction per response period): an attractor that
+/// draws trajectories in slowly (near a fold, where a saddle and its basin boundary are close)
+/// gets a small ball, one that contracts fast a large one.
+const CAPTURE_CONTRACTION_SCALE: f64 = 0.15;
 
 /// Attractors found so far, for the early stop.
 #[derive(Debug, Clone, Default)]
@@ -79,7 +83,10 @@ impl KnownAttractors {
                         }
                     }
                 }
-                self.capture.min(CAPTURE_SEPARATION_FRACTION * nearest)
+                let contraction = self.responses[a].contraction.unwrap_or(1.0);
+                self.capture
+                    .min(CAPTURE_SEPARATION_FRACTION * nearest)
+                    .min(CAPTURE_CONTRACTION_SCALE * (1.0 - contraction))
             })
             .collect();
     }
@@ -106,6 +113,7 @@ enum LaneState {
     },
     Recording {
         ic: usize,
+        contraction: Option<f64>,
         class: Class,
         k: usize,
         transient: usize,
@@ -184,7 +192,11 @@ pub fn steady_states(
                         Some((*ic, collided(c, detector.periods() + 1)))
                     } else if let Some(k) = detector.push(point) {
                         let n = detector.periods();
+                        let contraction = detector.contraction(k);
                         state[i] = recording_state(*ic, Class::Periodic, k, n, &rk);
+                        if let LaneState::Recording { contraction: c, .. } = &mut state[i] {
+                            *c = contraction;
+                        }
                         None
                     } else if detector.periods() >= spec.max_forcing_periods {
                         let (k, n) = (spec.max_period, detector.periods());
@@ -199,6 +211,7 @@ pub fn steady_states(
                 }
                 LaneState::Recording {
                     ic,
+                    contraction,
                     class,
                     k,
                     transient,
@@ -211,7 +224,9 @@ pub fn steady_states(
                         poincare.push(point);
                         (poincare.len() == *k).then(|| {
                             let p = std::mem::take(poincare);
-                            (*ic, from_record(rec, p, *k, *transient, *class))
+                            let mut s = from_record(rec, p, *k, *transient, *class);
+                            s.contraction = *contraction;
+                            (*ic, s)
                         })
                     }
                 }
@@ -237,6 +252,7 @@ pub fn steady_states(
 fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4) -> LaneState {
     LaneState::Recording {
         ic,
+        contraction: None,
         class,
         k,
         transient,

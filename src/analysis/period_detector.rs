@@ -67,13 +67,29 @@ impl PeriodDetector {
 
     /// max over the last k points of the distance to the point k periods earlier.
     fn mismatch(&self, k: usize) -> f64 {
+        self.mismatch_back(k, 0)
+    }
+
+    /// The same, `back` points earlier.
+    fn mismatch_back(&self, k: usize, back: usize) -> f64 {
         let h = &self.history;
-        let n = h.len();
+        let n = h.len() - back;
         (0..k)
             .map(|j| {
                 let (a, b) = (h[n - 1 - j], h[n - 1 - j - k]);
                 (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
             })
             .fold(0.0, f64::max)
+    }
+
+    /// How much the approach to a period-k response shrank over its last response period
+    /// (≈ the largest Floquet multiplier's modulus), once converged; `None` when the history
+    /// is too short to tell.
+    pub fn contraction(&self, k: usize) -> Option<f64> {
+        if self.history.len() < 3 * k {
+            return None;
+        }
+        let (now, before) = (self.mismatch(k), self.mismatch_back(k, k));
+        (before > 0.0).then(|| (now / before).min(1.0))
     }
 }
