@@ -40,8 +40,27 @@ fn parse_shard(s: &str) -> Result<Shard, String> {
     Ok(Shard { index, count })
 }
 
+/// Sends tracing events to `run.log` in the session's results directory (never to the
+/// terminal, where the progress bar lives).
+fn log_to_file(session: &Session) -> anyhow::Result<()> {
+    let dir = session.results_dir();
+    std::fs::create_dir_all(&dir)?;
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(dir.join("run.log"))?;
+    let _ = tracing_subscriber::fmt()
+        .with_writer(std::sync::Mutex::new(file))
+        .with_ansi(false)
+        .with_max_level(tracing::Level::INFO)
+        .try_init();
+    Ok(())
+}
+
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
+    log_to_file(&session)?;
+    tracing::info!(session = %args.session.display(), "run started");
     let entries: Vec<_> = match &args.only {
         Some(name) => vec![session.analysis(name).ok_or_else(|| {
             let names: Vec<&str> = session.analyses.iter().map(|a| a.name.as_str()).collect();

@@ -121,9 +121,11 @@ pub fn run_analysis(
     let previous = read_manifest(&paths.manifest);
     if let Some(m) = &previous {
         if m.fingerprint == fingerprint && m.complete && paths.csv.exists() {
+            tracing::info!(analysis = %entry.name, "up to date");
             return Ok(Outcome::UpToDate);
         }
         if m.fingerprint != fingerprint {
+            tracing::warn!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint, "stale result discarded");
             // stale: another model or settings; never mix its chunks in
             std::fs::remove_dir_all(&paths.chunks)?;
             std::fs::create_dir_all(&paths.chunks)?;
@@ -250,6 +252,7 @@ pub fn run_analysis(
     }
     if missing > 0 {
         save_manifest(&manifest)?;
+        tracing::info!(analysis = %entry.name, computed_now = computed, missing, "shard done");
         return Ok(Outcome::ShardDone {
             chunks_computed: computed,
             missing,
@@ -257,6 +260,13 @@ pub fn run_analysis(
     }
     manifest.complete = true;
     save_manifest(&manifest)?;
+    tracing::info!(
+        analysis = %entry.name,
+        chunks = manifest.chunks_total,
+        computed_now = computed,
+        seconds = manifest.compute_seconds,
+        "complete"
+    );
     let _ = std::fs::remove_dir_all(&paths.chunks);
     Ok(Outcome::Completed {
         chunks_computed: computed,
@@ -319,6 +329,7 @@ fn compute_chunks<T: Serialize + Send>(
             match compute(i) {
                 Some(value) => {
                     write_atomic(&paths.chunk(i), &serde_json::to_vec(&value)?)?;
+                    tracing::debug!(chunk = i, "chunk saved");
                     Ok(true)
                 }
                 None => Ok(false),
