@@ -33,20 +33,20 @@ pub const SCHEMA: u32 = 1;
 /// What can go wrong with a session file.
 #[derive(Debug, thiserror::Error)]
 pub enum SessionError {
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// Malformed TOML or a key/value the schema does not allow; the message has line and column.
     #[error("{path}: {message}")]
     Syntax { path: PathBuf, message: String },
     /// A value out of range, with where it is.
-    #[error("{path}: {location}: {source}")]
+    #[error("{path}: {location}: {error}")]
     Value {
         path: PathBuf,
         location: String,
-        source: crate::model::ParamError,
+        error: crate::model::ParamError,
     },
 }
 
@@ -196,9 +196,9 @@ pub struct Session {
 impl Session {
     /// Reads and validates a session file.
     pub fn load(path: &Path) -> Result<Self, SessionError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SessionError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Self::parse(path, &text)
     }
@@ -247,10 +247,10 @@ impl Session {
 
     /// Checks the model, every analysis' parameters, and that names are unique.
     fn validate(&self) -> Result<(), SessionError> {
-        let value_error = |location: String, source| SessionError::Value {
+        let value_error = |location: String, error| SessionError::Value {
             path: self.path.clone(),
             location,
-            source,
+            error,
         };
         self.device()
             .validate()
@@ -345,10 +345,10 @@ impl Session {
 
     /// Saves atomically to `path` (and makes it this session's path).
     pub fn save_as(&mut self, path: &Path) -> Result<(), SessionError> {
-        super::atomic::write_atomic(path, self.to_text().as_bytes()).map_err(|source| {
+        super::atomic::write_atomic(path, self.to_text().as_bytes()).map_err(|error| {
             SessionError::Io {
                 path: path.to_path_buf(),
-                source,
+                error,
             }
         })?;
         self.path = path.to_path_buf();
