@@ -17,16 +17,6 @@ use isola::analysis::{Class, Progress};
 use isola::jobs::{Job, JobError};
 use isola::model::{DriveSpec, ParamSpec, Params};
 
-fn params(adr: f64, omega: f64) -> Params {
-    ParamSpec {
-        omega,
-        drive: DriveSpec::EaAdr { e_a: 0.04, adr },
-        ..ParamSpec::default()
-    }
-    .build()
-    .unwrap()
-}
-
 fn on_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -40,7 +30,7 @@ fn response(adr: f64, omega: Axis) -> FrequencyResponse {
         omega,
         ..FrequencyResponseSpec::default()
     };
-    frequency_response(&params(adr, 1.0), &spec, &Progress::new(0)).unwrap()
+    frequency_response(&Params::paper(adr, 1.0).unwrap(), &spec, &Progress::new(0)).unwrap()
 }
 
 fn periodic_at(
@@ -158,7 +148,13 @@ fn small_basin(early_stop: bool, threads: usize) -> Basin {
         ..BasinSpec::default()
     };
     on_pool(threads, || {
-        basin(&params(0.6, 3.7), &spec, &Progress::new(0), &|_| {}).unwrap()
+        basin(
+            &Params::paper(0.6, 3.7).unwrap(),
+            &spec,
+            &Progress::new(0),
+            &|_| {},
+        )
+        .unwrap()
     })
 }
 
@@ -208,7 +204,7 @@ fn basin_early_stop_and_threads_do_not_change_results() {
 /// A running basin stops within 0.5 s of a cancel; a finished one reports done = total once.
 #[test]
 fn basin_job_cancels_quickly_and_counts_to_total() {
-    let p = params(0.6, 3.7);
+    let p = Params::paper(0.6, 3.7).unwrap();
     let job = Job::<Basin, ()>::spawn(2, move |ctx| {
         basin(&p, &BasinSpec::default(), &ctx.progress, &|_| {})
             .map_err(|e| JobError::Failed(e.to_string()))
@@ -244,7 +240,7 @@ fn basin_job_cancels_quickly_and_counts_to_total() {
 #[test]
 fn fig3_sweeps_and_scalograms() {
     let never = AtomicBool::new(false);
-    let p = params(0.6, 1.0);
+    let p = Params::paper(0.6, 1.0).unwrap();
     let forward = chirp_sweep(&p, &ChirpSpec::default(), &never, |_| {}).unwrap();
     let back_spec = ChirpSpec {
         omega_start: 6.0,
@@ -280,7 +276,13 @@ fn fig3_sweeps_and_scalograms() {
             .iter()
             .all(|r| (r - 1.0).abs() < 0.1)
     );
-    let forward_1 = chirp_sweep(&params(1.0, 1.0), &ChirpSpec::default(), &never, |_| {}).unwrap();
+    let forward_1 = chirp_sweep(
+        &Params::paper(1.0, 1.0).unwrap(),
+        &ChirpSpec::default(),
+        &never,
+        |_| {},
+    )
+    .unwrap();
     assert!(
         ratio_range(&forward_1, 5.1, 5.4)
             .iter()
@@ -297,7 +299,7 @@ fn frequency_response_is_the_same_on_one_or_two_threads() {
         v: Axis::new(-1.0, 1.0, 7),
         ..FrequencyResponseSpec::default()
     };
-    let p = params(0.6, 1.0);
+    let p = Params::paper(0.6, 1.0).unwrap();
     let one = on_pool(1, || {
         frequency_response(&p, &spec, &Progress::new(0)).unwrap()
     });

@@ -7,18 +7,8 @@
 use isola::analysis::{
     Class, DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state, steady_state_with,
 };
-use isola::model::{DriveSpec, ParamSpec, Params};
+use isola::model::Params;
 use isola::solver::Tolerance;
-
-fn params(adr: f64, omega: f64) -> Params {
-    ParamSpec {
-        omega,
-        drive: DriveSpec::EaAdr { e_a: 0.04, adr },
-        ..ParamSpec::default()
-    }
-    .build()
-    .unwrap()
-}
 
 /// The steady state from (Δλ, v) with the fast integrator, checked against the reference.
 fn settle(p: &Params, dx: f64, v0: f64) -> SteadyState {
@@ -48,7 +38,7 @@ fn assert_response(s: &SteadyState, ratio: &str, period: usize, amp: (f64, f64))
 /// ADR 0.6, ω_e 3.7: a 1:1 response of amplitude ≈ 0.012 and a 1:2 of ≈ 0.42.
 #[test]
 fn adr_0_6_omega_3_7_has_a_small_harmonic_and_a_large_subharmonic() {
-    let p = params(0.6, 3.7);
+    let p = Params::paper(0.6, 3.7).unwrap();
     let low = settle(&p, 0.0, 0.0);
     assert_response(&low, "1:1", 1, (0.010, 0.014));
     let high = settle(&p, 0.3, 0.0);
@@ -60,7 +50,7 @@ fn adr_0_6_omega_3_7_has_a_small_harmonic_and_a_large_subharmonic() {
 /// ADR 0.6, ω_e 1.8 (primary resonance): a low (≈ 0.02) and a high (≈ 0.5) 1:1 response.
 #[test]
 fn adr_0_6_omega_1_8_has_low_and_high_harmonic_responses() {
-    let p = params(0.6, 1.8);
+    let p = Params::paper(0.6, 1.8).unwrap();
     assert_response(&settle(&p, 0.0, 0.0), "1:1", 1, (0.015, 0.025));
     assert_response(&settle(&p, 0.4, 0.0), "1:1", 1, (0.44, 0.58));
 }
@@ -70,7 +60,7 @@ fn adr_0_6_omega_1_8_has_low_and_high_harmonic_responses() {
 /// measured ratio is 2:3.
 #[test]
 fn adr_1_0_omega_3_6_has_three_coexisting_responses() {
-    let p = params(1.0, 3.6);
+    let p = Params::paper(1.0, 3.6).unwrap();
     let harmonic = settle(&p, -0.7, -0.9);
     assert_response(&harmonic, "1:1", 1, (0.010, 0.020));
     let sub2 = settle(&p, -0.3, 0.0);
@@ -87,7 +77,7 @@ fn adr_1_0_omega_3_6_has_three_coexisting_responses() {
 /// located time, never NaN or a huge amplitude.
 #[test]
 fn a_trajectory_that_reaches_a_frame_is_a_collision() {
-    let p = params(0.6, 1.8);
+    let p = Params::paper(0.6, 1.8).unwrap();
     let (x0, v0) = (p.lambda_p() + 0.8, 3.0);
     let s = steady_state(&p, x0, v0, &SteadyStateSpec::default());
     assert_eq!(s.class, Class::Collision);

@@ -95,16 +95,6 @@ fn small_oscillation_has_the_linear_period() {
     );
 }
 
-fn orbit_case(adr: f64, omega: f64) -> Params {
-    ParamSpec {
-        omega,
-        drive: DriveSpec::EaAdr { e_a: 0.04, adr },
-        ..ParamSpec::default()
-    }
-    .build()
-    .unwrap()
-}
-
 /// Slack orbits (membranes losing tension every cycle): the fast RK4 at its default resolution
 /// matches the reference at rtol 1e-12 to 5e-6 in amplitude and stroboscopic points, and
 /// refining the step 2× cuts the error by at least 10× (fourth order, not the second order an
@@ -116,7 +106,7 @@ fn rk4_converges_to_the_reference_at_fourth_order() {
         (0.6, 1.8, 0.4, 0.0),
         (1.0, 3.6, -0.1, 0.5),
     ] {
-        let p = orbit_case(adr, omega);
+        let p = Params::paper(adr, omega).unwrap();
         let x0 = p.lambda_p() + dx;
         let spec = SteadyStateSpec::default();
         let reference = steady_state_with(&mut DopriPeriodMap::new(&p, TIGHT, x0, v0), &spec);
@@ -163,7 +153,7 @@ fn rk4_converges_to_the_reference_at_fourth_order() {
 /// The reference agrees with itself at two tolerances (1e-10 vs 1e-12) to 1e-8 in amplitude.
 #[test]
 fn reference_is_self_consistent() {
-    let p = orbit_case(0.6, 3.7);
+    let p = Params::paper(0.6, 3.7).unwrap();
     let spec = SteadyStateSpec::default();
     let x0 = p.lambda_p() + 0.3;
     let a = steady_state_with(&mut DopriPeriodMap::new(&p, TIGHT, x0, 0.0), &spec);

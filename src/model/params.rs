@@ -99,6 +99,16 @@ impl Params {
         ParamSpec::default().build().expect("the baseline is valid")
     }
 
+    /// The paper's baseline (E_a = 0.2², λ_p 1.02, c̃ 0.04, J 16) at another ADR and ω_e.
+    pub fn paper(adr: f64, omega: f64) -> Result<Self, ParamError> {
+        ParamSpec {
+            omega,
+            drive: DriveSpec::EaAdr { e_a: 0.04, adr },
+            ..ParamSpec::default()
+        }
+        .build()
+    }
+
     /// The spec that rebuilds these parameters.
     pub fn to_spec(&self) -> ParamSpec {
         ParamSpec {
