@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::AnalysisError;
 use super::attractor::{AttractorTable, SAME_POINT_TOL};
 use super::batch::{KnownAttractors, steady_states};
-use super::grid::Axis;
+use super::grid::{Axis, starts};
 use super::progress::Progress;
 use super::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::Params;
@@ -42,6 +42,24 @@ impl Default for BasinSpec {
             early_stop: true,
             capture: 1e-3,
         }
+    }
+}
+
+impl BasinSpec {
+    /// Checks the grid (at most 16384 points a side and [`MAX_CELLS`] cells), the capture
+    /// radius and the steady-state settings.
+    pub fn validate(&self) -> Result<(), crate::model::ParamError> {
+        self.dx.validate("dx", 1 << 14)?;
+        self.v.validate("v", 1 << 14)?;
+        let cells = self.dx.points * self.v.points;
+        check(
+            "cells",
+            cells as f64,
+            |c| c <= MAX_CELLS as f64,
+            format!("<= {MAX_CELLS}"),
+        )?;
+        check("capture", self.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        self.steady.validate()
     }
 }
 
@@ -114,26 +132,8 @@ impl<'a> BasinPlan<'a> {
         spec: &'a BasinSpec,
         progress: &Progress,
     ) -> Result<Self, AnalysisError> {
-        spec.dx.validate("dx", 1 << 14)?;
-        spec.v.validate("v", 1 << 14)?;
-        let cells = spec.dx.points * spec.v.points;
-        check(
-            "cells",
-            cells as f64,
-            |c| c <= MAX_CELLS as f64,
-            format!("<= {MAX_CELLS}"),
-        )?;
-        check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
-        spec.steady.validate()?;
-        let lambda_p = params.lambda_p();
-        let ics: Vec<[f64; 2]> = (0..cells)
-            .map(|c| {
-                [
-                    lambda_p + spec.dx.at(c / spec.v.points),
-                    spec.v.at(c % spec.v.points),
-                ]
-            })
-            .collect();
+        spec.validate()?;
+        let ics = starts(params.lambda_p(), &spec.dx, &spec.v);
         let seeds = if spec.early_stop {
             Some(seed_attractors(params, spec, &ics, progress)?)
         } else {
@@ -155,10 +155,15 @@ impl<'a> BasinPlan<'a> {
         self.ics.len().div_ceil(CHUNK_CELLS)
     }
 
+    /// The initial states of chunk `n`.
+    pub fn chunk_cells(&self, n: usize) -> &[[f64; 2]] {
+        let start = n * CHUNK_CELLS;
+        &self.ics[start..(start + CHUNK_CELLS).min(self.ics.len())]
+    }
+
     /// The outcomes of chunk `n`'s cells; `None` if cancelled.
     pub fn chunk(&self, n: usize, progress: &Progress) -> Option<Vec<SteadyState>> {
-        let start = n * CHUNK_CELLS;
-        let cells = &self.ics[start..(start + CHUNK_CELLS).min(self.ics.len())];
+        let cells = self.chunk_cells(n);
         let mut known = self.seeds.clone();
         steady_states(
             self.params,

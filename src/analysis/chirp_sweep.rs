@@ -64,6 +64,29 @@ pub struct ChirpSweep {
     pub collision_tau: Option<f64>,
 }
 
+impl ChirpSpec {
+    /// Checks every setting; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), crate::model::ParamError> {
+        check("omega_start", self.omega_start, |w| w >= 0.0, ">= 0")?;
+        check("omega_end", self.omega_end, |w| w >= 0.0, ">= 0")?;
+        check("span", self.span, |s| s > 0.0 && s <= 1e7, "(0, 1e7]")?;
+        check(
+            "dt",
+            self.dt,
+            |d| d > 0.0 && self.span / d <= 5e7,
+            "> 0, at most 5e7 samples",
+        )?;
+        check(
+            "window",
+            self.window,
+            |w| w >= self.dt && w <= self.span,
+            "[dt, span]",
+        )?;
+        self.tolerance.validate()?;
+        Ok(())
+    }
+}
+
 /// Runs the sweep with the adaptive integrator (located switches, dense output sampling).
 pub fn chirp_sweep(
     params: &Params,
@@ -71,22 +94,7 @@ pub fn chirp_sweep(
     cancel: &AtomicBool,
     mut on_progress: impl FnMut(f64),
 ) -> Result<ChirpSweep, AnalysisError> {
-    check("omega_start", spec.omega_start, |w| w >= 0.0, ">= 0")?;
-    check("omega_end", spec.omega_end, |w| w >= 0.0, ">= 0")?;
-    check("span", spec.span, |s| s > 0.0 && s <= 1e7, "(0, 1e7]")?;
-    check(
-        "dt",
-        spec.dt,
-        |d| d > 0.0 && spec.span / d <= 5e7,
-        "> 0, at most 5e7 samples",
-    )?;
-    check(
-        "window",
-        spec.window,
-        |w| w >= spec.dt && w <= spec.span,
-        "[dt, span]",
-    )?;
-    spec.tolerance.validate()?;
+    spec.validate()?;
     let chirp = Chirp {
         params: *params,
         omega_start: spec.omega_start,

@@ -85,33 +85,50 @@ impl FamilyMember {
     }
 }
 
-/// Runs the frequency response of each member in turn (each on the whole pool).
+impl FamilySpec {
+    /// Checks the values (1 to 1000, each a valid model with `base`) and the response.
+    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+        if self.values.is_empty() || self.values.len() > 1000 {
+            return Err(ParamError {
+                field: "values",
+                value: self.values.len() as f64,
+                allowed: "1 to 1000 values".into(),
+            });
+        }
+        for &v in &self.values {
+            self.parameter.apply(base, v)?;
+        }
+        self.response.validate()
+    }
+}
+
+/// Member `i` of the family: the frequency response at the i-th value (on the whole pool).
+pub fn family_member(
+    params: &Params,
+    spec: &FamilySpec,
+    i: usize,
+    progress: &Progress,
+) -> Result<FamilyMember, AnalysisError> {
+    let value = spec.values[i];
+    let p = spec.parameter.apply(params, value)?;
+    let response = frequency_response(&p, &spec.response, progress)?;
+    Ok(FamilyMember { value, response })
+}
+
+/// Runs the frequency response of each member in turn (each on the whole pool); each member
+/// announces its own work on the shared progress as it starts.
 pub fn family(
     params: &Params,
     spec: &FamilySpec,
     progress: &Progress,
     mut on_member: impl FnMut(&FamilyMember),
 ) -> Result<Vec<FamilyMember>, AnalysisError> {
-    if spec.values.is_empty() || spec.values.len() > 1000 {
-        return Err(ParamError {
-            field: "values",
-            value: spec.values.len() as f64,
-            allowed: "1 to 1000 values".into(),
-        }
-        .into());
-    }
-    let members: Vec<Params> = spec
-        .values
-        .iter()
-        .map(|&v| spec.parameter.apply(params, v))
-        .collect::<Result<_, _>>()?;
-    let mut out = Vec::with_capacity(members.len());
-    for (p, &value) in members.iter().zip(&spec.values) {
-        // each member announces its own work on the shared progress as it starts
-        let response = frequency_response(p, &spec.response, progress)?;
-        let member = FamilyMember { value, response };
-        on_member(&member);
-        out.push(member);
-    }
-    Ok(out)
+    spec.validate(params)?;
+    (0..spec.values.len())
+        .map(|i| {
+            let member = family_member(params, spec, i, progress)?;
+            on_member(&member);
+            Ok(member)
+        })
+        .collect()
 }

@@ -46,21 +46,29 @@ pub struct ForceCurve {
     pub points: Vec<[f64; 2]>,
 }
 
+impl ForceCurveSpec {
+    /// Checks every setting; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check(
+            "points",
+            self.points as f64,
+            |n| (2.0..=1e6).contains(&n),
+            "[2, 1000000]",
+        )?;
+        check(
+            "dx_min",
+            self.dx_min,
+            |d| d < self.dx_max,
+            format!("< dx_max = {}", self.dx_max),
+        )?;
+        check("dx_max", self.dx_max, |_| true, "finite")?;
+        Ok(())
+    }
+}
+
 /// The static force curves of `spec` (no velocity, no damping force).
 pub fn force_curves(spec: &ForceCurveSpec) -> Result<Vec<ForceCurve>, ParamError> {
-    check(
-        "points",
-        spec.points as f64,
-        |n| (2.0..=1e6).contains(&n),
-        "[2, 1000000]",
-    )?;
-    check(
-        "dx_min",
-        spec.dx_min,
-        |d| d < spec.dx_max,
-        format!("< dx_max = {}", spec.dx_max),
-    )?;
-    check("dx_max", spec.dx_max, |_| true, "finite")?;
+    spec.validate()?;
     let mut curves = Vec::new();
     for &lambda_p in &spec.lambda_p {
         for &phi_i in &spec.phi_i {

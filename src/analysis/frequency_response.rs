@@ -11,7 +11,7 @@ use super::AnalysisError;
 use super::Ratio;
 use super::attractor::{SAME_POINT_TOL, same_attractor};
 use super::batch::{KnownAttractors, steady_states};
-use super::grid::Axis;
+use super::grid::{Axis, starts};
 use super::progress::Progress;
 use super::steady_state::{Class, SteadyState, SteadyStateSpec};
 use super::stepped_sweep::{SweepStep, stepped_sweep};
@@ -60,6 +60,32 @@ impl Default for FrequencyResponseSpec {
             early_stop: true,
             capture: 1e-3,
         }
+    }
+}
+
+impl FrequencyResponseSpec {
+    /// Checks the ω grid (positive), the grid of starts, the total number of trajectories,
+    /// the capture radius and the steady-state settings.
+    pub fn validate(&self) -> Result<(), crate::model::ParamError> {
+        self.omega.validate("omega", 100_000)?;
+        check(
+            "omega",
+            self.omega.min.min(self.omega.max),
+            |w| w > 0.0,
+            "> 0",
+        )?;
+        self.dx.validate("dx", 4096)?;
+        self.v.validate("v", 4096)?;
+        self.steady.validate()?;
+        check("capture", self.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        let total = self.dx.points * self.v.points * self.omega.points;
+        check(
+            "trajectories",
+            total as f64,
+            |t| t <= MAX_TRAJECTORIES as f64,
+            format!("<= {MAX_TRAJECTORIES} (ω points × initial states)"),
+        )?;
+        Ok(())
     }
 }
 
@@ -163,38 +189,13 @@ pub struct ResponsePlan<'a> {
 
 impl<'a> ResponsePlan<'a> {
     pub fn new(params: &'a Params, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
-        spec.omega.validate("omega", 100_000)?;
-        check(
-            "omega",
-            spec.omega.min.min(spec.omega.max),
-            |w| w > 0.0,
-            "> 0",
-        )?;
-        spec.dx.validate("dx", 4096)?;
-        spec.v.validate("v", 4096)?;
-        spec.steady.validate()?;
-        check("capture", spec.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
-        let grid_size = spec.dx.points * spec.v.points;
-        let total = grid_size * spec.omega.points;
-        check(
-            "trajectories",
-            total as f64,
-            |t| t <= MAX_TRAJECTORIES as f64,
-            format!("<= {MAX_TRAJECTORIES} (ω points × initial states)"),
-        )?;
+        spec.validate()?;
         let omegas = spec.omega.values();
         let at_omega = omegas
             .iter()
             .map(|&w| params.with_omega(w))
             .collect::<Result<_, _>>()?;
-        let ics = (0..grid_size)
-            .map(|c| {
-                [
-                    params.lambda_p() + spec.dx.at(c / spec.v.points),
-                    spec.v.at(c % spec.v.points),
-                ]
-            })
-            .collect();
+        let ics = starts(params.lambda_p(), &spec.dx, &spec.v);
         Ok(ResponsePlan {
             params,
             spec,

@@ -65,3 +65,11 @@ impl Axis {
         }
     }
 }
+
+/// The initial states [λ_I, v] of a grid over (Δλ, v) about `lambda_p`, Δλ-major: cell
+/// `i_dx · v.points + i_v`.
+pub fn starts(lambda_p: f64, dx: &Axis, v: &Axis) -> Vec<[f64; 2]> {
+    (0..dx.points * v.points)
+        .map(|c| [lambda_p + dx.at(c / v.points), v.at(c % v.points)])
+        .collect()
+}

@@ -36,10 +36,6 @@ impl Progress {
         self.done.fetch_add(n, Ordering::Relaxed);
     }
 
-    pub fn set_total(&self, total: usize) {
-        self.total.store(total, Ordering::Relaxed);
-    }
-
     /// Announces `n` more units of work (an analysis made of several calls adds each one's).
     pub fn grow_total(&self, n: usize) {
         self.total.fetch_add(n, Ordering::Relaxed);

@@ -61,23 +61,31 @@ pub struct TimeHistory {
     pub steady_from: f64,
 }
 
+impl TimeHistorySpec {
+    /// Checks every setting; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), crate::model::ParamError> {
+        check(
+            "samples_per_period",
+            self.samples_per_period as f64,
+            |n| (4.0..=10_000.0).contains(&n),
+            "[4, 10000]",
+        )?;
+        check(
+            "steady_periods",
+            self.steady_periods as f64,
+            |n| (1.0..=1000.0).contains(&n),
+            "[1, 1000]",
+        )?;
+        self.steady.validate()?;
+        self.tolerance.validate()?;
+        Ok(())
+    }
+}
+
 /// Records the orbit from the spec's initial state: the transient (at most
 /// `max_transient_periods`) and `steady_periods` response periods after it.
 pub fn time_history(params: &Params, spec: &TimeHistorySpec) -> Result<TimeHistory, AnalysisError> {
-    check(
-        "samples_per_period",
-        spec.samples_per_period as f64,
-        |n| (4.0..=10_000.0).contains(&n),
-        "[4, 10000]",
-    )?;
-    check(
-        "steady_periods",
-        spec.steady_periods as f64,
-        |n| (1.0..=1000.0).contains(&n),
-        "[1, 1000]",
-    )?;
-    spec.steady.validate()?;
-    spec.tolerance.validate()?;
+    spec.validate()?;
     let x0 = params.lambda_p() + spec.dx0;
     let steady = steady_state(params, x0, spec.v0, &spec.steady);
     let period = params.period();
@@ -90,9 +98,7 @@ pub fn time_history(params: &Params, spec: &TimeHistorySpec) -> Result<TimeHisto
     let dt = period / spec.samples_per_period as f64;
     let n = total_periods * spec.samples_per_period;
     let mut samples = Vec::with_capacity(n + 1);
-    let phi_i = |tau: f64| {
-        params.drive_i().phi_dc() + params.drive_i().phi_ac() * (params.omega() * tau).cos()
-    };
+    let phi_i = |tau: f64| params.drive_i().phi(params.omega() * tau);
     let sample = |tau: f64, y: [f64; 2]| Sample {
         tau,
         lambda: y[0],

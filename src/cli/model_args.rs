@@ -1,7 +1,8 @@
 //! The model flags every analysis command shares; defaults are the paper's baseline.
 
 use clap::Args;
-use isola::model::{DriveSpec, ParamSpec, Params};
+use isola::model::{Device, Params};
+use isola::session::model_section::ModelSection;
 
 /// Model parameters. The drive is (--ea, --adr) or (--phi-dc, --phi-ac).
 #[derive(Debug, Clone, Args)]
@@ -77,28 +78,24 @@ impl ModelArgs {
         self.omega.as_deref().unwrap_or(default)
     }
 
-    /// The validated parameters at forcing frequency `omega`, or an error naming the bad field.
+    /// The validated parameters at forcing frequency `omega`, or an error naming the bad field;
+    /// built like a session's `[model]` table, so both read a drive the same way.
     pub fn params_at(&self, omega: f64) -> anyhow::Result<Params> {
-        let drive = match (self.phi_dc, self.phi_ac) {
-            (Some(phi_dc), Some(phi_ac)) => DriveSpec::Phi { phi_dc, phi_ac },
-            _ => DriveSpec::EaAdr {
-                e_a: self.ea,
-                adr: self.adr,
-            },
+        let by_voltage = self.phi_dc.is_some();
+        let section = ModelSection {
+            lambda_p: Some(self.lambda_p),
+            j: Some(self.j),
+            c_tilde: Some(self.damping),
+            omega: Some(omega),
+            e_a: (!by_voltage).then_some(self.ea),
+            adr: (!by_voltage).then_some(self.adr),
+            phi_dc: self.phi_dc,
+            phi_ac: self.phi_ac,
+            phi_dc_ii: self.phi_dc_ii,
+            phi_ac_ii: self.phi_ac_ii,
+            phase_ii: Some(self.phase_ii),
+            ..ModelSection::default()
         };
-        let drive_ii = match (self.phi_dc_ii, self.phi_ac_ii) {
-            (Some(phi_dc), Some(phi_ac)) => Some(DriveSpec::Phi { phi_dc, phi_ac }),
-            _ => None,
-        };
-        let spec = ParamSpec {
-            lambda_p: self.lambda_p,
-            j: self.j,
-            c_tilde: self.damping,
-            omega,
-            drive,
-            drive_ii,
-            phase_ii: self.phase_ii,
-        };
-        Ok(spec.build()?)
+        Ok(section.to_spec(&Device::silicone())?.build()?)
     }
 }

@@ -122,7 +122,7 @@ mod tests {
     #[test]
     fn a_worker_panic_is_an_error_of_the_job() {
         let job = Job::<usize, ()>::spawn(2, |ctx| {
-            ctx.progress.set_total(100);
+            ctx.progress.grow_total(100);
             Ok((0..100usize)
                 .into_par_iter()
                 .map(|i| {

@@ -89,9 +89,14 @@ impl Drive {
         self.phi_dc + self.phi_ac
     }
 
-    /// φ² at forcing phase θ = ω_e τ (plus any phase shift of this membrane).
+    /// φ at forcing phase θ = ω_e τ (plus any phase shift of this membrane).
+    pub fn phi(&self, theta: f64) -> f64 {
+        self.phi_dc + self.phi_ac * theta.cos()
+    }
+
+    /// φ² at forcing phase θ.
     pub fn phi_sq(&self, theta: f64) -> f64 {
-        let phi = self.phi_dc + self.phi_ac * theta.cos();
+        let phi = self.phi(theta);
         phi * phi
     }
 

@@ -19,9 +19,9 @@ use super::export;
 use super::schema::{AnalysisEntry, Session, Settings};
 use crate::analysis::basin::BasinPlan;
 use crate::analysis::chirp_sweep::chirp_sweep;
-use crate::analysis::family::FamilyMember;
+use crate::analysis::family::{FamilyMember, family_member};
 use crate::analysis::force_curve::force_curves;
-use crate::analysis::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
+use crate::analysis::frequency_response::{Response, ResponsePlan};
 use crate::analysis::stepped_sweep::stepped_sweep;
 use crate::analysis::time_history::time_history;
 use crate::analysis::{AnalysisError, Progress};
@@ -162,12 +162,7 @@ pub fn run_analysis(
             manifest.chunks_total = n;
             save_manifest(&manifest)?;
             progress.grow_total(plan.cells());
-            let done = |i: usize| {
-                progress.add(
-                    (plan.cells() - i * crate::analysis::basin::CHUNK_CELLS)
-                        .min(crate::analysis::basin::CHUNK_CELLS),
-                )
-            };
+            let done = |i: usize| progress.add(plan.chunk_cells(i).len());
             let computed = compute_chunks(&paths, n, shard, done, |i| plan.chunk(i, progress))?;
             let chunks: Option<Vec<Vec<crate::analysis::SteadyState>>> = load_chunks(&paths, n);
             match chunks {
@@ -205,27 +200,15 @@ pub fn run_analysis(
             let n = spec.values.len();
             manifest.chunks_total = n;
             save_manifest(&manifest)?;
-            progress.grow_total(n);
-            let member = |i: usize| -> Option<FamilyMember> {
-                let p = spec.parameter.apply(&params, spec.values[i]).ok()?;
-                let response_spec: &FrequencyResponseSpec = &spec.response;
-                let inner = Progress::new(0);
-                if progress.is_cancelled() {
-                    return None;
-                }
-                let response = crate::analysis::frequency_response::frequency_response(
-                    &p,
-                    response_spec,
-                    &inner,
-                )
-                .ok()?;
-                Some(FamilyMember {
-                    value: spec.values[i],
-                    response,
-                })
-            };
-            // members one after the other, each on the whole pool
-            let computed = compute_chunks_in_order(&paths, n, shard, |_| progress.add(1), member)?;
+            spec.validate(&params)?;
+            // each member announces its own work as it starts; members run side by side
+            let computed = compute_chunks(
+                &paths,
+                n,
+                shard,
+                |_| {},
+                |i| family_member(&params, spec, i, progress).ok(),
+            )?;
             match load_chunks::<FamilyMember>(&paths, n) {
                 Some(members) => {
                     export::family_csv(spec.parameter.name(), &members, &paths.csv)?;
@@ -339,28 +322,6 @@ fn compute_chunks<T: Serialize + Send>(
     let mut computed = 0;
     for r in results {
         computed += usize::from(r?);
-    }
-    Ok(computed)
-}
-
-/// The same, one chunk after the other (each chunk uses the whole pool itself).
-fn compute_chunks_in_order<T: Serialize>(
-    paths: &ResultPaths,
-    n: usize,
-    shard: Shard,
-    on_existing: impl Fn(usize),
-    compute: impl Fn(usize) -> Option<T>,
-) -> anyhow::Result<usize> {
-    let mut computed = 0;
-    for i in (0..n).filter(|&i| shard.owns(i)) {
-        if paths.chunk(i).exists() {
-            on_existing(i);
-            continue;
-        }
-        if let Some(value) = compute(i) {
-            write_atomic(&paths.chunk(i), &serde_json::to_vec(&value)?)?;
-            computed += 1;
-        }
     }
     Ok(computed)
 }

@@ -279,9 +279,10 @@ impl Session {
                 });
             }
             let location = format!("analysis '{}'", entry.name);
-            self.params(Some(entry))
+            let params = self
+                .params(Some(entry))
                 .map_err(|e| value_error(location.clone(), e))?;
-            check_settings(&entry.settings).map_err(|e| value_error(location, e))?;
+            check_settings(&entry.settings, &params).map_err(|e| value_error(location, e))?;
         }
         Ok(())
     }
@@ -366,30 +367,20 @@ impl Session {
     }
 }
 
-/// Range checks of an analysis' settings that its own function would otherwise do late.
-fn check_settings(settings: &Settings) -> Result<(), crate::model::ParamError> {
+/// An analysis' settings checked by the analysis' own rules, so a session fails at load time
+/// rather than when it runs.
+fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::model::ParamError> {
     match settings {
-        Settings::Basin(b) => {
-            b.dx.validate("dx", 1 << 14)?;
-            b.v.validate("v", 1 << 14)?;
-            b.steady.validate()
-        }
-        Settings::FrequencyResponse(f) => {
-            f.omega.validate("omega", 100_000)?;
-            f.dx.validate("dx", 4096)?;
-            f.v.validate("v", 4096)?;
-            f.steady.validate()
-        }
-        Settings::Family(f) => {
-            f.response.omega.validate("omega", 100_000)?;
-            f.response.steady.validate()
-        }
+        Settings::ForceCurve(s) => s.validate(),
+        Settings::TimeHistory(s) => s.validate(),
+        Settings::ChirpSweep(s) => s.validate(),
         Settings::SteppedSweep(s) => {
             s.omega.validate("omega", 100_000)?;
             s.steady.validate()
         }
-        Settings::TimeHistory(t) => t.steady.validate(),
-        Settings::ForceCurve(_) | Settings::ChirpSweep(_) => Ok(()),
+        Settings::FrequencyResponse(s) => s.validate(),
+        Settings::Basin(s) => s.validate(),
+        Settings::Family(s) => s.validate(params),
     }
 }
 

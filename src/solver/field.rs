@@ -141,20 +141,10 @@ impl Field {
     /// Tensions (p_I, p_II) a taut membrane would carry; below the lower Gent pole, where a
     /// membrane is slack whatever the formula says, −1. These are the switching functions.
     pub fn tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
-        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
-        let x_ii = self.two_lambda_p - x;
-        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
-        let p_i = if den_i > 0.0 {
-            num_i / den_i - phi_sq_i * x + self.c_tilde * v
-        } else {
-            -1.0
-        };
-        let p_ii = if den_ii > 0.0 {
-            num_ii / den_ii - phi_sq_ii * x_ii - self.c_tilde * v
-        } else {
-            -1.0
-        };
-        (p_i, p_ii)
+        (
+            self.tension_of(Membrane::I, x, v, phi_sq_i, phi_sq_ii),
+            self.tension_of(Membrane::Ii, x, v, phi_sq_i, phi_sq_ii),
+        )
     }
 
     /// The mode the state is in: which tensions are positive.
