@@ -125,7 +125,7 @@ fn spawn_reporter(
             let bar = indicatif::ProgressBar::new(0);
             bar.set_style(
                 indicatif::ProgressStyle::with_template(
-                    "{msg:12} [{bar:40}] {pos}/{len} {per_sec} eta {eta}",
+                    "{msg:12} [{bar:40}] {pos}/{len} ({percent} %) {elapsed} eta {eta}",
                 )
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
                 .progress_chars("=> "),
