@@ -20,7 +20,7 @@ use clap::{Parser, Subcommand};
 #[command(name = "isola", version, about)]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -41,12 +41,18 @@ enum Command {
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
     Export(run::ExportArgs),
+    /// The terminal workbench (also what a bare `isola` opens).
+    #[cfg(feature = "tui")]
+    Tui(crate::tui::TuiArgs),
 }
 
 /// Parses the command line and runs the command; errors go to stderr with exit code 1.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
-    let result = match cli.command {
+    let Some(command) = cli.command else {
+        return finish(open_workbench());
+    };
+    let result = match command {
         Command::Orbit(args) => orbit::run(&args),
         Command::Basin(args) => basin::run(&args),
         Command::Response(args) => response::run(&args),
@@ -55,7 +61,23 @@ pub fn run() -> ExitCode {
         Command::Family(args) => family::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
+        #[cfg(feature = "tui")]
+        Command::Tui(args) => crate::tui::run(&args),
     };
+    finish(result)
+}
+
+#[cfg(feature = "tui")]
+fn open_workbench() -> anyhow::Result<()> {
+    crate::tui::run(&crate::tui::TuiArgs::default())
+}
+
+#[cfg(not(feature = "tui"))]
+fn open_workbench() -> anyhow::Result<()> {
+    anyhow::bail!("this isola was built without the terminal workbench (feature `tui`); see --help")
+}
+
+fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

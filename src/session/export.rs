@@ -95,33 +95,67 @@ pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> 
     })
 }
 
+/// The columns of one response at one ω_e.
+const RESPONSE_COLUMNS: [&str; 6] = [
+    "omega",
+    "frequency_hz",
+    "branch",
+    "hidden",
+    "seeded",
+    "share",
+];
+
+fn response_fields(r: &crate::analysis::frequency_response::Response) -> Vec<String> {
+    let mut row = vec![
+        format!("{:.6}", r.omega),
+        format!("{:.4}", Device::silicone().hz(r.omega)),
+        r.branch.map_or(String::new(), |b| b.to_string()),
+        r.hidden.map_or(String::new(), |h| h.to_string()),
+        r.seeded.to_string(),
+        format!("{:.6}", r.share),
+    ];
+    row.extend(steady_fields(&r.steady));
+    row.extend(poincare_fields(&r.steady));
+    row
+}
+
 /// One row per response per ω_e.
 pub fn response_csv(fr: &FrequencyResponse, path: &Path) -> anyhow::Result<()> {
-    let dev = Device::silicone();
     write_atomic(path, |w| {
-        let mut header = vec![
-            "omega",
-            "frequency_hz",
-            "branch",
-            "hidden",
-            "seeded",
-            "share",
-        ];
+        let mut header = RESPONSE_COLUMNS.to_vec();
         header.extend(STEADY_COLUMNS);
         header.extend(["poincare_lambda", "poincare_v"]);
         w.write_record(&header)?;
         for r in &fr.responses {
-            let mut row = vec![
-                format!("{:.6}", r.omega),
-                format!("{:.4}", dev.hz(r.omega)),
-                r.branch.map_or(String::new(), |b| b.to_string()),
-                r.hidden.map_or(String::new(), |h| h.to_string()),
-                r.seeded.to_string(),
-                format!("{:.6}", r.share),
-            ];
-            row.extend(steady_fields(&r.steady));
-            row.extend(poincare_fields(&r.steady));
-            w.write_record(&row)?;
+            w.write_record(response_fields(r))?;
+        }
+        Ok(())
+    })
+}
+
+/// Where a family's per-response file lives beside its branch table: `A.responses.csv`.
+pub fn family_responses_path(family_csv: &Path) -> PathBuf {
+    family_csv.with_extension("responses.csv")
+}
+
+/// One row per response per ω_e per member of a family, the parameter's value first.
+pub fn family_responses_csv(
+    parameter: &str,
+    members: &[crate::analysis::family::FamilyMember],
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        let mut header = vec![parameter];
+        header.extend(RESPONSE_COLUMNS);
+        header.extend(STEADY_COLUMNS);
+        header.extend(["poincare_lambda", "poincare_v"]);
+        w.write_record(&header)?;
+        for m in members {
+            for r in &m.response.responses {
+                let mut row = vec![m.value.to_string()];
+                row.extend(response_fields(r));
+                w.write_record(&row)?;
+            }
         }
         Ok(())
     })

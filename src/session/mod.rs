@@ -4,6 +4,7 @@
 pub mod atomic;
 pub mod export;
 pub mod model_section;
+pub mod results;
 pub mod run;
 pub mod schema;
 

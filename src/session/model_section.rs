@@ -43,12 +43,14 @@ fn one_of(a: Option<f64>, name_a: &'static str, b: Option<f64>) -> Result<Option
 }
 
 impl ModelSection {
-    /// These values over `base` (a session's model under an analysis' overrides).
+    /// These values over `base` (a session's model under an analysis' overrides). A quantity
+    /// with two forms (`omega` or `frequency_hz`, ...) is taken whole from whichever sets it,
+    /// so an analysis' `omega` overrides the session's `frequency_hz`.
     pub fn over(&self, base: &ModelSection) -> ModelSection {
         macro_rules! pick {
             ($($f:ident),*) => { ModelSection { $($f: self.$f.or(base.$f)),* } };
         }
-        pick!(
+        let mut merged = pick!(
             lambda_p,
             j,
             c_tilde,
@@ -64,7 +66,20 @@ impl ModelSection {
             phi_dc_ii,
             phi_ac_ii,
             phase_ii
-        )
+        );
+        macro_rules! whole {
+            ($a:ident, $b:ident) => {
+                if self.$a.is_some() || self.$b.is_some() {
+                    merged.$a = self.$a;
+                    merged.$b = self.$b;
+                }
+            };
+        }
+        whole!(omega, frequency_hz);
+        whole!(c_tilde, damping_n_s_per_m);
+        whole!(phi_dc, dc_kv);
+        whole!(phi_ac, ac_kv);
+        merged
     }
 
     /// The non-dimensional parameters, converting physical values with `device`.
@@ -130,5 +145,28 @@ impl ModelSection {
             drive_ii,
             phase_ii: self.phase_ii.unwrap_or(0.0),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_override_replaces_both_forms_of_a_quantity() {
+        let session = ModelSection {
+            frequency_hz: Some(50.0),
+            damping_n_s_per_m: Some(0.4),
+            ..ModelSection::default()
+        };
+        let analysis = ModelSection {
+            omega: Some(3.7),
+            ..ModelSection::default()
+        };
+        let merged = analysis.over(&session);
+        assert_eq!((merged.omega, merged.frequency_hz), (Some(3.7), None));
+        assert_eq!(merged.damping_n_s_per_m, Some(0.4));
+        let spec = merged.to_spec(&Device::silicone()).unwrap();
+        assert_eq!(spec.omega, 3.7);
     }
 }

@@ -212,6 +212,11 @@ pub fn run_analysis(
             match load_chunks::<FamilyMember>(&paths, n) {
                 Some(members) => {
                     export::family_csv(spec.parameter.name(), &members, &paths.csv)?;
+                    export::family_responses_csv(
+                        spec.parameter.name(),
+                        &members,
+                        &export::family_responses_path(&paths.csv),
+                    )?;
                     (computed, 0)
                 }
                 None => (computed, missing_count(&paths, n)),

@@ -149,6 +149,19 @@ impl Settings {
         })
     }
 
+    /// The settings as a TOML table, defaults included.
+    pub fn to_toml(&self) -> Result<toml::Table, toml::ser::Error> {
+        match self {
+            Settings::ForceCurve(s) => toml::Table::try_from(s),
+            Settings::TimeHistory(s) => toml::Table::try_from(s),
+            Settings::ChirpSweep(s) => toml::Table::try_from(s),
+            Settings::SteppedSweep(s) => toml::Table::try_from(s),
+            Settings::FrequencyResponse(s) => toml::Table::try_from(s),
+            Settings::Basin(s) => toml::Table::try_from(s),
+            Settings::Family(s) => toml::Table::try_from(s),
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match self {
             Settings::ForceCurve(_) => "force_curve",
@@ -334,6 +347,118 @@ impl Session {
             document["model"] = toml_edit::table();
         }
         document["model"][key] = toml_edit::value(value);
+        self.replace_document(document)
+    }
+
+    /// Sets model key `key` for analysis `index`: in the analysis' own `model` table if it
+    /// overrides that key, in `[model]` otherwise (or always, for `None`). The other form of
+    /// the same quantity (`omega` and `frequency_hz`, ...) is removed from that table.
+    pub fn set_model_key(
+        &mut self,
+        index: Option<usize>,
+        key: &str,
+        value: f64,
+    ) -> Result<(), SessionError> {
+        let overridden = index.is_some_and(|i| {
+            self.document
+                .get("analysis")
+                .and_then(|a| a.as_array_of_tables())
+                .and_then(|a| a.get(i))
+                .and_then(|t| t.get("model"))
+                .and_then(|m| m.as_table_like())
+                .is_some_and(|m| same_quantity(key).iter().any(|k| m.contains_key(k)))
+        });
+        let mut document = self.document.clone();
+        let table: &mut dyn toml_edit::TableLike = match index {
+            Some(i) if overridden => document["analysis"]
+                .as_array_of_tables_mut()
+                .and_then(|a| a.get_mut(i))
+                .and_then(|t| t.get_mut("model"))
+                .and_then(|m| m.as_table_like_mut())
+                .expect("checked above"),
+            _ => {
+                if !document.contains_key("model") {
+                    document["model"] = toml_edit::table();
+                }
+                document["model"]
+                    .as_table_like_mut()
+                    .ok_or_else(|| SessionError::Syntax {
+                        path: self.path.clone(),
+                        message: "[model] is not a table".into(),
+                    })?
+            }
+        };
+        for other in same_quantity(key) {
+            if *other != key {
+                table.remove(other);
+            }
+        }
+        table.insert(key, toml_edit::value(value));
+        self.replace_document(document)
+    }
+
+    /// The settings of analysis `index` as a TOML table, every default filled in.
+    pub fn settings_table(&self, index: usize) -> toml::Table {
+        self.analyses
+            .get(index)
+            .and_then(|e| e.settings.to_toml().ok())
+            .unwrap_or_default()
+    }
+
+    /// Sets the setting at `path` (e.g. `["omega", "points"]`) of analysis `index`; a table on
+    /// the way that the file leaves to its defaults is written out in full first.
+    pub fn set_setting(
+        &mut self,
+        index: usize,
+        path: &[&str],
+        value: toml::Value,
+    ) -> Result<(), SessionError> {
+        let full = self.settings_table(index);
+        let mut document = self.document.clone();
+        let analysis = document["analysis"]
+            .as_array_of_tables_mut()
+            .and_then(|a| a.get_mut(index))
+            .ok_or_else(|| SessionError::Syntax {
+                path: self.path.clone(),
+                message: format!("no analysis number {index}"),
+            })?;
+        if !analysis.contains_key("settings") {
+            analysis.insert("settings", toml_edit::table());
+        }
+        let mut table: &mut dyn toml_edit::TableLike = analysis["settings"]
+            .as_table_like_mut()
+            .ok_or_else(|| SessionError::Syntax {
+                path: self.path.clone(),
+                message: "settings is not a table".into(),
+            })?;
+        let mut defaults = Some(&full);
+        let (leaf, parents) = path.split_last().ok_or_else(|| SessionError::Syntax {
+            path: self.path.clone(),
+            message: "empty setting path".into(),
+        })?;
+        for key in parents {
+            let default = defaults.and_then(|d| d.get(*key));
+            defaults = default.and_then(|d| d.as_table());
+            if !table.contains_key(key) {
+                let filled = default
+                    .cloned()
+                    .unwrap_or(toml::Value::Table(Default::default()));
+                table.insert(key, toml_edit::Item::Value(to_edit_value(&filled)));
+            }
+            table = table
+                .get_mut(key)
+                .and_then(|i| i.as_table_like_mut())
+                .ok_or_else(|| SessionError::Syntax {
+                    path: self.path.clone(),
+                    message: format!("setting '{key}' is not a table"),
+                })?;
+        }
+        table.insert(leaf, toml_edit::Item::Value(to_edit_value(&value)));
+        self.replace_document(document)
+    }
+
+    /// Re-reads and validates an edited document; on error the session is left as it was.
+    fn replace_document(&mut self, document: toml_edit::DocumentMut) -> Result<(), SessionError> {
         let reparsed = Session::parse(&self.path, &document.to_string())?;
         *self = reparsed;
         Ok(())
@@ -419,4 +544,55 @@ fn find_key(item: &toml_edit::Item, key: &str) -> Option<std::ops::Range<usize>>
         }
     }
     None
+}
+
+/// The keys a quantity may be written under (its non-dimensional and physical forms).
+fn same_quantity(key: &str) -> &'static [&'static str] {
+    const FORMS: [&[&str]; 4] = [
+        &["omega", "frequency_hz"],
+        &["c_tilde", "damping_n_s_per_m"],
+        &["phi_dc", "dc_kv"],
+        &["phi_ac", "ac_kv"],
+    ];
+    const OTHERS: [&str; 7] = [
+        "lambda_p",
+        "j",
+        "e_a",
+        "adr",
+        "phi_dc_ii",
+        "phi_ac_ii",
+        "phase_ii",
+    ];
+    FORMS
+        .iter()
+        .find(|f| f.contains(&key))
+        .copied()
+        .or_else(|| {
+            OTHERS
+                .iter()
+                .position(|k| *k == key)
+                .map(|i| &OTHERS[i..=i])
+        })
+        .unwrap_or(&[])
+}
+
+/// A TOML value in `toml_edit`'s form (tables become inline tables).
+fn to_edit_value(value: &toml::Value) -> toml_edit::Value {
+    match value {
+        toml::Value::String(s) => s.as_str().into(),
+        toml::Value::Integer(i) => (*i).into(),
+        toml::Value::Float(f) => (*f).into(),
+        toml::Value::Boolean(b) => (*b).into(),
+        toml::Value::Datetime(d) => d.to_string().into(),
+        toml::Value::Array(a) => a
+            .iter()
+            .map(to_edit_value)
+            .collect::<toml_edit::Array>()
+            .into(),
+        toml::Value::Table(t) => t
+            .iter()
+            .map(|(k, v)| (k.clone(), to_edit_value(v)))
+            .collect::<toml_edit::InlineTable>()
+            .into(),
+    }
 }

@@ -1,0 +1,602 @@
+//! Results read back for viewing: the CSV of a finished analysis, or the chunks of one under
+//! way (in this process or in a headless `isola run` elsewhere), as plot-ready data.
+//!
+//! A [`ResultReader`] is polled: each call reads only what changed on disk (new chunks, a new
+//! manifest or CSV), so a viewer can follow a long run at a few polls per second.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::time::SystemTime;
+
+use serde::de::DeserializeOwned;
+
+use super::run::{Manifest, ResultPaths, read_manifest};
+use super::schema::{AnalysisEntry, Session, Settings};
+use crate::analysis::SteadyState;
+use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
+use crate::analysis::family::FamilyMember;
+use crate::analysis::frequency_response::Response;
+
+/// One response at one ω_e (a frequency response, a stepped sweep or a family member).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResponsePoint {
+    pub omega: f64,
+    /// Peak-to-peak amplitude of λ_I / 2 as in MODEL.md; `None` for collisions and
+    /// non-periodic responses.
+    pub amplitude: Option<f64>,
+    /// `1:1`, `1:2`, `2:1`, `1:3 subharmonic`, `non-periodic`, `collision`...
+    pub response_type: String,
+    pub period: Option<usize>,
+    pub hidden: Option<bool>,
+    pub branch: Option<usize>,
+    /// Share of the sampled initial states that reached it.
+    pub share: f64,
+    /// A stroboscopic point of the orbit, [λ_I, v]: where to start to see it again.
+    pub start: Option<[f64; 2]>,
+}
+
+impl ResponsePoint {
+    fn from_response(r: &Response) -> Self {
+        let mut p = Self::from_steady(r.omega, &r.steady);
+        p.hidden = r.hidden;
+        p.branch = r.branch;
+        p.share = r.share;
+        p
+    }
+
+    fn from_steady(omega: f64, s: &SteadyState) -> Self {
+        ResponsePoint {
+            omega,
+            amplitude: s.amplitude,
+            response_type: s.response_type(),
+            period: s.period,
+            hidden: None,
+            branch: None,
+            share: 0.0,
+            start: s.poincare.first().copied(),
+        }
+    }
+}
+
+/// A branch of responses (same type, continuous over ω_e), summarised from its points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BranchSummary {
+    pub id: usize,
+    pub response_type: String,
+    pub omega_min: f64,
+    pub omega_max: f64,
+    pub peak_amplitude: f64,
+    pub peak_omega: f64,
+    /// No sweep reaches any of its points.
+    pub hidden: bool,
+    /// Some points hidden, some reached.
+    pub partly_hidden: bool,
+}
+
+/// Groups points by branch id.
+pub fn summarise_branches(points: &[ResponsePoint]) -> Vec<BranchSummary> {
+    let mut by_id: Vec<BranchSummary> = Vec::new();
+    let mut hidden_count: HashMap<usize, (usize, usize)> = HashMap::new();
+    for p in points {
+        let (Some(id), Some(a)) = (p.branch, p.amplitude) else {
+            continue;
+        };
+        let counts = hidden_count.entry(id).or_default();
+        counts.0 += usize::from(p.hidden == Some(true));
+        counts.1 += 1;
+        match by_id.iter_mut().find(|b| b.id == id) {
+            Some(b) => {
+                b.omega_min = b.omega_min.min(p.omega);
+                b.omega_max = b.omega_max.max(p.omega);
+                if a > b.peak_amplitude {
+                    b.peak_amplitude = a;
+                    b.peak_omega = p.omega;
+                }
+            }
+            None => by_id.push(BranchSummary {
+                id,
+                response_type: p.response_type.clone(),
+                omega_min: p.omega,
+                omega_max: p.omega,
+                peak_amplitude: a,
+                peak_omega: p.omega,
+                hidden: false,
+                partly_hidden: false,
+            }),
+        }
+    }
+    for b in &mut by_id {
+        let (hidden, all) = hidden_count[&b.id];
+        b.hidden = hidden == all;
+        b.partly_hidden = hidden > 0 && hidden < all;
+    }
+    by_id.sort_by_key(|b| b.id);
+    by_id
+}
+
+/// One attractor of a basin, with its share of the cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttractorRow {
+    pub id: usize,
+    pub response_type: String,
+    pub amplitude: Option<f64>,
+    pub cells: usize,
+    pub fraction: f64,
+    pub start: Option<[f64; 2]>,
+}
+
+/// A basin map: `labels[i_dx · n_v + i_v]`, `None` for cells not computed yet.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BasinView {
+    pub dx: Vec<f64>,
+    pub v: Vec<f64>,
+    pub labels: Vec<Option<usize>>,
+    pub attractors: Vec<AttractorRow>,
+}
+
+/// A time history.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct HistoryView {
+    pub tau: Vec<f64>,
+    pub lambda: Vec<f64>,
+    pub v: Vec<f64>,
+    /// True from the start of the steady state on.
+    pub steady: Vec<bool>,
+}
+
+impl From<&crate::analysis::time_history::TimeHistory> for HistoryView {
+    fn from(h: &crate::analysis::time_history::TimeHistory) -> Self {
+        HistoryView {
+            tau: h.samples.iter().map(|s| s.tau).collect(),
+            lambda: h.samples.iter().map(|s| s.lambda).collect(),
+            v: h.samples.iter().map(|s| s.v).collect(),
+            steady: h.samples.iter().map(|s| s.steady).collect(),
+        }
+    }
+}
+
+/// A chirp sweep: the response sampled every `dt`, and its envelope per window.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ChirpView {
+    pub dt: f64,
+    pub omega: Vec<f64>,
+    pub lambda: Vec<f64>,
+    /// (ω_e, amplitude) per window.
+    pub envelope: Vec<[f64; 2]>,
+}
+
+/// Force curves: (λ_p, φ_I, points (Δλ, f)).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ForceView {
+    pub curves: Vec<(f64, f64, Vec<[f64; 2]>)>,
+}
+
+/// A family: each member's responses and branches.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FamilyView {
+    pub parameter: String,
+    pub members: Vec<(f64, Vec<ResponsePoint>)>,
+}
+
+/// Plot-ready data of one analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ResultView {
+    Force(ForceView),
+    History(HistoryView),
+    Chirp(ChirpView),
+    Stepped(Vec<ResponsePoint>),
+    Response(Vec<ResponsePoint>),
+    Basin(BasinView),
+    Family(FamilyView),
+}
+
+/// Where an analysis' stored result stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResultStatus {
+    /// Nothing on disk.
+    Missing,
+    /// Chunks done of total, no final file yet.
+    Partial { done: usize, total: usize },
+    /// Complete, for the current model and settings.
+    Complete,
+    /// On disk, but computed for another model or settings.
+    Stale,
+}
+
+/// Follows one analysis' result files; [`ResultReader::poll`] reads what changed.
+#[derive(Debug)]
+pub struct ResultReader {
+    name: String,
+    kind: &'static str,
+    manifest_seen: Option<(SystemTime, u64)>,
+    csv_seen: Option<(SystemTime, u64)>,
+    chunks_read: Vec<bool>,
+    partial: Partial,
+    pub status: ResultStatus,
+    pub view: Option<ResultView>,
+    /// Why the files could not be read, if they could not.
+    pub error: Option<String>,
+}
+
+/// What is kept of the chunks read so far.
+#[derive(Debug, Default)]
+enum Partial {
+    #[default]
+    None,
+    Basin {
+        table: AttractorTable,
+        labels: Vec<Option<usize>>,
+    },
+    Response(Vec<Vec<ResponsePoint>>),
+    Family(Vec<Option<(f64, Vec<ResponsePoint>)>>),
+}
+
+fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
+    let m = std::fs::metadata(path).ok()?;
+    Some((m.modified().ok()?, m.len()))
+}
+
+impl ResultReader {
+    pub fn new(entry: &AnalysisEntry) -> Self {
+        ResultReader {
+            name: entry.name.clone(),
+            kind: entry.settings.kind(),
+            manifest_seen: None,
+            csv_seen: None,
+            chunks_read: Vec::new(),
+            partial: Partial::None,
+            status: ResultStatus::Missing,
+            view: None,
+            error: None,
+        }
+    }
+
+    /// Reads what changed since the last poll; true if the view or status changed.
+    pub fn poll(&mut self, session: &Session, entry: &AnalysisEntry) -> bool {
+        if entry.name != self.name || entry.settings.kind() != self.kind {
+            *self = ResultReader::new(entry);
+        }
+        let paths = ResultPaths::new(session, &entry.name);
+        let manifest_stamp = stamp(&paths.manifest);
+        let csv_stamp = stamp(&paths.csv);
+        let manifest = read_manifest(&paths.manifest);
+        let before = (self.status, self.view.is_some());
+        let current = manifest
+            .as_ref()
+            .is_some_and(|m| m.fingerprint == session.fingerprint(entry));
+        let mut changed = false;
+        if manifest_stamp != self.manifest_seen || csv_stamp != self.csv_seen {
+            self.manifest_seen = manifest_stamp;
+            changed = true;
+        }
+        match &manifest {
+            Some(m) if m.complete && csv_stamp.is_some() => {
+                if csv_stamp != self.csv_seen {
+                    self.csv_seen = csv_stamp;
+                    self.partial = Partial::None;
+                    self.chunks_read.clear();
+                    match read_csv_view(&entry.settings, &paths) {
+                        Ok(view) => {
+                            self.view = Some(view);
+                            self.error = None;
+                        }
+                        Err(e) => {
+                            self.view = None;
+                            self.error = Some(format!("{}: {e:#}", paths.csv.display()));
+                        }
+                    }
+                    changed = true;
+                }
+                self.status = if current {
+                    ResultStatus::Complete
+                } else {
+                    ResultStatus::Stale
+                };
+            }
+            Some(m) if current => {
+                self.csv_seen = None;
+                changed |= self.read_new_chunks(&entry.settings, &paths, m);
+                self.status = ResultStatus::Partial {
+                    done: self.chunks_read.iter().filter(|&&r| r).count(),
+                    total: m.chunks_total,
+                };
+            }
+            Some(_) => self.status = ResultStatus::Stale,
+            None => {
+                if self.status != ResultStatus::Missing {
+                    self.view = None;
+                    self.partial = Partial::None;
+                    self.chunks_read.clear();
+                    self.csv_seen = None;
+                }
+                self.status = ResultStatus::Missing;
+            }
+        }
+        changed || before != (self.status, self.view.is_some())
+    }
+
+    /// Reads chunk files not read yet; true if any was.
+    fn read_new_chunks(&mut self, settings: &Settings, paths: &ResultPaths, m: &Manifest) -> bool {
+        let n = m.chunks_total;
+        if self.chunks_read.len() != n {
+            self.chunks_read = vec![false; n];
+            self.partial = Partial::None;
+        }
+        let mut any = false;
+        for i in 0..n {
+            if self.chunks_read[i] {
+                continue;
+            }
+            let file = paths.chunks.join(format!("{i:06}.json"));
+            let Ok(bytes) = std::fs::read(&file) else {
+                continue;
+            };
+            if self.absorb_chunk(settings, i, &bytes).is_some() {
+                self.chunks_read[i] = true;
+                any = true;
+            }
+        }
+        if any {
+            self.view = self.partial_view(settings);
+        }
+        any
+    }
+
+    /// Adds chunk `i` to the partial result; `None` if it is not readable (yet).
+    fn absorb_chunk(&mut self, settings: &Settings, i: usize, bytes: &[u8]) -> Option<()> {
+        fn parse<T: DeserializeOwned>(bytes: &[u8]) -> Option<T> {
+            serde_json::from_slice(bytes).ok()
+        }
+        match settings {
+            Settings::Basin(spec) => {
+                let outcomes: Vec<SteadyState> = parse(bytes)?;
+                let cells = spec.dx.points * spec.v.points;
+                if !matches!(self.partial, Partial::Basin { .. }) {
+                    self.partial = Partial::Basin {
+                        table: AttractorTable::default(),
+                        labels: vec![None; cells],
+                    };
+                }
+                let Partial::Basin { table, labels } = &mut self.partial else {
+                    unreachable!()
+                };
+                let start = i * crate::analysis::basin::CHUNK_CELLS;
+                for (k, s) in outcomes.iter().enumerate() {
+                    if let Some(l) = labels.get_mut(start + k) {
+                        *l = Some(table.classify(s, SAME_POINT_TOL));
+                    }
+                }
+            }
+            Settings::FrequencyResponse(spec) => {
+                let responses: Vec<Response> = parse(bytes)?;
+                if !matches!(self.partial, Partial::Response(_)) {
+                    self.partial = Partial::Response(vec![Vec::new(); spec.omega.points]);
+                }
+                let Partial::Response(per_omega) = &mut self.partial else {
+                    unreachable!()
+                };
+                *per_omega.get_mut(i)? =
+                    responses.iter().map(ResponsePoint::from_response).collect();
+            }
+            Settings::Family(spec) => {
+                let member: FamilyMember = parse(bytes)?;
+                if !matches!(self.partial, Partial::Family(_)) {
+                    self.partial = Partial::Family(vec![None; spec.values.len()]);
+                }
+                let Partial::Family(members) = &mut self.partial else {
+                    unreachable!()
+                };
+                let points = member
+                    .response
+                    .responses
+                    .iter()
+                    .map(ResponsePoint::from_response)
+                    .collect();
+                *members.get_mut(i)? = Some((member.value, points));
+            }
+            _ => return None,
+        }
+        Some(())
+    }
+
+    fn partial_view(&self, settings: &Settings) -> Option<ResultView> {
+        Some(match (&self.partial, settings) {
+            (Partial::Basin { table, labels }, Settings::Basin(spec)) => {
+                let done = labels.iter().filter(|l| l.is_some()).count().max(1);
+                ResultView::Basin(BasinView {
+                    dx: spec.dx.values(),
+                    v: spec.v.values(),
+                    labels: labels.clone(),
+                    attractors: table
+                        .attractors
+                        .iter()
+                        .map(|a| AttractorRow {
+                            id: a.id,
+                            response_type: a.response.response_type(),
+                            amplitude: a.response.amplitude,
+                            cells: a.count,
+                            fraction: a.count as f64 / done as f64,
+                            start: a.response.poincare.first().copied(),
+                        })
+                        .collect(),
+                })
+            }
+            (Partial::Response(per_omega), _) => {
+                ResultView::Response(per_omega.iter().flatten().cloned().collect())
+            }
+            (Partial::Family(members), Settings::Family(spec)) => ResultView::Family(FamilyView {
+                parameter: spec.parameter.name().into(),
+                members: members.iter().flatten().cloned().collect(),
+            }),
+            _ => return None,
+        })
+    }
+}
+
+/// Header-indexed access to a CSV row.
+struct Columns(HashMap<String, usize>);
+
+impl Columns {
+    fn new(reader: &mut csv::Reader<std::fs::File>) -> anyhow::Result<Self> {
+        Ok(Columns(
+            reader
+                .headers()?
+                .iter()
+                .enumerate()
+                .map(|(i, h)| (h.to_string(), i))
+                .collect(),
+        ))
+    }
+
+    fn str<'r>(&self, row: &'r csv::StringRecord, name: &str) -> anyhow::Result<&'r str> {
+        let i = self
+            .0
+            .get(name)
+            .ok_or_else(|| anyhow::anyhow!("no column '{name}'"))?;
+        Ok(row.get(*i).unwrap_or(""))
+    }
+
+    fn f64(&self, row: &csv::StringRecord, name: &str) -> anyhow::Result<f64> {
+        let s = self.str(row, name)?;
+        s.parse()
+            .map_err(|_| anyhow::anyhow!("column '{name}': '{s}' is not a number"))
+    }
+
+    fn opt<T: std::str::FromStr>(&self, row: &csv::StringRecord, name: &str) -> Option<T> {
+        self.str(row, name).ok().and_then(|s| s.parse().ok())
+    }
+
+    /// The first stroboscopic point of the `;`-separated columns.
+    fn start(&self, row: &csv::StringRecord) -> Option<[f64; 2]> {
+        let first = |name: &str| {
+            self.str(row, name)
+                .ok()?
+                .split(';')
+                .next()?
+                .parse::<f64>()
+                .ok()
+        };
+        Some([first("poincare_lambda")?, first("poincare_v")?])
+    }
+
+    fn response_point(&self, row: &csv::StringRecord) -> anyhow::Result<ResponsePoint> {
+        Ok(ResponsePoint {
+            omega: self.f64(row, "omega")?,
+            amplitude: self.opt(row, "amplitude_stretch"),
+            response_type: self.str(row, "response_type")?.to_string(),
+            period: self.opt(row, "period_forcing_periods"),
+            hidden: self.opt(row, "hidden"),
+            branch: self.opt(row, "branch"),
+            share: self.opt(row, "share").unwrap_or(0.0),
+            start: self.start(row),
+        })
+    }
+}
+
+fn rows(path: &Path) -> anyhow::Result<(Columns, Vec<csv::StringRecord>)> {
+    let mut reader = csv::Reader::from_path(path)?;
+    let columns = Columns::new(&mut reader)?;
+    let rows = reader.records().collect::<Result<Vec<_>, _>>()?;
+    Ok((columns, rows))
+}
+
+/// Reads a finished result's CSV files.
+fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<ResultView> {
+    let (c, rows) = rows(&paths.csv)?;
+    Ok(match settings {
+        Settings::ForceCurve(_) => {
+            let mut curves: Vec<(f64, f64, Vec<[f64; 2]>)> = Vec::new();
+            for r in &rows {
+                let key = (c.f64(r, "lambda_p")?, c.f64(r, "phi_i")?);
+                let point = [c.f64(r, "dx_stretch")?, c.f64(r, "force_nondim")?];
+                match curves.last_mut() {
+                    Some(last) if (last.0, last.1) == key => last.2.push(point),
+                    _ => curves.push((key.0, key.1, vec![point])),
+                }
+            }
+            ResultView::Force(ForceView { curves })
+        }
+        Settings::TimeHistory(_) => {
+            let mut h = HistoryView::default();
+            for r in &rows {
+                h.tau.push(c.f64(r, "tau")?);
+                h.lambda.push(c.f64(r, "lambda_stretch")?);
+                h.v.push(c.f64(r, "v_per_tau")?);
+                h.steady.push(c.str(r, "steady")? == "true");
+            }
+            ResultView::History(h)
+        }
+        Settings::ChirpSweep(_) => {
+            let mut s = ChirpView::default();
+            let mut last_envelope = f64::NAN;
+            for (j, r) in rows.iter().enumerate() {
+                let omega = c.f64(r, "omega")?;
+                let envelope = c.f64(r, "envelope_amplitude_stretch")?;
+                if j == 1 {
+                    s.dt = c.f64(r, "tau")?;
+                }
+                if envelope != last_envelope {
+                    s.envelope.push([omega, envelope]);
+                    last_envelope = envelope;
+                }
+                s.omega.push(omega);
+                s.lambda.push(c.f64(r, "lambda_stretch")?);
+            }
+            ResultView::Chirp(s)
+        }
+        Settings::SteppedSweep(_) => ResultView::Stepped(
+            rows.iter()
+                .map(|r| c.response_point(r))
+                .collect::<anyhow::Result<_>>()?,
+        ),
+        Settings::FrequencyResponse(_) => ResultView::Response(
+            rows.iter()
+                .map(|r| c.response_point(r))
+                .collect::<anyhow::Result<_>>()?,
+        ),
+        Settings::Basin(spec) => {
+            let labels = rows
+                .iter()
+                .map(|r| c.opt::<usize>(r, "attractor"))
+                .collect();
+            let (t, table_rows) = self::rows(&paths.csv.with_extension("attractors.csv"))?;
+            let attractors = table_rows
+                .iter()
+                .map(|r| {
+                    Ok(AttractorRow {
+                        id: t.f64(r, "attractor")? as usize,
+                        response_type: t.str(r, "response_type")?.to_string(),
+                        amplitude: t.opt(r, "amplitude_stretch"),
+                        cells: t.f64(r, "cells")? as usize,
+                        fraction: t.f64(r, "fraction")?,
+                        start: t.start(r),
+                    })
+                })
+                .collect::<anyhow::Result<_>>()?;
+            ResultView::Basin(BasinView {
+                dx: spec.dx.values(),
+                v: spec.v.values(),
+                labels,
+                attractors,
+            })
+        }
+        Settings::Family(spec) => {
+            let parameter = spec.parameter.name();
+            let (rc, response_rows) =
+                self::rows(&super::export::family_responses_path(&paths.csv))?;
+            let mut members: Vec<(f64, Vec<ResponsePoint>)> = Vec::new();
+            for r in &response_rows {
+                let value = rc.f64(r, parameter)?;
+                let point = rc.response_point(r)?;
+                match members.last_mut() {
+                    Some(last) if last.0 == value => last.1.push(point),
+                    _ => members.push((value, vec![point])),
+                }
+            }
+            ResultView::Family(FamilyView {
+                parameter: parameter.into(),
+                members,
+            })
+        }
+    })
+}

@@ -1,0 +1,781 @@
+//! The app's state and what each action does to it. Drawing is in `ui.rs`; physics only ever
+//! runs in jobs that call the library.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use isola::analysis::family::FamilySpec;
+use isola::analysis::scalogram::Scalogram;
+use isola::analysis::time_history::TimeHistorySpec;
+use isola::session::results::{HistoryView, ResultReader, ResultStatus, ResultView};
+use isola::session::run::{Outcome, ResultPaths};
+use isola::session::{Session, Settings};
+
+use super::jobs::{JobList, Output, Work};
+use super::keymap::{Action, Keymap};
+use super::panes::params::{self, Edit, Row};
+use super::plots::{self, Pick, Start};
+use super::theme::Theme;
+
+/// The panes that take focus, in Tab order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Focus {
+    Analyses,
+    Params,
+    Plot,
+    Jobs,
+}
+
+impl Focus {
+    const ORDER: [Focus; 4] = [Focus::Analyses, Focus::Params, Focus::Plot, Focus::Jobs];
+
+    fn step(self, by: isize) -> Focus {
+        let i = Focus::ORDER.iter().position(|f| *f == self).unwrap_or(0) as isize;
+        Focus::ORDER[(i + by).rem_euclid(4) as usize]
+    }
+}
+
+/// A box over the panes that takes the keys while open.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Overlay {
+    Help,
+    ConfirmQuit,
+    /// A line of text to type: a path to save as or export to.
+    Input {
+        purpose: InputPurpose,
+        text: String,
+    },
+    /// Session files to open.
+    Picker {
+        files: Vec<PathBuf>,
+        selected: usize,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputPurpose {
+    SaveAs,
+    Export,
+    Open,
+}
+
+/// An orbit picked off a plot, being computed or shown.
+pub struct Picked {
+    pub label: String,
+    pub job: usize,
+    pub view: Option<HistoryView>,
+    pub summary: Option<String>,
+}
+
+/// A line in the status bar.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Message {
+    pub text: String,
+    pub error: bool,
+}
+
+pub struct App {
+    pub session: Session,
+    /// Edits not saved yet.
+    pub modified: bool,
+    pub selected: usize,
+    pub focus: Focus,
+    pub overlay: Option<Overlay>,
+    pub param_rows: Vec<Row>,
+    pub param_row: usize,
+    /// The text being typed into the selected parameter.
+    pub editing: Option<String>,
+    pub param_error: Option<String>,
+    pub readers: Vec<ResultReader>,
+    pub jobs: JobList,
+    pub job_row: usize,
+    pub cursor: (usize, usize),
+    pub picked: Option<Picked>,
+    /// Scalograms by analysis name, and the job computing one.
+    pub scalograms: HashMap<String, Scalogram>,
+    scalogram_jobs: HashMap<usize, String>,
+    pub show_scalogram: bool,
+    pub zoom: bool,
+    pub message: Option<Message>,
+    pub theme: Theme,
+    pub keymap: Keymap,
+    pub should_quit: bool,
+    /// Something changed since the last frame.
+    pub dirty: bool,
+    last_poll: Instant,
+    last_full_poll: Instant,
+}
+
+impl App {
+    pub fn new(session: Session, theme: Theme, keymap: Keymap, threads: usize) -> Self {
+        let mut app = App {
+            readers: Vec::new(),
+            session,
+            modified: false,
+            selected: 0,
+            focus: Focus::Analyses,
+            overlay: None,
+            param_rows: Vec::new(),
+            param_row: 0,
+            editing: None,
+            param_error: None,
+            jobs: JobList::new(threads),
+            job_row: 0,
+            cursor: (0, 0),
+            picked: None,
+            scalograms: HashMap::new(),
+            scalogram_jobs: HashMap::new(),
+            show_scalogram: false,
+            zoom: false,
+            message: None,
+            theme,
+            keymap,
+            should_quit: false,
+            dirty: true,
+            last_poll: Instant::now(),
+            last_full_poll: Instant::now(),
+        };
+        app.reload_session_state();
+        app
+    }
+
+    /// After a session is opened or replaced: readers, rows and cursor from scratch.
+    fn reload_session_state(&mut self) {
+        self.readers = self
+            .session
+            .analyses
+            .iter()
+            .map(ResultReader::new)
+            .collect();
+        self.selected = self
+            .selected
+            .min(self.session.analyses.len().saturating_sub(1));
+        self.refresh_rows();
+        self.poll_results(true);
+        self.reset_cursor();
+    }
+
+    fn refresh_rows(&mut self) {
+        self.param_rows = params::rows(&self.session, self.selected);
+        self.param_row = self.param_row.min(self.param_rows.len().saturating_sub(1));
+    }
+
+    fn reset_cursor(&mut self) {
+        self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+        self.picked = None;
+    }
+
+    /// The selected analysis' result, if any.
+    pub fn view(&self) -> Option<&ResultView> {
+        self.readers
+            .get(self.selected)
+            .and_then(|r| r.view.as_ref())
+    }
+
+    pub fn status_of(&self, i: usize) -> ResultStatus {
+        self.readers
+            .get(i)
+            .map_or(ResultStatus::Missing, |r| r.status)
+    }
+
+    /// A status-bar message.
+    pub fn say(&mut self, text: impl Into<String>, error: bool) {
+        self.message = Some(Message {
+            text: text.into(),
+            error,
+        });
+        self.dirty = true;
+    }
+
+    /// Polls jobs and result files; called every loop turn (cheap when nothing changed).
+    pub fn tick(&mut self) {
+        for finished in self.jobs.poll() {
+            self.dirty = true;
+            if let Some(name) = self.scalogram_jobs.remove(&finished.id) {
+                match finished.result {
+                    Ok(Output::Scalogram(s)) => {
+                        self.scalograms.insert(name, s);
+                    }
+                    Ok(_) => {}
+                    Err(e) => self.say(format!("scalogram of {name}: {e}"), true),
+                }
+                continue;
+            }
+            match (finished.result, &mut self.picked) {
+                (Ok(Output::Orbit(h)), Some(p)) if p.job == finished.id => {
+                    let s = &h.steady_state;
+                    p.summary = Some(format!(
+                        "{} {}",
+                        s.response_type(),
+                        s.amplitude.map_or(String::new(), |a| format!("A {a:.4}"))
+                    ));
+                    p.view = Some(HistoryView::from(h.as_ref()));
+                }
+                (Err(e), Some(p)) if p.job == finished.id => {
+                    p.summary = Some(format!("failed: {e}"));
+                }
+                (Ok(Output::Analysis(outcome)), _) => {
+                    let name = finished.analysis.unwrap_or_default();
+                    let text = match outcome {
+                        Outcome::UpToDate => format!("{name}: already up to date"),
+                        Outcome::Completed {
+                            chunks_computed,
+                            seconds,
+                        } => format!(
+                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s in all)"
+                        ),
+                        Outcome::ShardDone { missing, .. } => {
+                            format!("{name}: {missing} chunks still missing")
+                        }
+                    };
+                    self.say(text, false);
+                }
+                (Err(e), _) => {
+                    let name = finished.analysis.unwrap_or_else(|| "job".into());
+                    self.say(
+                        format!("{name}: {e}"),
+                        !matches!(e, isola::jobs::JobError::Cancelled),
+                    );
+                }
+                _ => {}
+            }
+            self.poll_results(true);
+        }
+        if self.jobs.any_active() {
+            self.dirty = true; // gauges move
+        }
+        self.poll_results(false);
+    }
+
+    /// Reads new result files: the selected analysis' every 200 ms, all every 2 s (or now).
+    fn poll_results(&mut self, now: bool) {
+        let due = now || self.last_poll.elapsed() >= Duration::from_millis(200);
+        if !due {
+            return;
+        }
+        self.last_poll = Instant::now();
+        let all = now || self.last_full_poll.elapsed() >= Duration::from_secs(2);
+        if all {
+            self.last_full_poll = Instant::now();
+        }
+        let had_view = self.view().is_some();
+        let wanted: Vec<bool> = (0..self.readers.len())
+            .map(|i| all || i == self.selected || self.is_sweep_partner(i))
+            .collect();
+        for (i, reader) in self.readers.iter_mut().enumerate() {
+            let Some(entry) = self.session.analyses.get(i) else {
+                continue;
+            };
+            if wanted[i] && reader.poll(&self.session, entry) {
+                self.dirty = true;
+            }
+        }
+        if !had_view && self.view().is_some() {
+            self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+        }
+    }
+
+    /// Analysis `i` is a chirp drawn with the selected one.
+    fn is_sweep_partner(&self, i: usize) -> bool {
+        let a = &self.session.analyses;
+        matches!(
+            (
+                a.get(i).map(|e| &e.settings),
+                a.get(self.selected).map(|e| &e.settings)
+            ),
+            (Some(Settings::ChirpSweep(_)), Some(Settings::ChirpSweep(_)))
+        ) && a[i].model == a[self.selected].model
+    }
+
+    /// The chirps drawn together with the selected one (same model), with their views.
+    pub fn sweep_group(&self) -> Vec<(usize, &ResultView)> {
+        (0..self.session.analyses.len())
+            .filter(|&i| i == self.selected || self.is_sweep_partner(i))
+            .filter_map(|i| Some((i, self.readers.get(i)?.view.as_ref()?)))
+            .collect()
+    }
+
+    pub fn handle_key(&mut self, key: KeyEvent) {
+        self.dirty = true;
+        if key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL) {
+            self.quit_now();
+            return;
+        }
+        if self.overlay.is_some() {
+            self.overlay_key(key);
+            return;
+        }
+        if self.editing.is_some() {
+            self.edit_key(key);
+            return;
+        }
+        let Some(action) = self.keymap.action(&key) else {
+            return;
+        };
+        self.message = None;
+        self.act(action);
+    }
+
+    fn act(&mut self, action: Action) {
+        match action {
+            Action::Quit => {
+                if self.jobs.any_active() || self.modified {
+                    self.overlay = Some(Overlay::ConfirmQuit);
+                } else {
+                    self.should_quit = true;
+                }
+            }
+            Action::Help => self.overlay = Some(Overlay::Help),
+            Action::FocusNext => self.focus = self.focus.step(1),
+            Action::FocusPrev => self.focus = self.focus.step(-1),
+            Action::Up => self.move_by(0, -1),
+            Action::Down => self.move_by(0, 1),
+            Action::Left => self.move_by(-1, 0),
+            Action::Right => self.move_by(1, 0),
+            Action::FastUp => self.move_by(0, -10),
+            Action::FastDown => self.move_by(0, 10),
+            Action::FastLeft => self.move_by(-10, 0),
+            Action::FastRight => self.move_by(10, 0),
+            Action::Edit => self.enter(),
+            Action::Back => {
+                if self.picked.take().is_none() {
+                    self.zoom = false;
+                }
+            }
+            Action::Run => self.run_selected(),
+            Action::CancelJob => self.cancel_job(),
+            Action::Save => self.save(None),
+            Action::SaveAs => {
+                self.overlay = Some(Overlay::Input {
+                    purpose: InputPurpose::SaveAs,
+                    text: self.session.path.display().to_string(),
+                })
+            }
+            Action::Open => self.open_picker(),
+            Action::Export => self.export_prompt(),
+            Action::Zoom => self.zoom = !self.zoom,
+            Action::Scalogram => self.toggle_scalogram(),
+        }
+    }
+
+    fn move_by(&mut self, dx: isize, dy: isize) {
+        match self.focus {
+            Focus::Analyses => {
+                let n = self.session.analyses.len();
+                if n > 0 && dy != 0 {
+                    let next =
+                        (self.selected as isize + dy.signum()).clamp(0, n as isize - 1) as usize;
+                    if next != self.selected {
+                        self.selected = next;
+                        self.param_error = None;
+                        self.refresh_rows();
+                        self.poll_results(true);
+                        self.reset_cursor();
+                        self.show_scalogram = false;
+                    }
+                }
+            }
+            Focus::Params => {
+                let n = self.param_rows.len();
+                if n > 0 && dy != 0 {
+                    self.param_row =
+                        (self.param_row as isize + dy).clamp(0, n as isize - 1) as usize;
+                    self.param_error = None;
+                }
+            }
+            Focus::Plot => {
+                if let Some(p) = &self.picked {
+                    if let Some(h) = &p.view {
+                        let view = ResultView::History(h.clone());
+                        self.cursor = plots::move_cursor(&view, self.cursor, dx, 0);
+                    }
+                } else if let Some(view) = self.view() {
+                    // on a plot, ↑ means up the axis
+                    self.cursor = plots::move_cursor(view, self.cursor, dx, -dy);
+                }
+            }
+            Focus::Jobs => {
+                let n = self.jobs.entries.len();
+                if n > 0 && dy != 0 {
+                    self.job_row = (self.job_row as isize + dy).clamp(0, n as isize - 1) as usize;
+                }
+            }
+        }
+    }
+
+    /// Enter: edit the parameter, or pick the point under the cursor.
+    fn enter(&mut self) {
+        match self.focus {
+            Focus::Params => {
+                if let Some(row) = self.param_rows.get(self.param_row) {
+                    self.editing = Some(row.value.clone());
+                    self.param_error = None;
+                }
+            }
+            Focus::Plot => self.pick(),
+            Focus::Analyses => self.focus = Focus::Plot,
+            Focus::Jobs => {}
+        }
+    }
+
+    fn edit_key(&mut self, key: KeyEvent) {
+        let Some(text) = self.editing.as_mut() else {
+            return;
+        };
+        match key.code {
+            KeyCode::Esc => {
+                self.editing = None;
+                self.param_error = None;
+            }
+            KeyCode::Enter => {
+                let text = text.clone();
+                self.commit_edit(&text);
+            }
+            KeyCode::Backspace => {
+                text.pop();
+            }
+            KeyCode::Char(c) => text.push(c),
+            _ => {}
+        }
+    }
+
+    /// Applies the typed value; on error the edit stays open with the reason shown.
+    pub fn commit_edit(&mut self, text: &str) {
+        let Some(row) = self.param_rows.get(self.param_row).cloned() else {
+            return;
+        };
+        let edit = match params::parse_edit(&row, text) {
+            Ok(e) => e,
+            Err(e) => {
+                self.param_error = Some(e);
+                return;
+            }
+        };
+        let result = match edit {
+            Edit::Model { key, value } => {
+                self.session.set_model_key(Some(self.selected), key, value)
+            }
+            Edit::Setting { path, value } => {
+                let path: Vec<&str> = path.iter().map(String::as_str).collect();
+                self.session.set_setting(self.selected, &path, value)
+            }
+        };
+        match result {
+            Ok(()) => {
+                self.editing = None;
+                self.param_error = None;
+                self.modified = true;
+                self.refresh_rows();
+                self.poll_results(true);
+                self.say(format!("{} = {}", row.label, text.trim()), false);
+            }
+            Err(e) => self.param_error = Some(params::error_line(&e)),
+        }
+    }
+
+    /// Queues the selected analysis.
+    pub fn run_selected(&mut self) {
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        let name = entry.name.clone();
+        let busy = self
+            .jobs
+            .entries
+            .iter()
+            .any(|e| e.is_active() && e.analysis.as_deref() == Some(name.as_str()));
+        if busy {
+            self.say(format!("{name} is already running"), true);
+            return;
+        }
+        self.jobs.push(
+            name.clone(),
+            Work::Analysis {
+                session: Box::new(self.session.clone()),
+                name: name.clone(),
+            },
+        );
+        self.job_row = self.jobs.entries.len() - 1;
+        self.say(format!("{name}: queued"), false);
+        self.tick();
+    }
+
+    /// Cancels the job under the cursor in the job pane, or else the selected analysis' job.
+    fn cancel_job(&mut self) {
+        let target = if self.focus == Focus::Jobs {
+            self.jobs
+                .entries
+                .get(self.job_row)
+                .filter(|e| e.is_active())
+        } else {
+            let name = self
+                .session
+                .analyses
+                .get(self.selected)
+                .map(|e| e.name.as_str());
+            self.jobs
+                .entries
+                .iter()
+                .rev()
+                .find(|e| e.is_active() && e.analysis.as_deref() == name)
+                .or_else(|| self.jobs.entries.iter().rev().find(|e| e.is_active()))
+        };
+        match target.map(|e| (e.id, e.label.clone())) {
+            Some((id, label)) => {
+                self.jobs.cancel(id);
+                self.say(format!("{label}: cancelling"), false);
+            }
+            None => self.say("no job to cancel", false),
+        }
+    }
+
+    /// Integrates the orbit under the plot cursor.
+    fn pick(&mut self) {
+        let Some(view) = self.view() else { return };
+        let Some(Pick {
+            omega,
+            member,
+            start,
+        }) = plots::pick(view, self.cursor)
+        else {
+            self.say("nothing to pick here", false);
+            return;
+        };
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        let params = self.session.params(Some(entry)).and_then(|p| {
+            let p = match (&entry.settings, member) {
+                (Settings::Family(FamilySpec { parameter, .. }), Some(v)) => {
+                    parameter.apply(&p, v)?
+                }
+                _ => p,
+            };
+            match omega {
+                Some(w) => p.with_omega(w),
+                None => Ok(p),
+            }
+        });
+        let params = match params {
+            Ok(p) => p,
+            Err(e) => {
+                self.say(e.to_string(), true);
+                return;
+            }
+        };
+        let [dx0, v0] = match start {
+            Start::Absolute([lambda, v]) => [lambda - params.lambda_p(), v],
+            Start::Offset(s) => s,
+        };
+        let spec = TimeHistorySpec {
+            dx0,
+            v0,
+            ..TimeHistorySpec::default()
+        };
+        let label = format!(
+            "orbit ω {:.3} from Δλ {dx0:+.3}, v {v0:+.3}",
+            params.omega()
+        );
+        let job = self.jobs.push(
+            label.clone(),
+            Work::Orbit {
+                params: Box::new(params),
+                spec,
+            },
+        );
+        self.picked = Some(Picked {
+            label,
+            job,
+            view: None,
+            summary: None,
+        });
+        self.tick();
+    }
+
+    fn toggle_scalogram(&mut self) {
+        let Some(ResultView::Chirp(c)) = self.view() else {
+            self.say("the scalogram is drawn for chirp sweeps", false);
+            return;
+        };
+        let (lambda, dt) = (c.lambda.clone(), c.dt);
+        self.show_scalogram = !self.show_scalogram;
+        let name = self.session.analyses[self.selected].name.clone();
+        let computing = self.scalogram_jobs.values().any(|n| *n == name);
+        if self.show_scalogram && !self.scalograms.contains_key(&name) && !computing {
+            let work = Work::Scalogram { lambda, dt };
+            let id = self.jobs.push(format!("scalogram {name}"), work);
+            self.scalogram_jobs.insert(id, name);
+            self.tick();
+        }
+    }
+
+    fn save(&mut self, path: Option<PathBuf>) {
+        let path = path.unwrap_or_else(|| self.session.path.clone());
+        match self.session.save_as(&path) {
+            Ok(()) => {
+                self.modified = false;
+                self.reload_session_state();
+                self.say(format!("saved {}", path.display()), false);
+            }
+            Err(e) => self.say(format!("not saved: {e}"), true),
+        }
+    }
+
+    fn export_prompt(&mut self) {
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        if self.status_of(self.selected) != ResultStatus::Complete {
+            self.say(
+                format!("{}: no complete result to export (r runs it)", entry.name),
+                true,
+            );
+            return;
+        }
+        self.overlay = Some(Overlay::Input {
+            purpose: InputPurpose::Export,
+            text: format!("{}.csv", entry.name),
+        });
+    }
+
+    /// Copies the selected result's CSV (and a basin's attractor table) to `to`, atomically.
+    pub fn export(&mut self, to: &Path) {
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        let paths = ResultPaths::new(&self.session, &entry.name);
+        let copy = |from: &Path, to: &Path| -> anyhow::Result<()> {
+            let bytes = std::fs::read(from)?;
+            isola::session::atomic::write_atomic(to, &bytes)?;
+            Ok(())
+        };
+        let mut result = copy(&paths.csv, to);
+        let table = paths.csv.with_extension("attractors.csv");
+        if result.is_ok() && table.exists() {
+            result = copy(&table, &to.with_extension("attractors.csv"));
+        }
+        match result {
+            Ok(()) => self.say(format!("exported {}", to.display()), false),
+            Err(e) => self.say(format!("export failed: {e:#}"), true),
+        }
+    }
+
+    fn open_picker(&mut self) {
+        let dir = self
+            .session
+            .path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        self.open_picker_in(&dir);
+    }
+
+    /// Lists the session files of `dir` to open one.
+    pub fn open_picker_in(&mut self, dir: &Path) {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map(|rd| {
+                rd.filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        files.sort();
+        let selected = files
+            .iter()
+            .position(|f| *f == self.session.path)
+            .unwrap_or(0);
+        self.overlay = Some(Overlay::Picker { files, selected });
+    }
+
+    /// Opens a session in place of this one.
+    pub fn open(&mut self, path: &Path) {
+        match Session::load(path) {
+            Ok(s) => {
+                self.session = s;
+                self.modified = false;
+                self.selected = 0;
+                self.param_row = 0;
+                self.scalograms.clear();
+                self.show_scalogram = false;
+                self.reload_session_state();
+                self.say(format!("opened {}", path.display()), false);
+            }
+            Err(e) => self.say(format!("{e}"), true),
+        }
+    }
+
+    fn overlay_key(&mut self, key: KeyEvent) {
+        let Some(overlay) = self.overlay.take() else {
+            return;
+        };
+        let action = self.keymap.action(&key);
+        match overlay {
+            Overlay::Help => {
+                if !matches!(key.code, KeyCode::Esc | KeyCode::Enter | KeyCode::Char('q'))
+                    && action != Some(Action::Help)
+                {
+                    self.overlay = Some(Overlay::Help);
+                }
+            }
+            Overlay::ConfirmQuit => match key.code {
+                KeyCode::Char('y') | KeyCode::Char('Y') => self.quit_now(),
+                KeyCode::Char('n') | KeyCode::Esc => {}
+                _ => self.overlay = Some(Overlay::ConfirmQuit),
+            },
+            Overlay::Input { purpose, mut text } => match key.code {
+                KeyCode::Esc => {}
+                KeyCode::Enter => {
+                    let path = PathBuf::from(text.trim());
+                    match purpose {
+                        InputPurpose::SaveAs => self.save(Some(path)),
+                        InputPurpose::Export => self.export(&path),
+                        InputPurpose::Open => self.open(&path),
+                    }
+                }
+                KeyCode::Backspace => {
+                    text.pop();
+                    self.overlay = Some(Overlay::Input { purpose, text });
+                }
+                KeyCode::Char(c) => {
+                    text.push(c);
+                    self.overlay = Some(Overlay::Input { purpose, text });
+                }
+                _ => self.overlay = Some(Overlay::Input { purpose, text }),
+            },
+            Overlay::Picker { files, selected } => match (key.code, action) {
+                (KeyCode::Esc, _) => {}
+                (KeyCode::Enter, _) => {
+                    if let Some(f) = files.get(selected).cloned() {
+                        self.open(&f);
+                    }
+                }
+                (KeyCode::Char('/'), _) => {
+                    self.overlay = Some(Overlay::Input {
+                        purpose: InputPurpose::Open,
+                        text: String::new(),
+                    })
+                }
+                (_, Some(Action::Up)) => {
+                    self.overlay = Some(Overlay::Picker {
+                        selected: selected.saturating_sub(1),
+                        files,
+                    })
+                }
+                (_, Some(Action::Down)) => {
+                    let selected = (selected + 1).min(files.len().saturating_sub(1));
+                    self.overlay = Some(Overlay::Picker { files, selected })
+                }
+                _ => self.overlay = Some(Overlay::Picker { files, selected }),
+            },
+        }
+    }
+
+    /// Cancels every job, waits a moment for them to save what they finished, and quits.
+    pub fn quit_now(&mut self) {
+        self.jobs.cancel_all();
+        self.jobs.wait_idle(Duration::from_secs(2));
+        self.should_quit = true;
+    }
+}

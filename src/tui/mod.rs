@@ -1,0 +1,168 @@
+//! The terminal workbench: `isola` or `isola tui [SESSION]`. A synchronous loop: wait up to
+//! 50 ms for a key, poll jobs and result files, redraw if something changed (at most 20 frames
+//! a second; ratatui sends only the cells that differ).
+
+pub mod app;
+pub mod config;
+pub mod jobs;
+pub mod keymap;
+pub mod panes;
+pub mod plots;
+pub mod terminal;
+pub mod theme;
+pub mod ui;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use clap::Args;
+use crossterm::event::{self, Event, KeyEventKind};
+use isola::session::Session;
+
+use app::App;
+use keymap::Keymap;
+use theme::{ColorMode, Theme};
+
+#[derive(Debug, Args, Default)]
+pub struct TuiArgs {
+    /// The session to open (none: pick one from ./sessions, over an untitled session).
+    pub session: Option<PathBuf>,
+    /// Theme: dark, light, mono, or a theme file (default: the config's, else dark).
+    #[arg(long)]
+    pub theme: Option<String>,
+    /// Colours: auto (from COLORTERM, TERM and NO_COLOR), truecolor, 256, 16 or none.
+    #[arg(long, value_enum)]
+    pub color: Option<ColorMode>,
+    /// Config file (default: $XDG_CONFIG_HOME/isola/config.toml).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Worker threads for analyses (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+/// The session a bare `isola` starts with; saved only when the user saves it.
+const UNTITLED: &str = r#"# A new session: edit the model and settings, r runs an analysis, s saves.
+schema = 1
+description = "untitled"
+
+[model]
+adr = 0.6
+e_a = 0.04
+
+[[analysis]]
+name = "response"
+kind = "frequency_response"
+[analysis.settings]
+omega = { min = 0.2, max = 6.0, points = 117 }
+
+[[analysis]]
+name = "basin"
+kind = "basin"
+model = { omega = 3.7 }
+
+[[analysis]]
+name = "orbit"
+kind = "time_history"
+model = { omega = 3.7 }
+"#;
+
+/// Everything but the terminal: config, theme, keys and session, as the app starts.
+pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
+    let config = config::Config::load(args.config.as_deref())?;
+    let mode = match (args.color, config.color.as_deref()) {
+        (Some(m), _) => m,
+        (None, Some(s)) => <ColorMode as clap::ValueEnum>::from_str(s, true).map_err(|_| {
+            anyhow::anyhow!("config color = \"{s}\": one of auto, truecolor, 256, 16, none")
+        })?,
+        (None, None) => ColorMode::Auto,
+    }
+    .resolve(|k| std::env::var(k).ok());
+    let theme_name = args
+        .theme
+        .clone()
+        .or(config.theme.clone())
+        .unwrap_or_else(|| "dark".into());
+    let themes_dir = config::config_dir().map(|d| d.join("themes"));
+    let theme = Theme::load(&theme_name, mode, themes_dir.as_deref())?;
+    let keymap = Keymap::with_overrides(&config.keys).map_err(anyhow::Error::msg)?;
+    let (session, pick) = match &args.session {
+        Some(path) => (Session::load(path)?, false),
+        None => (
+            Session::parse(Path::new("untitled.toml"), UNTITLED)?,
+            Path::new("sessions").is_dir(),
+        ),
+    };
+    let mut app = App::new(session, theme, keymap, args.threads);
+    if pick {
+        app.session.path = PathBuf::from("sessions/untitled.toml");
+        app.open_picker_in(Path::new("sessions"));
+    }
+    Ok(app)
+}
+
+/// Logs go to a file: nothing may write to the screen while the TUI runs.
+fn log_to_file() -> anyhow::Result<()> {
+    let path = config::log_path();
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&path)
+        .with_context(|| format!("log file {}", path.display()))?;
+    let _ = tracing_subscriber::fmt()
+        .with_writer(std::sync::Mutex::new(file))
+        .with_ansi(false)
+        .with_max_level(tracing::Level::INFO)
+        .try_init();
+    Ok(())
+}
+
+/// Runs the TUI until the user quits or a signal asks it to.
+pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
+    log_to_file()?;
+    let mut app = build_app(args)?;
+    tracing::info!(session = %app.session.path.display(), "tui started");
+    let terminate = terminal::termination_flag()?;
+    let mut guard = terminal::TerminalGuard::enter()?;
+    let frame_time = Duration::from_millis(50);
+    let mut last_draw = Instant::now() - frame_time;
+    loop {
+        if terminate.load(Ordering::Relaxed) {
+            tracing::info!("signal: quitting");
+            app.quit_now();
+        }
+        if app.should_quit {
+            break;
+        }
+        if app.dirty && last_draw.elapsed() >= frame_time {
+            guard.terminal.draw(|f| ui::draw(f, &app))?;
+            app.dirty = false;
+            last_draw = Instant::now();
+        }
+        let wait = frame_time
+            .saturating_sub(last_draw.elapsed())
+            .max(Duration::from_millis(5));
+        if event::poll(wait)? {
+            match event::read()? {
+                Event::Key(key) if key.kind == KeyEventKind::Press => app.handle_key(key),
+                Event::Resize(..) => {
+                    guard.terminal.autoresize()?;
+                    app.dirty = true;
+                }
+                _ => {}
+            }
+        }
+        app.tick();
+    }
+    drop(guard);
+    tracing::info!("tui quit");
+    Ok(())
+}

@@ -1,0 +1,66 @@
+//! The session's analyses, each with the state of its stored result.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Widget};
+
+use crate::tui::app::{App, Focus};
+use isola::session::results::ResultStatus;
+
+/// A mark for a result's state: complete, partial, stale, or none.
+pub fn status_mark(status: ResultStatus) -> (&'static str, &'static str) {
+    match status {
+        ResultStatus::Complete => ("✓", "done"),
+        ResultStatus::Partial { .. } => ("◐", "partial"),
+        ResultStatus::Stale => ("~", "stale"),
+        ResultStatus::Missing => ("·", "not run"),
+    }
+}
+
+pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
+    let t = &app.theme;
+    let focused = app.focus == Focus::Analyses;
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border(focused))
+        .title(" Analyses ");
+    let inner = block.inner(area);
+    block.render(area, buf);
+    let h = inner.height as usize;
+    let skip = (app.selected + 1).saturating_sub(h);
+    let lines: Vec<Line> = app
+        .session
+        .analyses
+        .iter()
+        .enumerate()
+        .skip(skip)
+        .take(h)
+        .map(|(i, a)| {
+            let status = app.status_of(i);
+            let (mark, _) = status_mark(status);
+            let style = match status {
+                ResultStatus::Complete => t.ok(),
+                ResultStatus::Stale => t.warn(),
+                _ => t.muted(),
+            };
+            let mut line = Line::from(vec![
+                Span::styled(format!("{mark} "), style),
+                Span::raw(a.name.clone()),
+                Span::styled(
+                    format!(" {}", a.settings.kind().replace('_', " ")),
+                    t.muted(),
+                ),
+            ]);
+            if i == app.selected {
+                line = line.style(if focused {
+                    t.selected()
+                } else {
+                    t.selected().add_modifier(ratatui::style::Modifier::DIM)
+                });
+            }
+            line
+        })
+        .collect();
+    Paragraph::new(lines).render(inner, buf);
+}

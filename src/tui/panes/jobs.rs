@@ -1,0 +1,104 @@
+//! Running and queued jobs: a gauge, the rate, the time left; `c` cancels.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Widget};
+
+use crate::tui::app::{App, Focus};
+use crate::tui::jobs::JobState;
+
+/// `12.3k/s`.
+fn rate_text(r: f64) -> String {
+    if r >= 1e6 {
+        format!("{:.1}M/s", r / 1e6)
+    } else if r >= 1e3 {
+        format!("{:.1}k/s", r / 1e3)
+    } else {
+        format!("{r:.0}/s")
+    }
+}
+
+fn seconds_text(s: f64) -> String {
+    if s >= 60.0 {
+        format!("{}m{:02}s", (s / 60.0) as u64, (s % 60.0) as u64)
+    } else {
+        format!("{s:.1}s")
+    }
+}
+
+pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
+    let t = &app.theme;
+    let focused = app.focus == Focus::Jobs;
+    let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border(focused))
+        .title(format!(" Jobs ({active} active) "));
+    let inner = block.inner(area);
+    block.render(area, buf);
+    let w = inner.width as usize;
+    let h = inner.height as usize;
+    // newest at the bottom; keep the selected row visible
+    let n = app.jobs.entries.len();
+    let skip = n.saturating_sub(h).min(app.job_row);
+    let skip = if app.job_row >= skip + h {
+        app.job_row + 1 - h
+    } else {
+        skip
+    };
+    let lines: Vec<Line> = app
+        .jobs
+        .entries
+        .iter()
+        .enumerate()
+        .skip(skip)
+        .take(h)
+        .map(|(i, e)| {
+            let label_w = (w / 3).clamp(8, 24);
+            let label: String = e.label.chars().take(label_w).collect();
+            let mut spans = vec![Span::raw(format!("{label:<label_w$} "))];
+            match &e.state {
+                JobState::Running => {
+                    let f = e.progress.fraction();
+                    let (done, total) = e.progress.get();
+                    let tail = format!(
+                        " {:>3.0}% {} {}",
+                        f * 100.0,
+                        e.rate().map_or(String::new(), rate_text),
+                        e.eta()
+                            .map_or(String::new(), |s| format!("eta {}", seconds_text(s)))
+                    );
+                    let bar_w = w.saturating_sub(label_w + 1 + tail.chars().count()).max(4);
+                    let full = ((f * bar_w as f64) as usize).min(bar_w);
+                    spans.push(Span::styled("█".repeat(full), t.ok()));
+                    spans.push(Span::styled("░".repeat(bar_w - full), t.muted()));
+                    spans.push(Span::raw(tail));
+                    let _ = (done, total);
+                }
+                JobState::Queued => spans.push(Span::styled("queued", t.muted())),
+                JobState::Done { seconds } => spans.push(Span::styled(
+                    format!("✓ done in {}", seconds_text(*seconds)),
+                    t.ok(),
+                )),
+                JobState::Cancelled => spans.push(Span::styled("✗ cancelled", t.warn())),
+                JobState::Failed(why) => spans.push(Span::styled(format!("✗ {why}"), t.error())),
+            }
+            let mut line = Line::from(spans);
+            if focused && i == app.job_row {
+                line = line.style(t.selected());
+            }
+            line
+        })
+        .collect();
+    if lines.is_empty() {
+        let run = app.keymap.label(crate::tui::keymap::Action::Run);
+        Paragraph::new(Line::styled(
+            format!("no jobs: {run} runs the selected analysis"),
+            t.muted(),
+        ))
+        .render(inner, buf);
+    } else {
+        Paragraph::new(lines).render(inner, buf);
+    }
+}

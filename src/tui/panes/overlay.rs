@@ -1,0 +1,138 @@
+//! Boxes over the panes: help, the quit question, a path to type, session files to open.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
+
+use crate::tui::app::{App, InputPurpose, Overlay};
+use crate::tui::config;
+use crate::tui::keymap::Action;
+
+/// A box of `w × h` centred in `area` (clipped to it).
+fn centred(area: Rect, w: u16, h: u16) -> Rect {
+    let (w, h) = (w.min(area.width), h.min(area.height));
+    Rect::new(
+        area.x + (area.width - w) / 2,
+        area.y + (area.height - h) / 2,
+        w,
+        h,
+    )
+}
+
+pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
+    let t = &app.theme;
+    let (title, lines, w): (&str, Vec<Line>, u16) = match overlay {
+        Overlay::Help => {
+            let mut lines: Vec<Line> = Action::ALL
+                .iter()
+                .map(|(a, _, what)| {
+                    Line::from(vec![
+                        Span::styled(format!("{:>14}", app.keymap.labels(*a)), t.key()),
+                        Span::raw(format!("  {what}")),
+                    ])
+                })
+                .collect();
+            lines.push(Line::from(vec![
+                Span::styled(format!("{:>14}", "C-c"), t.key()),
+                Span::raw("  quit at once (jobs cancelled, finished chunks kept)"),
+            ]));
+            lines.push(Line::raw(""));
+            lines.push(Line::styled(
+                format!(
+                    "keys: [keys] in {}",
+                    config::config_dir().map_or("(no home)".into(), |d| d
+                        .join("config.toml")
+                        .display()
+                        .to_string())
+                ),
+                t.muted(),
+            ));
+            lines.push(Line::styled(
+                format!("log: {}", config::log_path().display()),
+                t.muted(),
+            ));
+            lines.push(Line::styled(
+                format!("theme: {} (--theme, --color)", t.name),
+                t.muted(),
+            ));
+            lines.push(Line::styled(
+                "marks: ✓ done  ◐ partial  ~ stale (model changed)  · not run",
+                t.muted(),
+            ));
+            (" Help (Esc closes) ", lines, 72)
+        }
+        Overlay::ConfirmQuit => {
+            let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
+            let mut lines = Vec::new();
+            if active > 0 {
+                lines.push(Line::raw(format!(
+                    "{active} job(s) running: quitting cancels them (finished chunks are kept)."
+                )));
+            }
+            if app.modified {
+                lines.push(Line::raw("The session has unsaved changes."));
+            }
+            lines.push(Line::styled("Quit? y / n", t.key()));
+            (" Quit ", lines, 60)
+        }
+        Overlay::Input { purpose, text } => {
+            let what = match purpose {
+                InputPurpose::SaveAs => "Save session as:",
+                InputPurpose::Export => "Export result to CSV file:",
+                InputPurpose::Open => "Open session file:",
+            };
+            let lines = vec![
+                Line::raw(what),
+                Line::styled(format!("{text}▏"), t.cursor()),
+                Line::styled("Enter: ok   Esc: cancel", t.muted()),
+            ];
+            (" ", lines, 64)
+        }
+        Overlay::Picker { files, selected } => {
+            let mut lines: Vec<Line> = files
+                .iter()
+                .enumerate()
+                .map(|(i, f)| {
+                    let name = f
+                        .file_name()
+                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+                    let line = Line::raw(name);
+                    if i == *selected {
+                        line.style(t.selected())
+                    } else {
+                        line
+                    }
+                })
+                .collect();
+            if lines.is_empty() {
+                lines.push(Line::styled("no session files here", t.muted()));
+            }
+            lines.push(Line::styled(
+                "Enter: open   /: type a path   Esc: cancel",
+                t.muted(),
+            ));
+            (" Open session ", lines, 56)
+        }
+    };
+    let h = (lines.len() as u16 + 2).min(area.height);
+    let rect = centred(area, w, h);
+    Clear.render(rect, buf);
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border(true))
+        .title(title);
+    // keep the selected file visible in a long list
+    let inner_h = rect.height.saturating_sub(2) as usize;
+    let scroll = match overlay {
+        Overlay::Picker { selected, .. } => {
+            (selected + 1).saturating_sub(inner_h.saturating_sub(1)) as u16
+        }
+        _ => 0,
+    };
+    Paragraph::new(lines)
+        .block(block)
+        .wrap(Wrap { trim: false })
+        .scroll((scroll, 0))
+        .render(rect, buf);
+}

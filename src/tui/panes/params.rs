@@ -1,0 +1,358 @@
+//! The parameter pane: the model of the selected analysis (non-dimensional, physical units
+//! beside) and its settings, edited in place; an invalid value is refused with the reason.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Widget, Wrap};
+
+use crate::tui::theme::Theme;
+use isola::session::{Session, SessionError};
+
+/// What a row edits.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Target {
+    /// A model key, and the key and unit of its physical form, if it has one.
+    Model {
+        key: &'static str,
+        physical: Option<(&'static str, &'static str)>,
+    },
+    /// A setting of the analysis, by path.
+    Setting {
+        path: Vec<String>,
+        value: toml::Value,
+    },
+}
+
+/// One editable row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub label: String,
+    pub value: String,
+    /// The value in physical units, if it has them.
+    pub physical: String,
+    /// Set by this analysis only (not the session's model).
+    pub overridden: bool,
+    pub target: Target,
+}
+
+/// The rows for analysis `index`.
+pub fn rows(session: &Session, index: usize) -> Vec<Row> {
+    let mut out = Vec::new();
+    let Some(entry) = session.analyses.get(index) else {
+        return out;
+    };
+    let device = session.device();
+    let Ok(p) = session.params(Some(entry)) else {
+        return out;
+    };
+    let m = &entry.model;
+    let model = |label: &str, key, physical, value: f64, phys: String, overridden: bool| Row {
+        label: label.into(),
+        value: format_number(value),
+        physical: phys,
+        overridden,
+        target: Target::Model { key, physical },
+    };
+    out.push(model(
+        "λ_p",
+        "lambda_p",
+        None,
+        p.lambda_p(),
+        String::new(),
+        m.lambda_p.is_some(),
+    ));
+    out.push(model("J", "j", None, p.j(), String::new(), m.j.is_some()));
+    out.push(model(
+        "c̃",
+        "c_tilde",
+        Some(("damping_n_s_per_m", "N·s/m")),
+        p.c_tilde(),
+        format!("{:.3} N·s/m", device.damping(p.c_tilde())),
+        m.c_tilde.is_some() || m.damping_n_s_per_m.is_some(),
+    ));
+    out.push(model(
+        "ω_e",
+        "omega",
+        Some(("frequency_hz", "Hz")),
+        p.omega(),
+        format!("{:.2} Hz", device.hz(p.omega())),
+        m.omega.is_some() || m.frequency_hz.is_some(),
+    ));
+    let d = p.drive_i();
+    match d.adr() {
+        Some(adr) => {
+            out.push(model(
+                "E_a",
+                "e_a",
+                None,
+                d.e_a(),
+                format!("{:.1} MV/m peak", device.mv_per_m(d.phi_peak())),
+                m.e_a.is_some(),
+            ));
+            out.push(model(
+                "ADR",
+                "adr",
+                None,
+                adr,
+                format!(
+                    "{:.2}+{:.2} kV",
+                    device.kv(d.phi_dc()),
+                    device.kv(d.phi_ac())
+                ),
+                m.adr.is_some(),
+            ));
+        }
+        None => {
+            out.push(model(
+                "φ_DC",
+                "phi_dc",
+                Some(("dc_kv", "kV")),
+                d.phi_dc(),
+                format!("{:.2} kV", device.kv(d.phi_dc())),
+                m.phi_dc.is_some() || m.dc_kv.is_some(),
+            ));
+            out.push(model(
+                "φ_AC",
+                "phi_ac",
+                Some(("ac_kv", "kV")),
+                d.phi_ac(),
+                format!("{:.2} kV", device.kv(d.phi_ac())),
+                m.phi_ac.is_some() || m.ac_kv.is_some(),
+            ));
+        }
+    }
+    flatten(&session.settings_table(index), &mut Vec::new(), &mut out);
+    out
+}
+
+fn flatten(table: &toml::Table, prefix: &mut Vec<String>, out: &mut Vec<Row>) {
+    for (k, v) in table {
+        prefix.push(k.clone());
+        match v {
+            toml::Value::Table(t) => flatten(t, prefix, out),
+            value => out.push(Row {
+                label: prefix.join("."),
+                value: format_value(value),
+                physical: String::new(),
+                overridden: false,
+                target: Target::Setting {
+                    path: prefix.clone(),
+                    value: value.clone(),
+                },
+            }),
+        }
+        prefix.pop();
+    }
+}
+
+/// A number as short as it reads exactly.
+pub fn format_number(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    if x.abs() < 1e-3 || x.abs() >= 1e6 {
+        return format!("{x:.4e}");
+    }
+    // six significant digits, trailing zeros dropped (0.04000000000000001 reads 0.04)
+    let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn format_value(v: &toml::Value) -> String {
+    match v {
+        toml::Value::Float(f) => format_number(*f),
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Array(a) => a.iter().map(format_value).collect::<Vec<_>>().join(", "),
+        other => other.to_string(),
+    }
+}
+
+/// What the user typed for `target`, as the value to set; the error names the field.
+pub fn parse_edit(row: &Row, text: &str) -> Result<Edit, String> {
+    let text = text.trim();
+    match &row.target {
+        Target::Model { key, physical } => {
+            let (number, key) = match physical {
+                Some((phys_key, unit)) if text.ends_with(unit) => {
+                    (text.trim_end_matches(unit).trim(), *phys_key)
+                }
+                _ => (text, *key),
+            };
+            let value: f64 = number
+                .parse()
+                .map_err(|_| format!("{}: '{text}' is not a number", row.label))?;
+            Ok(Edit::Model { key, value })
+        }
+        Target::Setting { path, value } => {
+            let parsed = parse_like(value, text)
+                .ok_or_else(|| format!("{}: '{text}' is not {}", row.label, describe(value)))?;
+            Ok(Edit::Setting {
+                path: path.clone(),
+                value: parsed,
+            })
+        }
+    }
+}
+
+/// An edit ready to apply to the session.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Edit {
+    Model {
+        key: &'static str,
+        value: f64,
+    },
+    Setting {
+        path: Vec<String>,
+        value: toml::Value,
+    },
+}
+
+fn describe(v: &toml::Value) -> &'static str {
+    match v {
+        toml::Value::Integer(_) => "a whole number",
+        toml::Value::Float(_) => "a number",
+        toml::Value::Boolean(_) => "true or false",
+        toml::Value::Array(_) => "a list of numbers (a, b, c)",
+        _ => "a value",
+    }
+}
+
+/// `text` read as a value of the same type as `like`.
+fn parse_like(like: &toml::Value, text: &str) -> Option<toml::Value> {
+    Some(match like {
+        toml::Value::Integer(_) => toml::Value::Integer(text.parse().ok()?),
+        toml::Value::Float(_) => toml::Value::Float(text.parse().ok()?),
+        toml::Value::Boolean(_) => toml::Value::Boolean(text.parse().ok()?),
+        toml::Value::String(_) => toml::Value::String(text.to_string()),
+        toml::Value::Array(items) => {
+            let item = items.first().cloned().unwrap_or(toml::Value::Float(0.0));
+            let inner = text.trim_start_matches('[').trim_end_matches(']');
+            toml::Value::Array(
+                inner
+                    .split(',')
+                    .filter(|s| !s.trim().is_empty())
+                    .map(|s| parse_like(&item, s.trim()))
+                    .collect::<Option<_>>()?,
+            )
+        }
+        _ => return None,
+    })
+}
+
+/// A session error as one line for the pane (without the file path).
+pub fn error_line(e: &SessionError) -> String {
+    match e {
+        SessionError::Value {
+            location, error, ..
+        } => format!("{location}: {error}"),
+        SessionError::Syntax { message, .. } => message.clone(),
+        SessionError::Io { error, .. } => error.to_string(),
+    }
+}
+
+/// The pane's state as drawn.
+pub struct ParamsPane<'a> {
+    pub rows: &'a [Row],
+    pub selected: usize,
+    /// The text being typed, if editing.
+    pub editing: Option<&'a str>,
+    pub error: Option<&'a str>,
+    pub focused: bool,
+    pub theme: &'a Theme,
+}
+
+impl Widget for ParamsPane<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let t = self.theme;
+        let block = Block::default()
+            .borders(Borders::ALL)
+            .border_style(t.border(self.focused))
+            .title(" Parameters ");
+        let inner = block.inner(area);
+        block.render(area, buf);
+        let error_rows = self.error.map_or(0, |e| {
+            (e.chars().count() as u16)
+                .div_ceil(inner.width.max(1))
+                .min(4)
+        });
+        let list_h = inner.height.saturating_sub(error_rows) as usize;
+        let label_w = self
+            .rows
+            .iter()
+            .map(|r| r.label.chars().count())
+            .max()
+            .unwrap_or(4)
+            .min(inner.width as usize * 2 / 5);
+        let mut lines: Vec<Line> = Vec::new();
+        let mut selected_line = 0;
+        let mut last_kind = None;
+        for (i, row) in self.rows.iter().enumerate() {
+            let kind = matches!(row.target, Target::Model { .. });
+            if last_kind != Some(kind) {
+                lines.push(Line::styled(
+                    if kind { "model" } else { "settings" },
+                    t.muted(),
+                ));
+                last_kind = Some(kind);
+            }
+            if i == self.selected {
+                selected_line = lines.len();
+            }
+            let label = format!("{:<label_w$} ", truncate(&row.label, label_w));
+            let mut spans = vec![Span::raw(label)];
+            match (i == self.selected, self.editing) {
+                (true, Some(text)) => {
+                    spans.push(Span::styled(format!("{text}▏"), t.cursor()));
+                }
+                _ => {
+                    spans.push(Span::raw(row.value.clone()));
+                    if row.overridden {
+                        spans.push(Span::styled("*", t.warn()));
+                    }
+                    if !row.physical.is_empty() {
+                        spans.push(Span::styled(format!("  {}", row.physical), t.muted()));
+                    }
+                }
+            }
+            let mut line = Line::from(spans);
+            if i == self.selected && self.focused {
+                line = line.style(t.selected());
+            }
+            lines.push(line);
+        }
+        let skip = (selected_line + 1).saturating_sub(list_h);
+        let visible: Vec<Line> = lines.into_iter().skip(skip).take(list_h).collect();
+        Paragraph::new(visible)
+            .render(Rect::new(inner.x, inner.y, inner.width, list_h as u16), buf);
+        if let Some(e) = self.error {
+            Paragraph::new(Line::styled(e.to_string(), t.error()))
+                .wrap(Wrap { trim: true })
+                .render(
+                    Rect::new(inner.x, inner.y + list_h as u16, inner.width, error_rows),
+                    buf,
+                );
+        }
+    }
+}
+
+fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        let keep: String = s
+            .chars()
+            .rev()
+            .take(n.saturating_sub(1))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+            .collect();
+        format!("…{keep}")
+    }
+}

@@ -1,0 +1,132 @@
+//! Basins of attraction (Fig 6): a colour per attractor over (Δλ, v), a legend with each
+//! attractor's share of the cells, and glyphs instead of colours on a monochrome terminal.
+
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+
+use super::PlotContext;
+use super::frame::Axis;
+use super::heatmap::{HeatMap, Paint};
+use super::response::short_type;
+use crate::tui::theme::Theme;
+use isola::session::results::BasinView;
+
+/// Glyphs for attractors 0, 1, 2... when there is no colour.
+const GLYPHS: [&str; 8] = ["·", "█", "▒", "░", "▓", "#", "+", "o"];
+
+/// Colour of attractor `id`: its type's colour, or a series colour when an earlier attractor
+/// already has that type.
+fn attractor_color(b: &BasinView, id: usize, theme: &Theme) -> Color {
+    let t = &b.attractors[id].response_type;
+    if b.attractors[..id].iter().any(|a| &a.response_type == t) {
+        theme.series(id + 2)
+    } else {
+        theme.type_color(t)
+    }
+}
+
+fn glyph(id: usize) -> &'static str {
+    GLYPHS[id % GLYPHS.len()]
+}
+
+/// Draws the basin with the cursor's cell marked and read out.
+pub fn draw(
+    b: &BasinView,
+    lambda_p: f64,
+    ctx: &PlotContext,
+    area: ratatui::layout::Rect,
+    buf: &mut ratatui::buffer::Buffer,
+) {
+    let theme = ctx.theme;
+    let (nx, nv) = (b.dx.len(), b.v.len());
+    let label = |ix: usize, iy: usize| b.labels.get(ix * nv + iy).copied().flatten();
+    let colors: Vec<Color> = (0..b.attractors.len())
+        .map(|id| attractor_color(b, id, theme))
+        .collect();
+    let color_of = |ix: usize, iy: usize| label(ix, iy).and_then(|l| colors.get(l).copied());
+    let glyph_of = |ix: usize, iy: usize| label(ix, iy).map_or(" ", glyph);
+    let paint = if theme.monochrome {
+        Paint::Glyphs(&glyph_of)
+    } else {
+        Paint::Colors(&color_of)
+    };
+    let (cx, cy) = (
+        ctx.cursor.0.min(nx.saturating_sub(1)),
+        ctx.cursor.1.min(nv.saturating_sub(1)),
+    );
+    let mut footer = Vec::new();
+    if let (Some(dx), Some(v)) = (b.dx.get(cx), b.v.get(cy)) {
+        let target = label(cx, cy).and_then(|l| b.attractors.get(l));
+        footer.push(Line::from(vec![
+            Span::styled("▸ ", theme.key()),
+            Span::raw(format!(
+                "Δλ {dx:+.3} (λ_I {:.3})  v {v:+.3}  → {}",
+                lambda_p + dx,
+                target.map_or("not computed".into(), |a| format!(
+                    "{} {}",
+                    short_type(&a.response_type),
+                    a.amplitude.map_or(String::new(), |x| format!("A {x:.4}"))
+                ))
+            )),
+            Span::styled(
+                "  Enter: orbit",
+                theme.muted().add_modifier(Modifier::ITALIC),
+            ),
+        ]));
+    }
+    let items: Vec<Vec<Span>> = b
+        .attractors
+        .iter()
+        .map(|a| {
+            let swatch = if theme.monochrome {
+                Span::raw(glyph(a.id).repeat(2))
+            } else {
+                Span::styled("██", Style::default().fg(colors[a.id]))
+            };
+            vec![
+                swatch,
+                Span::raw(format!(
+                    " {}{} {:.1}%  ",
+                    short_type(&a.response_type),
+                    a.amplitude.map_or(String::new(), |x| format!(" A {x:.3}")),
+                    a.fraction * 100.0
+                )),
+            ]
+        })
+        .collect();
+    let per_line = if items.len() > 3 {
+        items.len().div_ceil(2)
+    } else {
+        3
+    };
+    for chunk in items.chunks(per_line.max(1)) {
+        footer.push(Line::from(chunk.concat()));
+    }
+    let done = b.labels.iter().filter(|l| l.is_some()).count();
+    if done < b.labels.len() {
+        footer.push(Line::styled(
+            format!("{done} of {} cells so far", b.labels.len()),
+            theme.muted(),
+        ));
+    }
+    let map = HeatMap {
+        x: Axis::new(
+            "Δλ",
+            b.dx.first().copied().unwrap_or(-1.0),
+            b.dx.last().copied().unwrap_or(1.0),
+        ),
+        y: Axis::new(
+            "v (per τ)",
+            b.v.first().copied().unwrap_or(-1.0),
+            b.v.last().copied().unwrap_or(1.0),
+        ),
+        nx,
+        ny: nv,
+        paint,
+        cursor: Some((cx, cy)),
+        axis_style: theme.muted(),
+        cursor_style: theme.cursor(),
+        footer,
+    };
+    ratatui::widgets::Widget::render(map, area, buf);
+}

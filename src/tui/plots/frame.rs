@@ -1,0 +1,360 @@
+//! An x–y plot with ticked, labelled axes: Braille curves and points, glyphs for typed points,
+//! text annotations, and a cursor. Every plot view builds one of these.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Widget;
+use ratatui::widgets::canvas::{Canvas, Context, Points};
+
+/// One axis: its range and name with unit.
+#[derive(Debug, Clone)]
+pub struct Axis {
+    pub name: String,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Axis {
+    pub fn new(name: impl Into<String>, min: f64, max: f64) -> Self {
+        let (min, max) = if max > min {
+            (min, max)
+        } else if max == min {
+            (
+                min - 0.5 * min.abs().max(1e-3),
+                max + 0.5 * max.abs().max(1e-3),
+            )
+        } else {
+            (max, min)
+        };
+        Axis {
+            name: name.into(),
+            min,
+            max,
+        }
+    }
+
+    /// The range of `values` with a margin, or [0, 1] with none.
+    pub fn fit(name: impl Into<String>, values: impl Iterator<Item = f64>, margin: f64) -> Self {
+        let (lo, hi) = values
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        if lo > hi {
+            return Axis::new(name, 0.0, 1.0);
+        }
+        let pad = (hi - lo) * margin;
+        Axis::new(name, lo - pad, hi + pad)
+    }
+}
+
+/// What is drawn inside the axes.
+pub enum Layer {
+    /// Braille dots.
+    Points {
+        points: Vec<(f64, f64)>,
+        color: Color,
+    },
+    /// Braille dots joined in order (gaps where a point is NaN).
+    Curve {
+        points: Vec<(f64, f64)>,
+        color: Color,
+    },
+    /// A glyph at each point.
+    Glyphs {
+        points: Vec<(f64, f64)>,
+        glyph: &'static str,
+        style: Style,
+    },
+    /// A bracket `├─ text ─┤` over [x0, x1] at height y: a range named on the plot.
+    Range {
+        x0: f64,
+        x1: f64,
+        y: f64,
+        text: String,
+        style: Style,
+    },
+}
+
+/// A plot: axes, layers, an optional cursor, and text lines below.
+pub struct XyPlot {
+    pub x: Axis,
+    pub y: Axis,
+    pub layers: Vec<Layer>,
+    pub cursor: Option<(f64, f64)>,
+    pub cursor_style: Style,
+    pub axis_style: Style,
+    pub footer: Vec<Line<'static>>,
+}
+
+/// About `n` round tick values (1, 2 or 5 × 10^k apart) inside [min, max].
+pub fn ticks(min: f64, max: f64, n: usize) -> Vec<f64> {
+    let span = max - min;
+    if span.is_nan() || span <= 0.0 || n == 0 {
+        return vec![min];
+    }
+    let raw = span / n as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| span / s <= n as f64)
+        .unwrap_or(10.0 * mag);
+    let first = (min / step).ceil() * step;
+    (0..=n + 1)
+        .map(|i| first + i as f64 * step)
+        .take_while(|t| *t <= max + step * 1e-9)
+        .map(|t| if t.abs() < step * 1e-9 { 0.0 } else { t })
+        .collect()
+}
+
+/// A tick label with as few digits as the step needs.
+pub fn tick_label(t: f64, step: f64) -> String {
+    let decimals = if step >= 1.0 {
+        0
+    } else {
+        (-step.log10()).ceil() as usize
+    };
+    format!("{t:.decimals$}")
+}
+
+impl XyPlot {
+    pub fn new(x: Axis, y: Axis) -> Self {
+        XyPlot {
+            x,
+            y,
+            layers: Vec::new(),
+            cursor: None,
+            cursor_style: Style::default(),
+            axis_style: Style::default(),
+            footer: Vec::new(),
+        }
+    }
+}
+
+/// Draws the axes of `x` and `y` (names, ticks, labels) around the data area, leaving
+/// `footer` rows at the bottom, and returns the data area; `None` if there is no room.
+pub fn draw_axes(
+    area: Rect,
+    x: &Axis,
+    y: &Axis,
+    footer: usize,
+    s: Style,
+    buf: &mut Buffer,
+) -> Option<Rect> {
+    let y_ticks = ticks(y.min, y.max, 4);
+    let step = y_ticks.get(1).map_or(1.0, |b| b - y_ticks[0]);
+    let label_w = y_ticks
+        .iter()
+        .map(|t| tick_label(*t, step).len())
+        .max()
+        .unwrap_or(1) as u16;
+    // rows: y axis name, data, x axis line, x labels, footer
+    let height = area.height.checked_sub(3 + footer as u16)?;
+    let width = area.width.checked_sub(label_w + 1)?;
+    if height < 3 || width < 8 {
+        return None;
+    }
+    let canvas = Rect::new(area.x + label_w + 1, area.y + 1, width, height);
+    let (x0, y0) = (canvas.x, canvas.y);
+    buf.set_stringn(area.x, area.y, &y.name, area.width as usize, s);
+    let yt = ticks(y.min, y.max, (canvas.height as usize / 3).clamp(2, 6));
+    let ystep = yt.get(1).map_or(1.0, |b| b - yt[0]);
+    for r in 0..canvas.height {
+        buf.set_string(x0 - 1, y0 + r, "│", s);
+    }
+    for &t in &yt {
+        let row = row_of(canvas, y, t);
+        let label = tick_label(t, ystep);
+        buf.set_string(area.x + label_w - label.len() as u16, row, &label, s);
+        buf.set_string(x0 - 1, row, "┤", s);
+    }
+    let axis_row = y0 + canvas.height;
+    buf.set_string(x0 - 1, axis_row, "└", s);
+    for c in 0..canvas.width {
+        buf.set_string(x0 + c, axis_row, "─", s);
+    }
+    let xt = ticks(x.min, x.max, (canvas.width as usize / 10).clamp(2, 8));
+    let xstep = xt.get(1).map_or(1.0, |b| b - xt[0]);
+    let mut free_from = x0;
+    for &t in &xt {
+        let col = col_of(canvas, x, t);
+        buf.set_string(col, axis_row, "┬", s);
+        let label = tick_label(t, xstep);
+        let start = col.saturating_sub(label.len() as u16 / 2).max(free_from);
+        if start + label.len() as u16 <= x0 + canvas.width {
+            buf.set_string(start, axis_row + 1, &label, s);
+            free_from = start + label.len() as u16 + 1;
+        }
+    }
+    let name_w = x.name.chars().count() as u16;
+    let name_x = (x0 + canvas.width).saturating_sub(name_w).max(free_from);
+    if name_x + name_w <= x0 + canvas.width {
+        buf.set_string(name_x, axis_row + 1, &x.name, s);
+    }
+    Some(canvas)
+}
+
+/// The column of value `v` on axis `x` drawn over `canvas`.
+pub fn col_of(canvas: Rect, x: &Axis, v: f64) -> u16 {
+    let f = ((v - x.min) / (x.max - x.min)).clamp(0.0, 1.0);
+    canvas.x + (f * (canvas.width - 1) as f64).round() as u16
+}
+
+/// The row of value `v` on axis `y` drawn over `canvas`.
+pub fn row_of(canvas: Rect, y: &Axis, v: f64) -> u16 {
+    let f = ((v - y.min) / (y.max - y.min)).clamp(0.0, 1.0);
+    canvas.y + canvas.height - 1 - (f * (canvas.height - 1) as f64).round() as u16
+}
+
+/// Draws `footer` lines under the x labels of `canvas`.
+pub fn draw_footer(area: Rect, canvas: Rect, footer: &[Line], buf: &mut Buffer) {
+    for (i, line) in footer.iter().enumerate() {
+        let row = canvas.y + canvas.height + 2 + i as u16;
+        if row < area.y + area.height {
+            buf.set_line(area.x, row, line, area.width);
+        }
+    }
+}
+
+impl Widget for XyPlot {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let s = self.axis_style;
+        let Some(canvas) = draw_axes(area, &self.x, &self.y, self.footer.len(), s, buf) else {
+            buf.set_stringn(area.x, area.y, "(too small)", area.width as usize, s);
+            return;
+        };
+        let (xb, yb) = ([self.x.min, self.x.max], [self.y.min, self.y.max]);
+        let layers = &self.layers;
+        Canvas::default()
+            .marker(Marker::Braille)
+            .x_bounds(xb)
+            .y_bounds(yb)
+            .paint(|ctx| paint(ctx, layers))
+            .render(canvas, buf);
+        // glyphs, text and cursor go straight into cells, on the exact cell of their point
+        let inside = |x: f64, y: f64| {
+            x >= self.x.min && x <= self.x.max && y >= self.y.min && y <= self.y.max
+        };
+        for layer in layers {
+            match layer {
+                Layer::Glyphs {
+                    points,
+                    glyph,
+                    style,
+                } => {
+                    for &(x, y) in points {
+                        if inside(x, y) {
+                            let (c, r) = (col_of(canvas, &self.x, x), row_of(canvas, &self.y, y));
+                            buf.set_string(c, r, glyph, *style);
+                        }
+                    }
+                }
+                Layer::Range {
+                    x0,
+                    x1,
+                    y,
+                    text,
+                    style,
+                } if inside(*x0, *y) => {
+                    let (c0, c1) = (col_of(canvas, &self.x, *x0), col_of(canvas, &self.x, *x1));
+                    let bracket = range_bracket(text, (c1 - c0) as usize + 1);
+                    let room = (canvas.x + canvas.width).saturating_sub(c0) as usize;
+                    buf.set_stringn(c0, row_of(canvas, &self.y, *y), bracket, room, *style);
+                }
+                _ => {}
+            }
+        }
+        if let Some((x, y)) = self.cursor {
+            if inside(x, y) {
+                let (col, row) = (col_of(canvas, &self.x, x), row_of(canvas, &self.y, y));
+                let cell = &mut buf[(col, row)];
+                let symbol = if cell.symbol().trim().is_empty() {
+                    "┼".to_string()
+                } else {
+                    cell.symbol().to_string()
+                };
+                cell.set_symbol(&symbol).set_style(self.cursor_style);
+            }
+        }
+        draw_footer(area, canvas, &self.footer, buf);
+    }
+}
+
+fn paint(ctx: &mut Context, layers: &[Layer]) {
+    for layer in layers {
+        match layer {
+            Layer::Points { points, color } => ctx.draw(&Points {
+                coords: points,
+                color: *color,
+            }),
+            Layer::Curve { points, color } => {
+                for pair in points.windows(2) {
+                    let (a, b) = (pair[0], pair[1]);
+                    if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
+                        ctx.draw(&ratatui::widgets::canvas::Line {
+                            x1: a.0,
+                            y1: a.1,
+                            x2: b.0,
+                            y2: b.1,
+                            color: *color,
+                        });
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// `├── text ──┤` exactly `width` cells wide (the text cut to fit; at least the ends).
+fn range_bracket(text: &str, width: usize) -> String {
+    if width < 2 {
+        return "│".into();
+    }
+    let inner = width - 2;
+    let label: String = if inner >= 4 {
+        format!(" {} ", text.chars().take(inner - 2).collect::<String>())
+    } else {
+        String::new()
+    };
+    let fill = inner - label.chars().count();
+    let left = fill / 2;
+    format!("├{}{label}{}┤", "─".repeat(left), "─".repeat(fill - left))
+}
+
+/// A legend entry: a glyph or swatch in its style, then words.
+pub fn legend_item(glyph: &str, style: Style, words: &str) -> Vec<Span<'static>> {
+    vec![
+        Span::styled(glyph.to_string(), style),
+        Span::raw(format!(" {words}  ")),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_bracket_spans_its_width() {
+        assert_eq!(range_bracket("1:2 isola", 15), "├─ 1:2 isola ─┤");
+        assert_eq!(range_bracket("1:2 isola", 6), "├ 1: ┤");
+        assert_eq!(range_bracket("x", 3), "├─┤");
+        for w in 2..30 {
+            assert_eq!(range_bracket("1:2 isola, hidden", w).chars().count(), w);
+        }
+    }
+
+    #[test]
+    fn ticks_are_round_and_inside() {
+        assert_eq!(ticks(0.2, 6.0, 6), vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(ticks(0.0, 0.52, 4), vec![0.0, 0.2, 0.4]);
+        assert_eq!(ticks(-0.8, 0.8, 4), vec![-0.5, 0.0, 0.5]);
+        assert_eq!(tick_label(0.4, 0.2), "0.4");
+        assert_eq!(tick_label(3.0, 1.0), "3");
+        assert_eq!(tick_label(0.05, 0.05), "0.05");
+    }
+}

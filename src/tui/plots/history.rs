@@ -1,0 +1,106 @@
+//! A time history and its phase path side by side (stacked when narrow): the transient
+//! muted, the steady state in colour.
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Widget;
+
+use super::PlotContext;
+use super::frame::{Axis, Layer, XyPlot};
+use isola::session::results::HistoryView;
+
+/// At most this many points per series are drawn (the rest would share pixels).
+const MAX_POINTS: usize = 4000;
+
+fn thin<T: Copy>(values: impl ExactSizeIterator<Item = T>) -> Vec<T> {
+    let stride = values.len().div_ceil(MAX_POINTS).max(1);
+    values.step_by(stride).collect()
+}
+
+/// Draws `h`, with `heading` (what the orbit is) as the first footer line.
+pub fn draw(
+    h: &HistoryView,
+    heading: Option<Line<'static>>,
+    ctx: &PlotContext,
+    area: Rect,
+    buf: &mut Buffer,
+) {
+    let theme = ctx.theme;
+    let n = h.tau.len();
+    let i = ctx.cursor.0.min(n.saturating_sub(1));
+    let steady_color = theme.type_color("1:1");
+    let split = |pred: bool| -> Vec<usize> { (0..n).filter(|&k| h.steady[k] == pred).collect() };
+    let (transient, steady) = (split(false), split(true));
+    let series = |idx: &[usize], f: &dyn Fn(usize) -> (f64, f64)| thin(idx.iter().map(|&k| f(k)));
+    let mut footer = Vec::new();
+    if let Some(line) = heading {
+        footer.push(line);
+    }
+    if n > 0 {
+        footer.push(Line::from(vec![
+            Span::styled("▸ ", theme.key()),
+            Span::raw(format!(
+                "τ {:.2} ({:.4} s)  λ_I {:.4}  v {:+.4}{}",
+                h.tau[i],
+                ctx.device.seconds(h.tau[i]),
+                h.lambda[i],
+                h.v[i],
+                if h.steady[i] {
+                    "  steady"
+                } else {
+                    "  transient"
+                }
+            )),
+        ]));
+    }
+    let mut time = XyPlot::new(
+        Axis::fit("τ", h.tau.iter().copied(), 0.0),
+        Axis::fit("λ_I", h.lambda.iter().copied(), 0.05),
+    );
+    time.layers.push(Layer::Points {
+        points: series(&transient, &|k| (h.tau[k], h.lambda[k])),
+        color: theme.muted,
+    });
+    time.layers.push(Layer::Curve {
+        points: series(&steady, &|k| (h.tau[k], h.lambda[k])),
+        color: steady_color,
+    });
+    let mut phase = XyPlot::new(
+        Axis::fit("λ_I", h.lambda.iter().copied(), 0.05),
+        Axis::fit("v", h.v.iter().copied(), 0.05),
+    );
+    phase.layers.push(Layer::Points {
+        points: series(&transient, &|k| (h.lambda[k], h.v[k])),
+        color: theme.muted,
+    });
+    phase.layers.push(Layer::Curve {
+        points: series(&steady, &|k| (h.lambda[k], h.v[k])),
+        color: steady_color,
+    });
+    if n > 0 {
+        time.cursor = Some((h.tau[i], h.lambda[i]));
+        phase.cursor = Some((h.lambda[i], h.v[i]));
+    }
+    for p in [&mut time, &mut phase] {
+        p.axis_style = theme.muted();
+        p.cursor_style = theme.cursor();
+    }
+    let footer_rows = footer.len() as u16;
+    let [plots, foot] =
+        Layout::vertical([Constraint::Min(4), Constraint::Length(footer_rows)]).areas(area);
+    let direction = if plots.width >= 2 * plots.height + 20 {
+        Direction::Horizontal
+    } else {
+        Direction::Vertical
+    };
+    let halves = Layout::default()
+        .direction(direction)
+        .constraints([Constraint::Percentage(55), Constraint::Percentage(45)])
+        .split(plots);
+    time.render(halves[0], buf);
+    phase.render(halves[1], buf);
+    for (k, line) in footer.iter().enumerate() {
+        buf.set_line(foot.x, foot.y + k as u16, line, foot.width);
+    }
+}

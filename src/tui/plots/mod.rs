@@ -1,0 +1,204 @@
+//! One view per analysis kind, drawn from plot-ready results; the cursor that reads values off
+//! a view and picks a point to integrate.
+
+pub mod basin;
+pub mod family;
+pub mod force;
+pub mod frame;
+pub mod heatmap;
+pub mod history;
+pub mod response;
+pub mod sweep;
+
+use isola::model::Device;
+use isola::session::results::{ResponsePoint, ResultView};
+
+use super::theme::Theme;
+
+/// What every view needs besides its data.
+pub struct PlotContext<'a> {
+    pub theme: &'a Theme,
+    pub device: &'a Device,
+    pub cursor: (usize, usize),
+}
+
+/// Points grouped by ω_e (columns, in ω order) and sorted by amplitude within a column: the
+/// cursor moves across columns with ←/→ and within one with ↑/↓.
+pub struct PointCursor<'a> {
+    columns: Vec<Vec<(Option<f64>, &'a ResponsePoint)>>,
+}
+
+impl<'a> PointCursor<'a> {
+    pub fn new(points: &'a [ResponsePoint]) -> Self {
+        Self::tagged(points.iter().map(|p| (None, p)))
+    }
+
+    /// Points tagged with the family member they belong to.
+    pub fn tagged(points: impl Iterator<Item = (Option<f64>, &'a ResponsePoint)>) -> Self {
+        let mut all: Vec<_> = points.collect();
+        all.sort_by(|a, b| {
+            a.1.omega.total_cmp(&b.1.omega).then(
+                a.1.amplitude
+                    .unwrap_or(-1.0)
+                    .total_cmp(&b.1.amplitude.unwrap_or(-1.0)),
+            )
+        });
+        let mut columns: Vec<Vec<(Option<f64>, &ResponsePoint)>> = Vec::new();
+        for p in all {
+            match columns.last_mut() {
+                Some(c) if (c[0].1.omega - p.1.omega).abs() < 1e-12 => c.push(p),
+                _ => columns.push(vec![p]),
+            }
+        }
+        PointCursor { columns }
+    }
+
+    fn at(&self, cursor: (usize, usize)) -> Option<(Option<f64>, &'a ResponsePoint)> {
+        let column = self
+            .columns
+            .get(cursor.0.min(self.columns.len().checked_sub(1)?))?;
+        column.get(cursor.1.min(column.len() - 1)).copied()
+    }
+
+    pub fn point(&self, cursor: (usize, usize)) -> Option<&'a ResponsePoint> {
+        self.at(cursor).map(|(_, p)| p)
+    }
+
+    pub fn member(&self, cursor: (usize, usize)) -> Option<f64> {
+        self.at(cursor).and_then(|(m, _)| m)
+    }
+
+    fn bounds(&self, column: usize) -> (usize, usize) {
+        let c = column.min(self.columns.len().saturating_sub(1));
+        (self.columns.len(), self.columns.get(c).map_or(0, Vec::len))
+    }
+}
+
+/// Where a picked orbit starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Start {
+    /// A stroboscopic point [λ_I, v] of a response.
+    Absolute([f64; 2]),
+    /// A cell of a basin: [Δλ, v].
+    Offset([f64; 2]),
+}
+
+/// A point picked off a plot: integrate from `start` at `omega` (and family `member` value).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pick {
+    pub omega: Option<f64>,
+    pub member: Option<f64>,
+    pub start: Start,
+}
+
+fn step(i: usize, by: isize, len: usize) -> usize {
+    if len == 0 {
+        return 0;
+    }
+    (i.min(len - 1) as isize + by).clamp(0, len as isize - 1) as usize
+}
+
+/// The cursor moved by (dx, dy) steps on `view` (a step is a point, a cell, or 1 % of a long
+/// series).
+pub fn move_cursor(
+    view: &ResultView,
+    cursor: (usize, usize),
+    dx: isize,
+    dy: isize,
+) -> (usize, usize) {
+    let fine = |n: usize| (n / 100).max(1) as isize;
+    match view {
+        ResultView::Response(points) | ResultView::Stepped(points) => {
+            let c = PointCursor::new(points);
+            move_point(&c, cursor, dx, dy)
+        }
+        ResultView::Family(f) => {
+            let c = PointCursor::tagged(
+                f.members
+                    .iter()
+                    .flat_map(|(v, pts)| pts.iter().map(move |p| (Some(*v), p))),
+            );
+            move_point(&c, cursor, dx, dy)
+        }
+        ResultView::Basin(b) => (
+            step(cursor.0, dx, b.dx.len()),
+            step(cursor.1, dy, b.v.len()),
+        ),
+        ResultView::History(h) => (step(cursor.0, dx * fine(h.tau.len()), h.tau.len()), 0),
+        ResultView::Chirp(c) => (
+            step(cursor.0, dx * fine(c.envelope.len()), c.envelope.len()),
+            0,
+        ),
+        ResultView::Force(f) => {
+            let curve = step(cursor.1, dy, f.curves.len());
+            let n = f.curves.get(curve).map_or(0, |c| c.2.len());
+            (step(cursor.0, dx * fine(n), n), curve)
+        }
+    }
+}
+
+fn move_point(c: &PointCursor, cursor: (usize, usize), dx: isize, dy: isize) -> (usize, usize) {
+    let (columns, _) = c.bounds(cursor.0);
+    let column = step(cursor.0, dx, columns);
+    let (_, rows) = c.bounds(column);
+    (column, step(cursor.1, dy, rows))
+}
+
+/// The orbit under the cursor, if the view has one.
+pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
+    match view {
+        ResultView::Response(points) | ResultView::Stepped(points) => {
+            let p = PointCursor::new(points).point(cursor)?;
+            Some(Pick {
+                omega: Some(p.omega),
+                member: None,
+                start: Start::Absolute(p.start?),
+            })
+        }
+        ResultView::Family(f) => {
+            let c = PointCursor::tagged(
+                f.members
+                    .iter()
+                    .flat_map(|(v, pts)| pts.iter().map(move |p| (Some(*v), p))),
+            );
+            let p = c.point(cursor)?;
+            Some(Pick {
+                omega: Some(p.omega),
+                member: c.member(cursor),
+                start: Start::Absolute(p.start?),
+            })
+        }
+        ResultView::Basin(b) => Some(Pick {
+            omega: None,
+            member: None,
+            start: Start::Offset([*b.dx.get(cursor.0)?, *b.v.get(cursor.1)?]),
+        }),
+        _ => None,
+    }
+}
+
+/// Where the cursor starts on a fresh view: the middle of a basin, the first point otherwise.
+pub fn initial_cursor(view: &ResultView) -> (usize, usize) {
+    match view {
+        ResultView::Basin(b) => (b.dx.len() / 2, b.v.len() / 2),
+        ResultView::Response(points) | ResultView::Stepped(points) => {
+            largest(&PointCursor::new(points))
+        }
+        ResultView::Family(f) => largest(&PointCursor::tagged(
+            f.members
+                .iter()
+                .flat_map(|(v, pts)| pts.iter().map(move |p| (Some(*v), p))),
+        )),
+        _ => (0, 0),
+    }
+}
+
+/// The cursor on the largest response (the last of its column).
+fn largest(c: &PointCursor) -> (usize, usize) {
+    c.columns
+        .iter()
+        .enumerate()
+        .filter_map(|(i, col)| Some((i, col.len() - 1, col.last()?.1.amplitude?)))
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .map_or((0, 0), |(i, j, _)| (i, j))
+}

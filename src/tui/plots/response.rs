@@ -1,0 +1,205 @@
+//! Frequency response (Fig 4/5) and stepped sweeps: amplitude over ω_e, a glyph and colour per
+//! response type, hidden responses highlighted (outlined glyphs, the theme's hidden colour),
+//! and each subharmonic branch's ω range annotated.
+
+use ratatui::style::{Modifier, Style};
+use ratatui::text::{Line, Span};
+
+use super::frame::{Axis, Layer, XyPlot, legend_item};
+use super::{PlotContext, PointCursor};
+use isola::session::results::{ResponsePoint, summarise_branches};
+
+/// The glyph of a response type: filled when reached by a sweep, outlined when hidden.
+pub fn glyph(response_type: &str, hidden: bool) -> &'static str {
+    let key = response_type.split_whitespace().next().unwrap_or("");
+    match (key, hidden) {
+        ("1:1", false) => "•",
+        ("1:1", true) => "○",
+        ("1:2", false) => "◆",
+        ("1:2", true) => "◇",
+        ("2:1", false) => "▲",
+        ("2:1", true) => "△",
+        ("1:3", false) => "■",
+        ("1:3", true) => "□",
+        (_, false) => "+",
+        (_, true) => "×",
+    }
+}
+
+/// `1:2` of `1:2 subharmonic`.
+pub fn short_type(response_type: &str) -> &str {
+    response_type
+        .split_whitespace()
+        .next()
+        .unwrap_or(response_type)
+}
+
+/// A subharmonic type (1:k with k > 1), whose branches are annotated.
+fn is_subharmonic(response_type: &str) -> bool {
+    response_type
+        .split_whitespace()
+        .next()
+        .and_then(|r| r.split_once(':'))
+        .is_some_and(|(a, b)| a == "1" && b != "1")
+}
+
+/// Amplitude over ω_e of `points`, joined by a line in sweep order if `joined`.
+pub fn plot(
+    points: &[ResponsePoint],
+    omega_range: (f64, f64),
+    joined: bool,
+    ctx: &PlotContext,
+) -> XyPlot {
+    let theme = ctx.theme;
+    let top = points
+        .iter()
+        .filter_map(|p| p.amplitude)
+        .fold(0.0f64, f64::max);
+    let mut plot = XyPlot::new(
+        Axis::new("ω_e", omega_range.0, omega_range.1),
+        Axis::new("amplitude Δλ", 0.0, (top * 1.2).max(0.01)),
+    );
+    plot.axis_style = theme.muted();
+    plot.cursor_style = theme.cursor();
+    if joined {
+        plot.layers.push(Layer::Curve {
+            points: points
+                .iter()
+                .map(|p| (p.omega, p.amplitude.unwrap_or(f64::NAN)))
+                .collect(),
+            color: theme.muted,
+        });
+    }
+    // one layer per (type, hidden), 1:1 first so subharmonics are drawn over it
+    let mut groups: Vec<(String, bool)> = points
+        .iter()
+        .filter(|p| p.amplitude.is_some())
+        .map(|p| (p.response_type.clone(), p.hidden == Some(true)))
+        .collect();
+    groups.sort_by_key(|(t, h)| (t != "1:1", *h, t.clone()));
+    groups.dedup();
+    for (t, hidden) in &groups {
+        let style = if *hidden {
+            theme.hidden()
+        } else {
+            Style::default().fg(theme.type_color(t))
+        };
+        plot.layers.push(Layer::Glyphs {
+            points: points
+                .iter()
+                .filter(|p| &p.response_type == t && (p.hidden == Some(true)) == *hidden)
+                .filter_map(|p| Some((p.omega, p.amplitude?)))
+                .collect(),
+            glyph: glyph(t, *hidden),
+            style,
+        });
+    }
+    // subharmonic branches: a bar over their ω range and a label
+    let branches = summarise_branches(points);
+    let annotated: Vec<_> = branches
+        .iter()
+        .filter(|b| is_subharmonic(&b.response_type) && b.omega_max > b.omega_min)
+        .collect();
+    for b in &annotated {
+        let style = if b.hidden {
+            theme.hidden()
+        } else {
+            Style::default().fg(theme.type_color(&b.response_type))
+        };
+        let kind = if b.hidden {
+            "isola, hidden"
+        } else if b.partly_hidden {
+            "partly hidden"
+        } else {
+            "reached"
+        };
+        plot.layers.push(Layer::Range {
+            x0: b.omega_min,
+            x1: b.omega_max,
+            y: b.peak_amplitude * 1.12,
+            text: format!("{} {kind}", short_type(&b.response_type)),
+            style,
+        });
+    }
+    // legend: the types present
+    let mut legend: Vec<Span> = Vec::new();
+    let mut types: Vec<&str> = groups.iter().map(|(t, _)| t.as_str()).collect();
+    types.sort_by_key(|t| short_type(t).to_string());
+    types.dedup();
+    for t in types {
+        legend.extend(legend_item(
+            glyph(t, false),
+            Style::default().fg(theme.type_color(t)),
+            short_type(t),
+        ));
+    }
+    if groups.iter().any(|(_, h)| *h) {
+        legend.extend(legend_item("◇", theme.hidden(), "hidden"));
+    }
+    let others = points.iter().filter(|p| p.amplitude.is_none()).count();
+    if others > 0 {
+        legend.push(Span::styled(
+            format!("+{others} without amplitude"),
+            theme.muted(),
+        ));
+    }
+    plot.footer.push(Line::from(legend));
+    for b in annotated {
+        plot.footer.push(Line::from(Span::styled(
+            format!(
+                "{} ω {:.2}–{:.2} ({:.1}–{:.1} Hz) peak {:.3}{}",
+                short_type(&b.response_type),
+                b.omega_min,
+                b.omega_max,
+                ctx.device.hz(b.omega_min),
+                ctx.device.hz(b.omega_max),
+                b.peak_amplitude,
+                if b.hidden {
+                    " hidden"
+                } else if b.partly_hidden {
+                    " partly hidden"
+                } else {
+                    ""
+                }
+            ),
+            if b.hidden {
+                theme.hidden()
+            } else {
+                theme.text()
+            },
+        )));
+    }
+    let cursor = PointCursor::new(points);
+    if let Some(p) = cursor.point(ctx.cursor) {
+        plot.cursor = p.amplitude.map(|a| (p.omega, a));
+        plot.footer.insert(0, readout(p, ctx));
+    }
+    plot
+}
+
+/// The cursor's reading: ω (and Hz), amplitude, type, hidden, share.
+pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
+    let mut spans = vec![
+        Span::styled("▸ ", ctx.theme.key()),
+        Span::raw(format!(
+            "ω {:.3} ({:.2} Hz)  A {}  {}",
+            p.omega,
+            ctx.device.hz(p.omega),
+            p.amplitude.map_or("—".into(), |a| format!("{a:.4}")),
+            short_type(&p.response_type)
+        )),
+    ];
+    if p.hidden == Some(true) {
+        spans.push(Span::styled(" hidden", ctx.theme.hidden()));
+    }
+    if p.share > 0.0 {
+        spans.push(Span::raw(format!("  {:.0}% of starts", p.share * 100.0)));
+    }
+    if p.start.is_some() {
+        spans.push(Span::styled(
+            "  Enter: orbit",
+            ctx.theme.muted().add_modifier(Modifier::ITALIC),
+        ));
+    }
+    Line::from(spans)
+}

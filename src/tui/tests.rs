@@ -1,0 +1,478 @@
+//! The app drawn into a `TestBackend` at 80×24 and 120×40 and driven by key events, as a user
+//! would: views snapshotted with insta, edits, runs, cancels, saves and exports checked on disk.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use isola::session::Session;
+use isola::session::results::{ResultStatus, ResultView};
+use isola::session::run::ResultPaths;
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use super::app::{App, Focus, Overlay};
+use super::jobs::JobState;
+use super::keymap::Keymap;
+use super::theme::{ColorMode, Theme};
+use super::ui;
+
+/// A session file in a fresh folder of its own.
+fn fixture(test: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("isola-tui-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("session.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn app(path: &Path, mode: ColorMode) -> App {
+    let session = Session::load(path).unwrap();
+    let theme = Theme::load("dark", mode, None).unwrap();
+    App::new(session, theme, Keymap::default(), 2)
+}
+
+fn key(app: &mut App, code: KeyCode) {
+    app.handle_key(KeyEvent::new(code, KeyModifiers::NONE));
+}
+
+fn keys(app: &mut App, text: &str) {
+    for c in text.chars() {
+        key(app, KeyCode::Char(c));
+    }
+}
+
+/// Ticks until no job is active (a minute at most).
+fn settle(app: &mut App) {
+    let start = Instant::now();
+    while app.jobs.any_active() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "jobs did not finish"
+        );
+        app.tick();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    app.tick();
+}
+
+fn draw(app: &App, w: u16, h: u16) -> String {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+    terminal.draw(|f| ui::draw(f, app)).unwrap();
+    terminal.backend().to_string()
+}
+
+/// Snapshots with times and rates (which vary run to run) blanked.
+macro_rules! snapshot {
+    ($name:expr, $value:expr) => {
+        insta::with_settings!({filters => vec![
+            (r"\d+(\.\d+)?s\b", "[time]"),
+            (r"[\d.]+ s in all", "[time] in all"),
+        ]}, {
+            insta::assert_snapshot!($name, $value);
+        });
+    };
+}
+
+const RESPONSE: &str = r#"# Fig 4, on a coarse grid
+schema = 1
+[model]
+adr = 0.6
+e_a = 0.04
+
+[[analysis]]
+name = "response"
+kind = "frequency_response"
+[analysis.settings]
+omega = { min = 3.0, max = 6.0, points = 31 }
+dx = { min = -0.6, max = 0.6, points = 5 }
+v = { min = -0.6, max = 0.6, points = 5 }
+
+[[analysis]]
+name = "basin"
+kind = "basin"
+model = { omega = 3.7 }
+[analysis.settings]
+dx = { min = -0.8, max = 0.8, points = 41 }
+v = { min = -1.0, max = 1.0, points = 51 }
+"#;
+
+#[test]
+fn a_frequency_response_runs_and_draws_with_its_isola() {
+    let path = fixture("response", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    snapshot!("response_not_run_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('r'));
+    assert!(app.jobs.any_active());
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    let Some(ResultView::Response(points)) = app.view() else {
+        panic!("no response view");
+    };
+    // the 1:2 isola of Fig 4: found, and hidden at ω 3.7
+    let isola: Vec<_> = points
+        .iter()
+        .filter(|p| p.response_type.starts_with("1:2"))
+        .collect();
+    assert!(
+        isola
+            .iter()
+            .any(|p| (p.omega - 3.7).abs() < 1e-9 && p.hidden == Some(true))
+    );
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("1:2 isola, hidden"), "{screen}");
+    snapshot!("response_80x24", screen);
+    snapshot!("response_120x40", draw(&app, 120, 40));
+    // the cursor reads a point; Enter integrates its orbit
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Right);
+    key(&mut app, KeyCode::Enter);
+    assert!(app.picked.is_some());
+    settle(&mut app);
+    let picked = app.picked.as_ref().unwrap();
+    assert!(picked.view.is_some(), "the orbit was not integrated");
+    snapshot!("response_pick_orbit_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Esc);
+    assert!(app.picked.is_none());
+}
+
+#[test]
+fn a_basin_draws_live_and_in_monochrome() {
+    let path = fixture("basin", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    key(&mut app, KeyCode::Down);
+    assert_eq!(app.selected, 1);
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    let Some(ResultView::Basin(b)) = app.view() else {
+        panic!("no basin view");
+    };
+    assert_eq!(b.labels.len(), 41 * 51);
+    assert!(b.labels.iter().all(Option::is_some));
+    let shares: f64 = b.attractors.iter().map(|a| a.fraction).sum();
+    assert!((shares - 1.0).abs() < 1e-5, "fractions sum to {shares}");
+    snapshot!("basin_mono_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('z'));
+    snapshot!("basin_mono_zoom_120x40", draw(&app, 120, 40));
+    // the cell under the cursor integrates to its attractor
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Enter);
+    settle(&mut app);
+    assert!(
+        app.picked
+            .as_ref()
+            .and_then(|p| p.summary.as_ref())
+            .is_some()
+    );
+}
+
+const OTHERS: &str = r#"schema = 1
+[model]
+adr = 0.6
+e_a = 0.04
+omega = 3.7
+
+[[analysis]]
+name = "force"
+kind = "force_curve"
+[analysis.settings]
+lambda_p = [1.0, 1.02, 1.05]
+phi_i = [0.0]
+
+[[analysis]]
+name = "orbit"
+kind = "time_history"
+[analysis.settings]
+dx0 = 0.3
+
+[[analysis]]
+name = "up"
+kind = "chirp_sweep"
+[analysis.settings]
+omega_start = 3.0
+omega_end = 5.0
+span = 1500.0
+
+[[analysis]]
+name = "down"
+kind = "chirp_sweep"
+[analysis.settings]
+omega_start = 5.0
+omega_end = 3.0
+span = 1500.0
+
+[[analysis]]
+name = "family"
+kind = "family"
+[analysis.settings]
+parameter = "adr"
+values = [0.4, 1.0]
+[analysis.settings.response]
+omega = { min = 3.0, max = 6.0, points = 13 }
+dx = { min = -0.6, max = 0.6, points = 4 }
+v = { min = -0.6, max = 0.6, points = 4 }
+"#;
+
+#[test]
+fn every_other_view_draws() {
+    let path = fixture("views", OTHERS);
+    let mut app = app(&path, ColorMode::Truecolor);
+    for i in 0..5 {
+        app.selected = i;
+        app.run_selected();
+    }
+    settle(&mut app);
+    for (i, name) in ["force", "orbit", "up", "down", "family"]
+        .iter()
+        .enumerate()
+    {
+        assert_eq!(app.status_of(i), ResultStatus::Complete, "{name}");
+    }
+    app.focus = Focus::Analyses;
+    app.selected = 0;
+    key(&mut app, KeyCode::Down); // selecting moves the cursor and rows
+    key(&mut app, KeyCode::Up);
+    snapshot!("force_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Down);
+    snapshot!("history_80x24", draw(&app, 80, 24));
+    snapshot!("history_120x40", draw(&app, 120, 40));
+    key(&mut app, KeyCode::Down);
+    let screen = draw(&app, 80, 24);
+    assert!(
+        screen.contains("━→ up") && screen.contains("━← down"),
+        "{screen}"
+    );
+    snapshot!("sweeps_80x24", screen);
+    key(&mut app, KeyCode::Char('w'));
+    settle(&mut app);
+    assert!(app.scalograms.contains_key("up"));
+    snapshot!("scalogram_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('w'));
+    key(&mut app, KeyCode::Down);
+    key(&mut app, KeyCode::Down);
+    let screen = draw(&app, 120, 40);
+    assert!(screen.contains("adr: ■ 0.4  ■ 1"), "{screen}");
+    snapshot!("family_120x40", screen);
+}
+
+#[test]
+fn a_parameter_edit_is_checked_applied_and_saved() {
+    let path = fixture("edit", RESPONSE);
+    let original = std::fs::read_to_string(&path).unwrap();
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(app.focus, Focus::Params);
+    let adr = app
+        .param_rows
+        .iter()
+        .position(|r| r.label == "ADR")
+        .unwrap();
+    for _ in 0..adr {
+        key(&mut app, KeyCode::Down);
+    }
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.editing.as_deref(), Some("0.6"));
+    // an invalid value is refused, named with its range, and the edit stays open
+    for _ in 0..3 {
+        key(&mut app, KeyCode::Backspace);
+    }
+    keys(&mut app, "-2");
+    key(&mut app, KeyCode::Enter);
+    let error = app.param_error.clone().expect("an error for ADR -2");
+    assert!(error.contains("adr") && error.contains("-2"), "{error}");
+    assert!(app.editing.is_some());
+    snapshot!("edit_rejected_80x24", draw(&app, 80, 24));
+    // not a number at all
+    for _ in 0..2 {
+        key(&mut app, KeyCode::Backspace);
+    }
+    keys(&mut app, "abc");
+    key(&mut app, KeyCode::Enter);
+    assert!(app.param_error.as_deref().unwrap().contains("not a number"));
+    // a valid value
+    for _ in 0..3 {
+        key(&mut app, KeyCode::Backspace);
+    }
+    keys(&mut app, "0.8");
+    key(&mut app, KeyCode::Enter);
+    assert!(app.editing.is_none() && app.param_error.is_none());
+    assert_eq!(app.session.file.model.adr, Some(0.8));
+    assert!(app.modified);
+    // a setting, through its path; a physical unit, written in its physical form
+    let points = app
+        .param_rows
+        .iter()
+        .position(|r| r.label == "omega.points")
+        .unwrap();
+    app.param_row = points;
+    app.commit_edit("16");
+    assert!(app.param_error.is_none(), "{:?}", app.param_error);
+    let omega = app
+        .param_rows
+        .iter()
+        .position(|r| r.label == "ω_e")
+        .unwrap();
+    app.param_row = omega;
+    app.commit_edit("50 Hz");
+    assert!(app.param_error.is_none(), "{:?}", app.param_error);
+    assert_eq!(app.session.file.model.frequency_hz, Some(50.0));
+    // s saves: the edits are in the file, the comment kept
+    key(&mut app, KeyCode::Esc);
+    key(&mut app, KeyCode::Char('s'));
+    assert!(!app.modified);
+    let saved = std::fs::read_to_string(&path).unwrap();
+    assert_ne!(saved, original);
+    assert!(saved.starts_with("# Fig 4, on a coarse grid"), "{saved}");
+    let reread = Session::load(&path).unwrap();
+    assert_eq!(reread.file.model.adr, Some(0.8));
+    assert_eq!(reread.file.model.frequency_hz, Some(50.0));
+    assert!(saved.contains("points = 16"), "{saved}");
+}
+
+#[test]
+fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
+    let path = fixture("export", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Char('e'));
+    assert!(app.overlay.is_none(), "nothing to export before a run");
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    key(&mut app, KeyCode::Char('e'));
+    let Some(Overlay::Input { text, .. }) = &app.overlay else {
+        panic!("no export prompt");
+    };
+    assert_eq!(text, "response.csv");
+    let target = path.with_file_name("exported.csv");
+    for _ in 0.."response.csv".len() {
+        key(&mut app, KeyCode::Backspace);
+    }
+    keys(&mut app, &target.display().to_string());
+    key(&mut app, KeyCode::Enter);
+    let stored = ResultPaths::new(&app.session, "response").csv;
+    assert_eq!(
+        std::fs::read(&target).unwrap(),
+        std::fs::read(stored).unwrap()
+    );
+    // editing the model makes the stored result stale (shown, not silently reused)
+    let row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
+    app.param_row = row;
+    app.commit_edit("0.05");
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+    assert!(draw(&app, 80, 24).contains("stale"));
+}
+
+#[test]
+fn a_running_job_cancels_and_quitting_asks_first() {
+    let path = fixture(
+        "cancel",
+        &RESPONSE
+            .replace("points = 41", "points = 201")
+            .replace("points = 51", "points = 251"),
+    );
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Down);
+    key(&mut app, KeyCode::Char('r'));
+    let start = Instant::now();
+    while app.jobs.entries[0].progress.get().0 < 2000 {
+        app.tick();
+        std::thread::sleep(Duration::from_millis(5));
+        assert!(start.elapsed() < Duration::from_secs(30));
+    }
+    key(&mut app, KeyCode::Char('q'));
+    assert_eq!(app.overlay, Some(Overlay::ConfirmQuit));
+    snapshot!("confirm_quit_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('n'));
+    assert!(app.overlay.is_none() && !app.should_quit);
+    key(&mut app, KeyCode::Char('c'));
+    let asked = Instant::now();
+    settle(&mut app);
+    assert!(
+        asked.elapsed() < Duration::from_millis(1500),
+        "cancel took {:?}",
+        asked.elapsed()
+    );
+    assert_eq!(app.jobs.entries[0].state, JobState::Cancelled);
+    // what finished is kept: the reader shows a partial result
+    assert!(matches!(app.status_of(1), ResultStatus::Partial { done, .. } if done > 0));
+    key(&mut app, KeyCode::Char('q'));
+    assert!(app.should_quit, "nothing runs: q quits at once");
+}
+
+#[test]
+fn ctrl_c_quits_even_from_an_edit() {
+    let path = fixture("ctrlc", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Tab);
+    key(&mut app, KeyCode::Enter);
+    assert!(app.editing.is_some());
+    app.handle_key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL));
+    assert!(app.should_quit);
+}
+
+#[test]
+fn help_small_terminals_and_the_session_picker() {
+    let path = fixture("help", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Char('?'));
+    assert_eq!(app.overlay, Some(Overlay::Help));
+    let help = draw(&app, 80, 24);
+    assert!(help.contains("run selected analysis"), "{help}");
+    key(&mut app, KeyCode::Esc);
+    assert!(app.overlay.is_none());
+    let small = draw(&app, 50, 15);
+    assert!(small.contains("at least 60×18"), "{small}");
+    snapshot!("too_small_50x15", small);
+    // o lists the session files beside this one; Enter opens one
+    std::fs::write(path.with_file_name("other.toml"), OTHERS).unwrap();
+    key(&mut app, KeyCode::Char('o'));
+    let Some(Overlay::Picker { files, .. }) = &app.overlay else {
+        panic!("no picker");
+    };
+    assert_eq!(files.len(), 2);
+    key(&mut app, KeyCode::Char('j'));
+    key(&mut app, KeyCode::Char('k'));
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.session.path.file_name().unwrap(), "other.toml");
+    assert_eq!(app.session.analyses.len(), 5);
+}
+
+#[test]
+fn a_headless_run_is_watched_live() {
+    let path = fixture("watch", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    assert_eq!(app.status_of(0), ResultStatus::Missing);
+    // another process (here: another thread, through the same library call) runs it
+    let session = Session::load(&path).unwrap();
+    let progress = isola::analysis::Progress::new(0);
+    isola::session::run::run_analysis(
+        &session,
+        &session.analyses[0],
+        isola::session::run::Shard { index: 0, count: 2 },
+        &progress,
+    )
+    .unwrap();
+    std::thread::sleep(Duration::from_millis(250));
+    app.tick();
+    let ResultStatus::Partial { done, total } = app.status_of(0) else {
+        panic!(
+            "half the chunks should show as partial: {:?}",
+            app.status_of(0)
+        );
+    };
+    assert_eq!((done, total), (16, 31));
+    let Some(ResultView::Response(points)) = app.view() else {
+        panic!("no partial view");
+    };
+    assert!(!points.is_empty());
+    isola::session::run::run_analysis(
+        &session,
+        &session.analyses[0],
+        isola::session::run::Shard { index: 1, count: 2 },
+        &progress,
+    )
+    .unwrap();
+    std::thread::sleep(Duration::from_millis(250));
+    app.tick();
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+}

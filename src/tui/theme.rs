@@ -1,0 +1,402 @@
+//! Themes (`themes/*.toml`) and the colour depth of the terminal: a theme's true colours are
+//! mapped to 256 or 16 colours when the terminal has fewer, and to none at all under
+//! `NO_COLOR` or `--color none`, where emphasis is by bold, reverse and glyphs instead.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::Context;
+use ratatui::style::{Color, Modifier, Style};
+use serde::Deserialize;
+
+/// The themes every build carries.
+const BUILT_IN: [(&str, &str); 3] = [
+    ("dark", include_str!("../../themes/dark.toml")),
+    ("light", include_str!("../../themes/light.toml")),
+    ("mono", include_str!("../../themes/mono.toml")),
+];
+
+/// How many colours to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorMode {
+    /// From COLORTERM and TERM (NO_COLOR turns colour off).
+    Auto,
+    Truecolor,
+    #[value(name = "256")]
+    Ansi256,
+    #[value(name = "16")]
+    Ansi16,
+    None,
+}
+
+impl ColorMode {
+    /// `Auto` made concrete from the environment.
+    pub fn resolve(self, env: impl Fn(&str) -> Option<String>) -> ColorMode {
+        if self != ColorMode::Auto {
+            return self;
+        }
+        if env("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+            return ColorMode::None;
+        }
+        let colorterm = env("COLORTERM").unwrap_or_default();
+        if colorterm == "truecolor" || colorterm == "24bit" {
+            ColorMode::Truecolor
+        } else if env("TERM").unwrap_or_default().contains("256") {
+            ColorMode::Ansi256
+        } else {
+            ColorMode::Ansi16
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ThemeFile {
+    name: String,
+    #[serde(default)]
+    monochrome: bool,
+    foreground: String,
+    muted: String,
+    border: String,
+    focus: String,
+    selection: String,
+    error: String,
+    ok: String,
+    warn: String,
+    hidden: String,
+    cursor: String,
+    types: BTreeMap<String, String>,
+    palette: Colors,
+    ramp: Colors,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Colors {
+    colors: Vec<String>,
+}
+
+/// A theme resolved for the terminal's colour depth.
+#[derive(Debug, Clone)]
+pub struct Theme {
+    pub name: String,
+    /// No colours: styles use modifiers, maps use glyphs.
+    pub monochrome: bool,
+    pub foreground: Color,
+    pub muted: Color,
+    pub border: Color,
+    pub focus: Color,
+    pub selection: Color,
+    pub error: Color,
+    pub ok: Color,
+    pub warn: Color,
+    pub hidden: Color,
+    pub cursor: Color,
+    types: BTreeMap<String, Color>,
+    palette: Vec<Color>,
+    ramp: Vec<Color>,
+}
+
+impl Theme {
+    /// The theme `name_or_path`: a built-in name, a file in the user's theme folder, or a path.
+    pub fn load(
+        name_or_path: &str,
+        mode: ColorMode,
+        user_dir: Option<&Path>,
+    ) -> anyhow::Result<Theme> {
+        let text = if let Some((_, text)) = BUILT_IN.iter().find(|(n, _)| *n == name_or_path) {
+            text.to_string()
+        } else {
+            let candidates = [
+                user_dir.map(|d| d.join(format!("{name_or_path}.toml"))),
+                Some(Path::new(name_or_path).to_path_buf()),
+            ];
+            let path = candidates
+                .into_iter()
+                .flatten()
+                .find(|p| p.is_file())
+                .with_context(|| {
+                    let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                    format!(
+                        "theme '{name_or_path}': not a built-in theme ({}) nor a file",
+                        names.join(", ")
+                    )
+                })?;
+            std::fs::read_to_string(&path).with_context(|| format!("theme {}", path.display()))?
+        };
+        let file: ThemeFile =
+            toml::from_str(&text).with_context(|| format!("theme '{name_or_path}'"))?;
+        Theme::from_file(file, mode)
+    }
+
+    fn from_file(f: ThemeFile, mode: ColorMode) -> anyhow::Result<Theme> {
+        let monochrome = f.monochrome || mode == ColorMode::None;
+        let c = |s: &str| -> anyhow::Result<Color> {
+            let color =
+                parse_color(s).with_context(|| format!("theme '{}': colour '{s}'", f.name))?;
+            Ok(if monochrome {
+                Color::Reset
+            } else {
+                downgrade(color, mode)
+            })
+        };
+        let list = |v: &[String]| v.iter().map(|s| c(s)).collect::<anyhow::Result<Vec<_>>>();
+        Ok(Theme {
+            name: f.name.clone(),
+            monochrome,
+            foreground: c(&f.foreground)?,
+            muted: c(&f.muted)?,
+            border: c(&f.border)?,
+            focus: c(&f.focus)?,
+            selection: c(&f.selection)?,
+            error: c(&f.error)?,
+            ok: c(&f.ok)?,
+            warn: c(&f.warn)?,
+            hidden: c(&f.hidden)?,
+            cursor: c(&f.cursor)?,
+            types: f
+                .types
+                .iter()
+                .map(|(k, v)| Ok((k.clone(), c(v)?)))
+                .collect::<anyhow::Result<_>>()?,
+            palette: list(&f.palette.colors)?,
+            ramp: list(&f.ramp.colors)?,
+        })
+    }
+
+    /// The colour of a response type (`1:2`, `1:3 subharmonic`, `collision`...).
+    pub fn type_color(&self, response_type: &str) -> Color {
+        let key = response_type.split_whitespace().next().unwrap_or("");
+        self.types
+            .get(key)
+            .or_else(|| self.types.get("other"))
+            .copied()
+            .unwrap_or(Color::Reset)
+    }
+
+    /// The `i`-th series colour.
+    pub fn series(&self, i: usize) -> Color {
+        if self.palette.is_empty() {
+            Color::Reset
+        } else {
+            self.palette[i % self.palette.len()]
+        }
+    }
+
+    /// A heat-map colour for `x` in [0, 1].
+    pub fn ramp(&self, x: f64) -> Color {
+        let n = self.ramp.len();
+        if n == 0 {
+            return Color::Reset;
+        }
+        let t = x.clamp(0.0, 1.0) * (n - 1) as f64;
+        let (i, frac) = (t.floor() as usize, t.fract());
+        if i + 1 >= n {
+            return self.ramp[n - 1];
+        }
+        match (self.ramp[i], self.ramp[i + 1]) {
+            (Color::Rgb(r0, g0, b0), Color::Rgb(r1, g1, b1)) => {
+                let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * frac).round() as u8;
+                Color::Rgb(mix(r0, r1), mix(g0, g1), mix(b0, b1))
+            }
+            (a, b) => {
+                if frac < 0.5 {
+                    a
+                } else {
+                    b
+                }
+            }
+        }
+    }
+
+    pub fn text(&self) -> Style {
+        Style::default().fg(self.foreground)
+    }
+
+    pub fn muted(&self) -> Style {
+        if self.monochrome {
+            Style::default().add_modifier(Modifier::DIM)
+        } else {
+            Style::default().fg(self.muted)
+        }
+    }
+
+    pub fn border(&self, focused: bool) -> Style {
+        match (focused, self.monochrome) {
+            (true, true) => Style::default().add_modifier(Modifier::BOLD),
+            (true, false) => Style::default().fg(self.focus).add_modifier(Modifier::BOLD),
+            (false, _) => Style::default().fg(self.border),
+        }
+    }
+
+    pub fn selected(&self) -> Style {
+        if self.monochrome {
+            Style::default().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::default().bg(self.selection)
+        }
+    }
+
+    pub fn error(&self) -> Style {
+        Style::default().fg(self.error).add_modifier(Modifier::BOLD)
+    }
+
+    pub fn ok(&self) -> Style {
+        Style::default().fg(self.ok)
+    }
+
+    pub fn warn(&self) -> Style {
+        Style::default().fg(self.warn)
+    }
+
+    /// Hidden responses stand out.
+    pub fn hidden(&self) -> Style {
+        Style::default()
+            .fg(self.hidden)
+            .add_modifier(Modifier::BOLD)
+    }
+
+    pub fn cursor(&self) -> Style {
+        Style::default()
+            .fg(self.cursor)
+            .add_modifier(Modifier::BOLD | Modifier::REVERSED)
+    }
+
+    pub fn key(&self) -> Style {
+        if self.monochrome {
+            Style::default().add_modifier(Modifier::BOLD)
+        } else {
+            Style::default().fg(self.focus).add_modifier(Modifier::BOLD)
+        }
+    }
+}
+
+/// `#rrggbb` or `reset`.
+fn parse_color(s: &str) -> Option<Color> {
+    if s == "reset" {
+        return Some(Color::Reset);
+    }
+    let hex = s.strip_prefix('#')?;
+    if hex.len() != 6 {
+        return None;
+    }
+    let v = u32::from_str_radix(hex, 16).ok()?;
+    Some(Color::Rgb((v >> 16) as u8, (v >> 8) as u8, v as u8))
+}
+
+/// A true colour as the nearest the terminal can show.
+pub fn downgrade(color: Color, mode: ColorMode) -> Color {
+    let Color::Rgb(r, g, b) = color else {
+        return color;
+    };
+    match mode {
+        ColorMode::Auto | ColorMode::Truecolor => color,
+        ColorMode::Ansi256 => Color::Indexed(nearest_256(r, g, b)),
+        ColorMode::Ansi16 => nearest_16(r, g, b),
+        ColorMode::None => Color::Reset,
+    }
+}
+
+fn dist2(a: (u8, u8, u8), b: (u8, u8, u8)) -> i32 {
+    let d = |x: u8, y: u8| x as i32 - y as i32;
+    d(a.0, b.0).pow(2) + d(a.1, b.1).pow(2) + d(a.2, b.2).pow(2)
+}
+
+/// The xterm 256-colour index nearest to (r, g, b): the 6×6×6 cube or the grey ramp.
+fn nearest_256(r: u8, g: u8, b: u8) -> u8 {
+    const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+    let level = |x: u8| {
+        (0..6)
+            .min_by_key(|&i| (LEVELS[i] as i32 - x as i32).abs())
+            .unwrap_or(0)
+    };
+    let (ri, gi, bi) = (level(r), level(g), level(b));
+    let cube = (LEVELS[ri], LEVELS[gi], LEVELS[bi]);
+    let cube_index = 16 + 36 * ri + 6 * gi + bi;
+    let grey_i = ((r as i32 + g as i32 + b as i32) / 3 - 8).clamp(0, 230) / 10;
+    let grey = (8 + 10 * grey_i) as u8;
+    if dist2((grey, grey, grey), (r, g, b)) < dist2(cube, (r, g, b)) {
+        (232 + grey_i) as u8
+    } else {
+        cube_index as u8
+    }
+}
+
+/// The nearest of the 16 ANSI colours (their usual xterm values).
+fn nearest_16(r: u8, g: u8, b: u8) -> Color {
+    const ANSI: [(Color, (u8, u8, u8)); 16] = [
+        (Color::Black, (0, 0, 0)),
+        (Color::Red, (205, 0, 0)),
+        (Color::Green, (0, 205, 0)),
+        (Color::Yellow, (205, 205, 0)),
+        (Color::Blue, (0, 0, 238)),
+        (Color::Magenta, (205, 0, 205)),
+        (Color::Cyan, (0, 205, 205)),
+        (Color::Gray, (229, 229, 229)),
+        (Color::DarkGray, (127, 127, 127)),
+        (Color::LightRed, (255, 0, 0)),
+        (Color::LightGreen, (0, 255, 0)),
+        (Color::LightYellow, (255, 255, 0)),
+        (Color::LightBlue, (92, 92, 255)),
+        (Color::LightMagenta, (255, 0, 255)),
+        (Color::LightCyan, (0, 255, 255)),
+        (Color::White, (255, 255, 255)),
+    ];
+    ANSI.iter()
+        .min_by_key(|(_, rgb)| dist2(*rgb, (r, g, b)))
+        .map_or(Color::Reset, |(c, _)| *c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_built_in_theme_loads_in_every_mode() {
+        for (name, _) in BUILT_IN {
+            for mode in [
+                ColorMode::Truecolor,
+                ColorMode::Ansi256,
+                ColorMode::Ansi16,
+                ColorMode::None,
+            ] {
+                let t = Theme::load(name, mode, None).unwrap();
+                assert_eq!(t.name, name);
+                if mode == ColorMode::None {
+                    assert!(t.monochrome);
+                    assert_eq!(t.type_color("1:2"), Color::Reset);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn colours_fall_back_to_the_nearest() {
+        assert_eq!(nearest_256(255, 135, 0), 208);
+        assert_eq!(nearest_256(128, 128, 128), 244);
+        assert_eq!(nearest_16(255, 10, 10), Color::LightRed);
+        assert_eq!(nearest_16(0, 0, 200), Color::Blue);
+        let t = Theme::load("dark", ColorMode::Ansi256, None).unwrap();
+        assert!(matches!(t.type_color("1:2"), Color::Indexed(_)));
+        assert_eq!(t.type_color("1:3 subharmonic"), t.type_color("1:3"));
+    }
+
+    #[test]
+    fn no_color_wins_over_the_terminal_unless_a_mode_is_asked() {
+        let env = |k: &str| match k {
+            "NO_COLOR" => Some("1".to_string()),
+            "COLORTERM" => Some("truecolor".to_string()),
+            _ => None,
+        };
+        assert_eq!(ColorMode::Auto.resolve(env), ColorMode::None);
+        assert_eq!(ColorMode::Ansi16.resolve(env), ColorMode::Ansi16);
+        let env = |k: &str| (k == "TERM").then(|| "xterm-256color".to_string());
+        assert_eq!(ColorMode::Auto.resolve(env), ColorMode::Ansi256);
+    }
+
+    #[test]
+    fn an_unknown_theme_names_the_built_in_ones() {
+        let e = Theme::load("solarised", ColorMode::Truecolor, None).unwrap_err();
+        assert!(format!("{e:#}").contains("dark, light, mono"), "{e:#}");
+    }
+}

@@ -1,0 +1,179 @@
+//! Draws the whole app: analyses and parameters on the left, the plot and the jobs on the
+//! right, the status bar below; overlays on top. Below the minimum size, a message instead.
+
+use ratatui::Frame;
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Widget, Wrap};
+
+use super::app::{App, Focus};
+use super::panes::{self, params::ParamsPane};
+use super::plots::{self, PlotContext};
+use isola::session::Settings;
+use isola::session::results::{ResultStatus, ResultView};
+
+/// The smallest terminal the layout is drawn in.
+pub const MIN_WIDTH: u16 = 60;
+pub const MIN_HEIGHT: u16 = 18;
+
+pub fn draw(frame: &mut Frame, app: &App) {
+    let area = frame.area();
+    let buf = frame.buffer_mut();
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        let text = format!(
+            "isola needs a terminal of at least {MIN_WIDTH}×{MIN_HEIGHT}; this one is {}×{}.\nEnlarge it, or press q to quit.",
+            area.width, area.height
+        );
+        Paragraph::new(text)
+            .wrap(Wrap { trim: true })
+            .style(app.theme.text())
+            .render(area, buf);
+        return;
+    }
+    let [body, status] = Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
+    if app.zoom {
+        draw_plot(app, body, buf);
+    } else {
+        let left_w = (body.width * 2 / 5).clamp(28, 44);
+        let [left, right] =
+            Layout::horizontal([Constraint::Length(left_w), Constraint::Min(20)]).areas(body);
+        let list_h = (app.session.analyses.len() as u16 + 2).clamp(3, (left.height / 3).max(3));
+        let [list, params] =
+            Layout::vertical([Constraint::Length(list_h), Constraint::Min(3)]).areas(left);
+        let jobs_h = if right.height >= 30 { 7 } else { 5 };
+        let [plot, jobs] =
+            Layout::vertical([Constraint::Min(8), Constraint::Length(jobs_h)]).areas(right);
+        panes::analyses::draw(app, list, buf);
+        ParamsPane {
+            rows: &app.param_rows,
+            selected: app.param_row,
+            editing: app.editing.as_deref(),
+            error: app.param_error.as_deref(),
+            focused: app.focus == Focus::Params,
+            theme: &app.theme,
+        }
+        .render(params, buf);
+        draw_plot(app, plot, buf);
+        panes::jobs::draw(app, jobs, buf);
+    }
+    panes::status::draw(app, status, buf);
+    if let Some(overlay) = &app.overlay {
+        panes::overlay::draw(app, overlay, body, buf);
+    }
+}
+
+/// The plot pane: the selected analysis' view, or the picked orbit.
+fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
+    let t = &app.theme;
+    let entry = app.session.analyses.get(app.selected);
+    let name = entry.map_or("", |e| e.name.as_str());
+    let status = app.status_of(app.selected);
+    let state = match status {
+        ResultStatus::Complete => "done".to_string(),
+        ResultStatus::Partial { done, total } => format!("running {done}/{total}"),
+        ResultStatus::Stale => "stale: model or settings changed".into(),
+        ResultStatus::Missing => "not run".into(),
+    };
+    let title = match &app.picked {
+        Some(p) => format!(
+            " {} · {} ",
+            p.label,
+            p.summary.as_deref().unwrap_or("integrating…")
+        ),
+        None => format!(" {name} · {state} "),
+    };
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border(app.focus == Focus::Plot))
+        .title(Span::styled(
+            title,
+            if status == ResultStatus::Stale {
+                t.warn()
+            } else {
+                t.text()
+            },
+        ));
+    let inner = block.inner(area);
+    block.render(area, buf);
+    let device = app.session.device();
+    let ctx = PlotContext {
+        theme: t,
+        device: &device,
+        cursor: app.cursor,
+    };
+    if let Some(p) = &app.picked {
+        match &p.view {
+            Some(h) => plots::history::draw(
+                h,
+                Some(Line::styled("Esc: back to the plot", t.muted())),
+                &ctx,
+                inner,
+                buf,
+            ),
+            None => {
+                Paragraph::new(Line::styled("integrating the orbit…", t.muted())).render(inner, buf)
+            }
+        }
+        return;
+    }
+    let Some(view) = app.view() else {
+        let run = app.keymap.label(super::keymap::Action::Run);
+        let reader = app.readers.get(app.selected);
+        let text = match reader.and_then(|r| r.error.clone()) {
+            Some(e) => Line::styled(e, t.error()),
+            None => Line::styled(format!("no result yet: {run} runs {name}"), t.muted()),
+        };
+        Paragraph::new(text)
+            .wrap(Wrap { trim: true })
+            .render(inner, buf);
+        return;
+    };
+    let lambda_p = entry
+        .and_then(|e| app.session.params(Some(e)).ok())
+        .map_or(1.0, |p| p.lambda_p());
+    match view {
+        ResultView::Response(points) => {
+            let range = match entry.map(|e| &e.settings) {
+                Some(Settings::FrequencyResponse(s)) => (s.omega.min, s.omega.max),
+                _ => (0.0, 6.0),
+            };
+            plots::response::plot(points, range, false, &ctx).render(inner, buf);
+        }
+        ResultView::Stepped(points) => {
+            let (lo, hi) = points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p.omega), b.max(p.omega))
+                });
+            plots::response::plot(points, (lo, hi), true, &ctx).render(inner, buf);
+        }
+        ResultView::Basin(b) => plots::basin::draw(b, lambda_p, &ctx, inner, buf),
+        ResultView::History(h) => plots::history::draw(h, None, &ctx, inner, buf),
+        ResultView::Force(f) => plots::force::plot(f, &ctx).render(inner, buf),
+        ResultView::Family(f) => plots::family::plot(f, &ctx).render(inner, buf),
+        ResultView::Chirp(c) => {
+            if app.show_scalogram {
+                match app.scalograms.get(name) {
+                    Some(s) => plots::sweep::scalogram(c, s, &ctx, inner, buf),
+                    None => Paragraph::new(Line::styled("computing the scalogram…", t.muted()))
+                        .render(inner, buf),
+                }
+            } else {
+                let group = app.sweep_group();
+                let sweeps: Vec<plots::sweep::Sweep> = group
+                    .iter()
+                    .filter_map(|(i, v)| match v {
+                        ResultView::Chirp(c) => Some(plots::sweep::Sweep {
+                            name: app.session.analyses[*i].name.as_str(),
+                            view: c,
+                            selected: *i == app.selected,
+                        }),
+                        _ => None,
+                    })
+                    .collect();
+                plots::sweep::envelopes(&sweeps, &ctx).render(inner, buf);
+            }
+        }
+    }
+}
