@@ -1,0 +1,184 @@
+//! The real binary in a real terminal: tmux at 80×24 opens an example session, runs a small
+//! frequency response, reads the plot and the job pane off the screen, quits, and checks the
+//! terminal was given back (main screen, cursor shown, the shell prints again).
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+struct Tmux {
+    name: String,
+}
+
+impl Tmux {
+    fn run(&self, args: &[&str]) -> String {
+        let out = Command::new("tmux").args(args).output().expect("tmux runs");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn screen(&self) -> String {
+        self.run(&["capture-pane", "-p", "-t", &self.name])
+    }
+
+    fn keys(&self, keys: &[&str]) {
+        let mut args = vec!["send-keys", "-t", &self.name];
+        args.extend(keys);
+        self.run(&args);
+    }
+
+    /// Waits until the screen satisfies `ok` (20 s at most), and returns it.
+    fn wait_for(&self, what: &str, ok: impl Fn(&str) -> bool) -> String {
+        let start = Instant::now();
+        loop {
+            let screen = self.screen();
+            if ok(&screen) {
+                return screen;
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(20),
+                "timed out waiting for {what}; the screen:\n{screen}"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = Command::new("tmux")
+            .args(["kill-session", "-t", &self.name])
+            .output();
+    }
+}
+
+/// Fig 4's example session with a coarser grid, so that it runs in about a second.
+fn session() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("isola-tmux-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("sessions/fig04_response_adr06.toml")
+        .unwrap()
+        .replace(
+            "omega = { min = 0.2, max = 6.0, points = 117 }",
+            "omega = { min = 3.0, max = 6.0, points = 31 }",
+        )
+        .replace("points = 15 }", "points = 5 }");
+    let path = dir.join("fig04.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_back() {
+    if Command::new("tmux").arg("-V").output().is_err() {
+        panic!("tmux is needed for this test (apt-get install tmux)");
+    }
+    let session = session();
+    let tmux = Tmux {
+        name: format!("isola-e2e-{}", std::process::id()),
+    };
+    let state = session.with_file_name("state");
+    let command = format!(
+        "XDG_STATE_HOME={} {} tui {}; echo EXITED:$?; sleep 60",
+        state.display(),
+        env!("CARGO_BIN_EXE_isola"),
+        session.display()
+    );
+    tmux.run(&[
+        "new-session",
+        "-d",
+        "-s",
+        &tmux.name,
+        "-x",
+        "80",
+        "-y",
+        "24",
+        &command,
+    ]);
+    let screen = tmux.wait_for("the workbench", |s| {
+        s.contains("Analyses") && s.contains("not run")
+    });
+    assert!(screen.contains("response frequency response"), "{screen}");
+    assert_eq!(
+        tmux.run(&["display", "-p", "-t", &tmux.name, "#{alternate_on}"])
+            .trim(),
+        "1"
+    );
+    // r runs the response; the job pane shows it done, the plot its hidden isola
+    tmux.keys(&["r"]);
+    let screen = tmux.wait_for("the response to finish", |s| s.contains("✓ done in"));
+    let screen = if screen.contains("1:2 isola, hidden") {
+        screen
+    } else {
+        tmux.wait_for("the plot", |s| s.contains("1:2 isola, hidden"))
+    };
+    assert!(screen.contains("response · done"), "{screen}");
+    assert!(screen.contains("◇"), "hidden 1:2 points drawn: {screen}");
+    assert!(screen.contains("Jobs (0 active)"), "{screen}");
+    // nothing drawn past 80×24 (combining marks, as in c̃, take no cell)
+    let width = |l: &str| l.chars().filter(|c| !('\u{300}'..='\u{36f}').contains(c)).count();
+    assert!(screen.lines().count() <= 24, "{screen}");
+    assert!(screen.lines().all(|l| width(l) <= 80), "{screen}");
+    // help opens and closes
+    tmux.keys(&["?"]);
+    tmux.wait_for("help", |s| s.contains("run selected analysis"));
+    tmux.keys(&["Escape"]);
+    tmux.wait_for("help to close", |s| !s.contains("run selected analysis"));
+    // q quits (nothing runs, nothing unsaved); the shell prints on the main screen again
+    tmux.keys(&["q"]);
+    let screen = tmux.wait_for("the exit", |s| s.contains("EXITED:0"));
+    assert!(
+        !screen.contains("Analyses"),
+        "the TUI is still on screen: {screen}"
+    );
+    assert_eq!(
+        tmux.run(&["display", "-p", "-t", &tmux.name, "#{alternate_on}"])
+            .trim(),
+        "0"
+    );
+    assert_eq!(
+        tmux.run(&["display", "-p", "-t", &tmux.name, "#{cursor_flag}"])
+            .trim(),
+        "1"
+    );
+    // the result was saved beside the session, as a headless run would
+    assert!(
+        session
+            .with_file_name("fig04.results")
+            .join("response.csv")
+            .exists()
+    );
+}
+
+#[test]
+fn sigterm_gives_the_terminal_back() {
+    let session = session();
+    let tmux = Tmux {
+        name: format!("isola-term-{}", std::process::id()),
+    };
+    let state = session.with_file_name("state");
+    let command = format!(
+        "XDG_STATE_HOME={} {} tui {} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo EXITED:$?; sleep 60",
+        state.display(),
+        env!("CARGO_BIN_EXE_isola"),
+        session.display()
+    );
+    tmux.run(&[
+        "new-session",
+        "-d",
+        "-s",
+        &tmux.name,
+        "-x",
+        "80",
+        "-y",
+        "24",
+        &command,
+    ]);
+    let screen = tmux.wait_for("the exit", |s| s.contains("EXITED:"));
+    assert!(screen.contains("EXITED:0"), "{screen}");
+    assert_eq!(
+        tmux.run(&["display", "-p", "-t", &tmux.name, "#{alternate_on}"])
+            .trim(),
+        "0"
+    );
+}
