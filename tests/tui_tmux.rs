@@ -116,7 +116,11 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
     assert!(screen.contains("◇"), "hidden 1:2 points drawn: {screen}");
     assert!(screen.contains("Jobs (0 active)"), "{screen}");
     // nothing drawn past 80×24 (combining marks, as in c̃, take no cell)
-    let width = |l: &str| l.chars().filter(|c| !('\u{300}'..='\u{36f}').contains(c)).count();
+    let width = |l: &str| {
+        l.chars()
+            .filter(|c| !('\u{300}'..='\u{36f}').contains(c))
+            .count()
+    };
     assert!(screen.lines().count() <= 24, "{screen}");
     assert!(screen.lines().all(|l| width(l) <= 80), "{screen}");
     // help opens and closes

@@ -500,7 +500,12 @@ fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::mod
         Settings::TimeHistory(s) => s.validate(),
         Settings::ChirpSweep(s) => s.validate(),
         Settings::SteppedSweep(s) => {
-            s.omega.validate("omega", 100_000)?;
+            // a sweep down is written with min > max: check the range in increasing order
+            let mut range = s.omega;
+            if range.min > range.max {
+                std::mem::swap(&mut range.min, &mut range.max);
+            }
+            range.validate("omega", 100_000)?;
             s.steady.validate()
         }
         Settings::FrequencyResponse(s) => s.validate(),

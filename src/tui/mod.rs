@@ -1,6 +1,7 @@
 //! The terminal workbench: `isola` or `isola tui [SESSION]`. A synchronous loop: wait up to
-//! 50 ms for a key, poll jobs and result files, redraw if something changed (at most 20 frames
-//! a second; ratatui sends only the cells that differ).
+//! 50 ms for a key, poll jobs and result files, redraw if something changed: at once after a
+//! key, at most 20 times a second for background progress (ratatui sends only the cells that
+//! differ, which spares an SSH link).
 
 pub mod app;
 pub mod config;
@@ -134,6 +135,7 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
     let mut guard = terminal::TerminalGuard::enter()?;
     let frame_time = Duration::from_millis(50);
     let mut last_draw = Instant::now() - frame_time;
+    let mut key_pressed = false;
     loop {
         if terminate.load(Ordering::Relaxed) {
             tracing::info!("signal: quitting");
@@ -142,20 +144,26 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
         if app.should_quit {
             break;
         }
-        if app.dirty && last_draw.elapsed() >= frame_time {
+        // a key is answered at once; background updates at most every frame_time
+        if app.dirty && (key_pressed || last_draw.elapsed() >= frame_time) {
             guard.terminal.draw(|f| ui::draw(f, &app))?;
             app.dirty = false;
             last_draw = Instant::now();
         }
+        key_pressed = false;
         let wait = frame_time
             .saturating_sub(last_draw.elapsed())
             .max(Duration::from_millis(5));
         if event::poll(wait)? {
             match event::read()? {
-                Event::Key(key) if key.kind == KeyEventKind::Press => app.handle_key(key),
+                Event::Key(key) if key.kind == KeyEventKind::Press => {
+                    app.handle_key(key);
+                    key_pressed = true;
+                }
                 Event::Resize(..) => {
                     guard.terminal.autoresize()?;
                     app.dirty = true;
+                    key_pressed = true;
                 }
                 _ => {}
             }

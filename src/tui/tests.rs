@@ -203,6 +203,12 @@ omega_end = 3.0
 span = 1500.0
 
 [[analysis]]
+name = "stepped"
+kind = "stepped_sweep"
+[analysis.settings]
+omega = { min = 6.0, max = 3.0, points = 13 }
+
+[[analysis]]
 name = "family"
 kind = "family"
 [analysis.settings]
@@ -218,12 +224,12 @@ v = { min = -0.6, max = 0.6, points = 4 }
 fn every_other_view_draws() {
     let path = fixture("views", OTHERS);
     let mut app = app(&path, ColorMode::Truecolor);
-    for i in 0..5 {
+    for i in 0..6 {
         app.selected = i;
         app.run_selected();
     }
     settle(&mut app);
-    for (i, name) in ["force", "orbit", "up", "down", "family"]
+    for (i, name) in ["force", "orbit", "up", "down", "stepped", "family"]
         .iter()
         .enumerate()
     {
@@ -250,6 +256,12 @@ fn every_other_view_draws() {
     snapshot!("scalogram_80x24", draw(&app, 80, 24));
     key(&mut app, KeyCode::Char('w'));
     key(&mut app, KeyCode::Down);
+    key(&mut app, KeyCode::Down);
+    let Some(ResultView::Stepped(steps)) = app.view() else {
+        panic!("no stepped sweep view");
+    };
+    assert_eq!(steps.len(), 13);
+    snapshot!("stepped_80x24", draw(&app, 80, 24));
     key(&mut app, KeyCode::Down);
     let screen = draw(&app, 120, 40);
     assert!(screen.contains("adr: ■ 0.4  ■ 1"), "{screen}");
@@ -434,7 +446,7 @@ fn help_small_terminals_and_the_session_picker() {
     key(&mut app, KeyCode::Char('k'));
     key(&mut app, KeyCode::Enter);
     assert_eq!(app.session.path.file_name().unwrap(), "other.toml");
-    assert_eq!(app.session.analyses.len(), 5);
+    assert_eq!(app.session.analyses.len(), 6);
 }
 
 #[test]

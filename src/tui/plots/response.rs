@@ -136,12 +136,16 @@ pub fn plot(
     if groups.iter().any(|(_, h)| *h) {
         legend.extend(legend_item("◇", theme.hidden(), "hidden"));
     }
-    let others = points.iter().filter(|p| p.amplitude.is_none()).count();
-    if others > 0 {
-        legend.push(Span::styled(
-            format!("+{others} without amplitude"),
-            theme.muted(),
-        ));
+    // responses without an amplitude (collisions, non-periodic) are counted, not drawn
+    let mut without: Vec<(&str, usize)> = Vec::new();
+    for p in points.iter().filter(|p| p.amplitude.is_none()) {
+        match without.iter_mut().find(|(t, _)| *t == p.response_type) {
+            Some((_, n)) => *n += 1,
+            None => without.push((&p.response_type, 1)),
+        }
+    }
+    for (t, n) in without {
+        legend.push(Span::styled(format!("{n}× {t}  "), theme.muted()));
     }
     plot.footer.push(Line::from(legend));
     for b in annotated {
