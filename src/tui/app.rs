@@ -261,6 +261,7 @@ impl App {
             self.last_full_poll = Instant::now();
         }
         let had_view = self.view().is_some();
+        let was_complete = self.status_of(self.selected) == ResultStatus::Complete;
         let wanted: Vec<bool> = (0..self.readers.len())
             .map(|i| all || i == self.selected || self.is_sweep_partner(i))
             .collect();
@@ -272,7 +273,9 @@ impl App {
                 self.dirty = true;
             }
         }
-        if !had_view && self.view().is_some() {
+        // a fresh view, or the final one replacing a live one: the cursor starts over
+        let completed = !was_complete && self.status_of(self.selected) == ResultStatus::Complete;
+        if (!had_view || completed) && self.view().is_some() {
             self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
         }
     }

@@ -115,7 +115,13 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             (" Open session ", lines, 56)
         }
     };
-    let h = (lines.len() as u16 + 2).min(area.height);
+    // rows after wrapping, so the last line (the question, the keys) is never cut off
+    let inner_w = w.min(area.width).saturating_sub(2).max(1) as usize;
+    let rows: usize = lines
+        .iter()
+        .map(|l| l.width().max(1).div_ceil(inner_w))
+        .sum();
+    let h = (rows as u16 + 2).min(area.height);
     let rect = centred(area, w, h);
     Clear.render(rect, buf);
     let block = Block::default()
