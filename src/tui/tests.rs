@@ -69,6 +69,8 @@ macro_rules! snapshot {
         insta::with_settings!({filters => vec![
             (r"\d+(\.\d+)?s\b", "[time]"),
             (r"[\d.]+ s in all", "[time] in all"),
+            (r"in \S+config\.toml", "in [config file]"),
+            (r"log: \S+", "log: [log file]"),
         ]}, {
             insta::assert_snapshot!($name, $value);
         });
@@ -434,6 +436,11 @@ fn help_small_terminals_and_the_session_picker() {
     assert_eq!(app.overlay, Some(Overlay::Help));
     let help = draw(&app, 80, 24);
     assert!(help.contains("run selected analysis"), "{help}");
+    assert!(
+        help.contains("theme: dark"),
+        "the whole help fits in 80×24: {help}"
+    );
+    snapshot!("help_80x24", help);
     key(&mut app, KeyCode::Esc);
     assert!(app.overlay.is_none());
     let small = draw(&app, 50, 15);

@@ -24,20 +24,27 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let (title, lines, w): (&str, Vec<Line>, u16) = match overlay {
         Overlay::Help => {
-            let mut lines: Vec<Line> = Action::ALL
-                .iter()
-                .map(|(a, _, what)| {
-                    Line::from(vec![
-                        Span::styled(format!("{:>14}", app.keymap.labels(*a)), t.key()),
-                        Span::raw(format!("  {what}")),
-                    ])
+            // two columns of keys, so that the whole help fits in 80×24
+            let entry = |i: usize| -> Vec<Span> {
+                Action::ALL.get(i).map_or_else(Vec::new, |(a, _, what)| {
+                    vec![
+                        Span::styled(format!("{:>9}", app.keymap.labels(*a)), t.key()),
+                        Span::raw(format!(" {what:<25}")),
+                    ]
                 })
+            };
+            let half = Action::ALL.len().div_ceil(2);
+            let mut lines: Vec<Line> = (0..half)
+                .map(|i| Line::from([entry(i), entry(i + half)].concat()))
                 .collect();
             lines.push(Line::from(vec![
-                Span::styled(format!("{:>14}", "C-c"), t.key()),
-                Span::raw("  quit at once (jobs cancelled, finished chunks kept)"),
+                Span::styled(format!("{:>9}", "C-c"), t.key()),
+                Span::raw(" quit at once (jobs cancelled, finished chunks kept)"),
             ]));
-            lines.push(Line::raw(""));
+            lines.push(Line::styled(
+                "marks: ✓ done  ◐ partial  ~ stale (model changed)  · not run",
+                t.muted(),
+            ));
             lines.push(Line::styled(
                 format!(
                     "keys: [keys] in {}",
@@ -56,11 +63,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 format!("theme: {} (--theme, --color)", t.name),
                 t.muted(),
             ));
-            lines.push(Line::styled(
-                "marks: ✓ done  ◐ partial  ~ stale (model changed)  · not run",
-                t.muted(),
-            ));
-            (" Help (Esc closes) ", lines, 72)
+            (" Help (Esc closes) ", lines, 74)
         }
         Overlay::ConfirmQuit => {
             let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
