@@ -69,8 +69,8 @@ macro_rules! snapshot {
         insta::with_settings!({filters => vec![
             (r"\d+(\.\d+)?s\b", "[time]"),
             (r"[\d.]+ s in all", "[time] in all"),
-            (r"in \S+config\.toml", "in [config file]"),
-            (r"log: \S+", "log: [log file]"),
+            (r"in \S+config\.toml *", "in [config file] "),
+            (r"log: \S+ *", "log: [log file] "),
         ]}, {
             insta::assert_snapshot!($name, $value);
         });
