@@ -3,13 +3,14 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::analysis::family::FamilySpec;
 use isola::analysis::scalogram::Scalogram;
 use isola::analysis::time_history::TimeHistorySpec;
-use isola::session::results::{HistoryView, ResultReader, ResultStatus, ResultView};
+use isola::session::results::{HistoryView, ResultStatus, ResultView};
 use isola::session::run::{Outcome, ResultPaths};
 use isola::session::{Session, Settings};
 
@@ -18,6 +19,7 @@ use super::keymap::{Action, Keymap};
 use super::panes::params::{self, Edit, Row};
 use super::plots::{self, Pick, Start};
 use super::theme::Theme;
+use super::watcher::{Stored, Watcher};
 
 /// The panes that take focus, in Tab order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,7 +90,9 @@ pub struct App {
     /// The text being typed into the selected parameter.
     pub editing: Option<String>,
     pub param_error: Option<String>,
-    pub readers: Vec<ResultReader>,
+    /// What is stored of each analysis' result, as the watcher last read it.
+    pub stored: Vec<Stored>,
+    watcher: Watcher,
     pub jobs: JobList,
     pub job_row: usize,
     pub cursor: (usize, usize),
@@ -111,7 +115,8 @@ pub struct App {
 impl App {
     pub fn new(session: Session, theme: Theme, keymap: Keymap, threads: usize) -> Self {
         let mut app = App {
-            readers: Vec::new(),
+            stored: Vec::new(),
+            watcher: Watcher::start(),
             session,
             modified: false,
             selected: 0,
@@ -143,12 +148,7 @@ impl App {
 
     /// After a session is opened or replaced: readers, rows and cursor from scratch.
     fn reload_session_state(&mut self) {
-        self.readers = self
-            .session
-            .analyses
-            .iter()
-            .map(ResultReader::new)
-            .collect();
+        self.stored = vec![Stored::default(); self.session.analyses.len()];
         self.selected = self
             .selected
             .min(self.session.analyses.len().saturating_sub(1));
@@ -169,13 +169,13 @@ impl App {
 
     /// The selected analysis' result, if any.
     pub fn view(&self) -> Option<&ResultView> {
-        self.readers
+        self.stored
             .get(self.selected)
-            .and_then(|r| r.view.as_ref())
+            .and_then(|r| r.view.as_deref())
     }
 
     pub fn status_of(&self, i: usize) -> ResultStatus {
-        self.readers
+        self.stored
             .get(i)
             .map_or(ResultStatus::Missing, |r| r.status)
     }
@@ -247,12 +247,14 @@ impl App {
             self.dirty = true; // gauges move
         }
         self.poll_results(false);
+        self.take_results();
     }
 
-    /// Reads new result files: the selected analysis' every 200 ms, all every 2 s (or now).
+    /// Asks for new result files to be read: the selected analysis' every 200 ms, all every
+    /// 2 s (or now), unless the last poll is still being answered.
     fn poll_results(&mut self, now: bool) {
         let due = now || self.last_poll.elapsed() >= Duration::from_millis(200);
-        if !due {
+        if !due || (!now && self.watcher.busy()) {
             return;
         }
         self.last_poll = Instant::now();
@@ -260,24 +262,46 @@ impl App {
         if all {
             self.last_full_poll = Instant::now();
         }
-        let had_view = self.view().is_some();
-        let was_complete = self.status_of(self.selected) == ResultStatus::Complete;
-        let wanted: Vec<bool> = (0..self.readers.len())
-            .map(|i| all || i == self.selected || self.is_sweep_partner(i))
+        let which: Vec<usize> = (0..self.session.analyses.len())
+            .filter(|&i| all || i == self.selected || self.is_sweep_partner(i))
             .collect();
-        for (i, reader) in self.readers.iter_mut().enumerate() {
-            let Some(entry) = self.session.analyses.get(i) else {
-                continue;
-            };
-            if wanted[i] && reader.poll(&self.session, entry) {
-                self.dirty = true;
+        self.watcher.poll(&Arc::new(self.session.clone()), which);
+    }
+
+    /// Takes what the watcher has read.
+    fn take_results(&mut self) {
+        for (index, name, stored) in self.watcher.updates() {
+            if self
+                .session
+                .analyses
+                .get(index)
+                .is_none_or(|e| e.name != name)
+            {
+                continue; // the session changed since the poll
+            }
+            let selected = index == self.selected;
+            let fresh = self.stored[index].view.is_none()
+                || (self.stored[index].status != ResultStatus::Complete
+                    && stored.status == ResultStatus::Complete);
+            self.stored[index] = stored;
+            self.dirty = true;
+            // a first view, or the final one replacing a live one: the cursor starts over
+            if selected && fresh && self.picked.is_none() {
+                self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
             }
         }
-        // a fresh view, or the final one replacing a live one: the cursor starts over
-        let completed = !was_complete && self.status_of(self.selected) == ResultStatus::Complete;
-        if (!had_view || completed) && self.view().is_some() {
-            self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+    }
+
+    /// Waits until every poll asked for is answered (tests, and before a frame that must be
+    /// complete).
+    #[cfg(test)]
+    pub fn sync_results(&mut self) {
+        let start = Instant::now();
+        while self.watcher.busy() && start.elapsed() < Duration::from_secs(10) {
+            self.take_results();
+            std::thread::sleep(Duration::from_millis(2));
         }
+        self.take_results();
     }
 
     /// Analysis `i` is a chirp drawn with the selected one.
@@ -296,7 +320,7 @@ impl App {
     pub fn sweep_group(&self) -> Vec<(usize, &ResultView)> {
         (0..self.session.analyses.len())
             .filter(|&i| i == self.selected || self.is_sweep_partner(i))
-            .filter_map(|i| Some((i, self.readers.get(i)?.view.as_ref()?)))
+            .filter_map(|i| Some((i, self.stored.get(i)?.view.as_deref()?)))
             .collect()
     }
 

@@ -12,6 +12,7 @@ pub mod plots;
 pub mod terminal;
 pub mod theme;
 pub mod ui;
+pub mod watcher;
 
 #[cfg(test)]
 mod tests;

@@ -55,6 +55,7 @@ fn settle(app: &mut App) {
         std::thread::sleep(Duration::from_millis(5));
     }
     app.tick();
+    app.sync_results();
 }
 
 fn draw(app: &App, w: u16, h: u16) -> String {
@@ -372,6 +373,7 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     let row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
     app.param_row = row;
     app.commit_edit("0.05");
+    app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Stale);
     assert!(draw(&app, 80, 24).contains("stale"));
 }
@@ -464,6 +466,7 @@ fn help_small_terminals_and_the_session_picker() {
 fn a_headless_run_is_watched_live() {
     let path = fixture("watch", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
+    app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Missing);
     // another process (here: another thread, through the same library call) runs it
     let session = Session::load(&path).unwrap();
@@ -477,6 +480,7 @@ fn a_headless_run_is_watched_live() {
     .unwrap();
     std::thread::sleep(Duration::from_millis(250));
     app.tick();
+    app.sync_results();
     let ResultStatus::Partial { done, total } = app.status_of(0) else {
         panic!(
             "half the chunks should show as partial: {:?}",
@@ -497,5 +501,6 @@ fn a_headless_run_is_watched_live() {
     .unwrap();
     std::thread::sleep(Duration::from_millis(250));
     app.tick();
+    app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Complete);
 }

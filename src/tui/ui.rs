@@ -119,8 +119,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     }
     let Some(view) = app.view() else {
         let run = app.keymap.label(super::keymap::Action::Run);
-        let reader = app.readers.get(app.selected);
-        let text = match reader.and_then(|r| r.error.clone()) {
+        let text = match app.stored.get(app.selected).and_then(|r| r.error.clone()) {
             Some(e) => Line::styled(e, t.error()),
             None => Line::styled(format!("no result yet: {run} runs {name}"), t.muted()),
         };

@@ -1,0 +1,136 @@
+//! Result files are read on a thread of their own, so that a large result (a chirp's CSV is
+//! 12 MB) never holds up a key press: the app asks for a poll of some analyses and takes the
+//! updates that come back.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+
+use isola::session::Session;
+use isola::session::results::{ResultReader, ResultStatus, ResultView};
+
+/// What the app knows of one analysis' stored result.
+#[derive(Debug, Clone)]
+pub struct Stored {
+    pub status: ResultStatus,
+    pub view: Option<Arc<ResultView>>,
+    pub error: Option<String>,
+}
+
+impl Default for Stored {
+    fn default() -> Self {
+        Stored {
+            status: ResultStatus::Missing,
+            view: None,
+            error: None,
+        }
+    }
+}
+
+struct Request {
+    session: Arc<Session>,
+    which: Vec<usize>,
+}
+
+enum Reply {
+    /// Analysis `name`, number `index` in the session polled, changed.
+    Update {
+        index: usize,
+        name: String,
+        stored: Stored,
+    },
+    /// A request was answered in full.
+    Done,
+}
+
+/// The reading thread and the app's end of it.
+pub struct Watcher {
+    requests: Sender<Request>,
+    replies: Receiver<Reply>,
+    /// Requests sent and not answered yet.
+    pending: usize,
+}
+
+impl Watcher {
+    pub fn start() -> Watcher {
+        let (requests, rx) = channel::<Request>();
+        let (tx, replies) = channel();
+        std::thread::Builder::new()
+            .name("isola-results".into())
+            .spawn(move || read_loop(rx, tx))
+            .expect("a thread to read results");
+        Watcher {
+            requests,
+            replies,
+            pending: 0,
+        }
+    }
+
+    /// Asks for analyses `which` of `session` to be read again (what changed on disk).
+    pub fn poll(&mut self, session: &Arc<Session>, which: Vec<usize>) {
+        if self
+            .requests
+            .send(Request {
+                session: session.clone(),
+                which,
+            })
+            .is_ok()
+        {
+            self.pending += 1;
+        }
+    }
+
+    /// Updates received so far: (index, analysis name, what is stored).
+    pub fn updates(&mut self) -> Vec<(usize, String, Stored)> {
+        let mut out = Vec::new();
+        while let Ok(reply) = self.replies.try_recv() {
+            match reply {
+                Reply::Update {
+                    index,
+                    name,
+                    stored,
+                } => out.push((index, name, stored)),
+                Reply::Done => self.pending = self.pending.saturating_sub(1),
+            }
+        }
+        out
+    }
+
+    /// True while a poll is being answered.
+    pub fn busy(&self) -> bool {
+        self.pending > 0
+    }
+}
+
+fn read_loop(requests: Receiver<Request>, replies: Sender<Reply>) {
+    // by session file and analysis name: opening another session starts afresh
+    let mut readers: HashMap<(std::path::PathBuf, String), ResultReader> = HashMap::new();
+    while let Ok(request) = requests.recv() {
+        for index in request.which {
+            let Some(entry) = request.session.analyses.get(index) else {
+                continue;
+            };
+            let reader = readers
+                .entry((request.session.path.clone(), entry.name.clone()))
+                .or_insert_with(|| ResultReader::new(entry));
+            if reader.poll(&request.session, entry) {
+                let stored = Stored {
+                    status: reader.status,
+                    view: reader.view.clone().map(Arc::new),
+                    error: reader.error.clone(),
+                };
+                let update = Reply::Update {
+                    index,
+                    name: entry.name.clone(),
+                    stored,
+                };
+                if replies.send(update).is_err() {
+                    return;
+                }
+            }
+        }
+        if replies.send(Reply::Done).is_err() {
+            return;
+        }
+    }
+}
