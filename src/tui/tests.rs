@@ -504,3 +504,41 @@ fn a_headless_run_is_watched_live() {
     app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Complete);
 }
+
+#[test]
+fn the_config_file_sets_theme_colours_and_keys() {
+    let path = fixture("config", RESPONSE);
+    let config = path.with_file_name("config.toml");
+    std::fs::write(
+        &config,
+        "theme = \"light\"\ncolor = \"16\"\n[keys]\nrun = [\"f5\"]\nquit = [\"ctrl-q\"]\n",
+    )
+    .unwrap();
+    let args = super::TuiArgs {
+        session: Some(path.clone()),
+        config: Some(config.clone()),
+        ..super::TuiArgs::default()
+    };
+    let mut app = super::build_app(&args).unwrap();
+    assert_eq!(app.theme.name, "light");
+    // 16 colours: a named ANSI colour, never RGB or a 256-colour index
+    assert!(!matches!(
+        app.theme.type_color("1:2"),
+        ratatui::style::Color::Rgb(..) | ratatui::style::Color::Indexed(_)
+    ));
+    key(&mut app, KeyCode::Char('r'));
+    assert!(!app.jobs.any_active(), "r is no longer bound");
+    key(&mut app, KeyCode::F(5));
+    assert!(app.jobs.any_active(), "F5 runs");
+    app.jobs.cancel_all();
+    settle(&mut app);
+    app.handle_key(KeyEvent::new(KeyCode::Char('q'), KeyModifiers::CONTROL));
+    assert!(app.should_quit);
+    // a bad config names what is wrong
+    std::fs::write(&config, "[keys]\nrun = [\"hyper-r\"]\n").unwrap();
+    let e = super::build_app(&args).err().unwrap();
+    assert!(format!("{e:#}").contains("hyper-r"), "{e:#}");
+    std::fs::write(&config, "colour = \"16\"\n").unwrap();
+    let e = super::build_app(&args).err().unwrap();
+    assert!(format!("{e:#}").contains("colour"), "{e:#}");
+}
