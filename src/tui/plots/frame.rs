@@ -69,12 +69,13 @@ pub enum Layer {
         glyph: &'static str,
         style: Style,
     },
-    /// A bracket `├─ text ─┤` over [x0, x1] at height y: a range named on the plot.
+    /// A bracket `├─ text ─┤` over [x0, x1] at height y: a range named on the plot by the
+    /// first of `texts` that fits.
     Range {
         x0: f64,
         x1: f64,
         y: f64,
-        text: String,
+        texts: Vec<String>,
         style: Style,
     },
 }
@@ -257,11 +258,17 @@ impl Widget for XyPlot {
                     x0,
                     x1,
                     y,
-                    text,
+                    texts,
                     style,
                 } if inside(*x0, *y) => {
                     let (c0, c1) = (col_of(canvas, &self.x, *x0), col_of(canvas, &self.x, *x1));
-                    let bracket = range_bracket(text, (c1 - c0) as usize + 1);
+                    let width = (c1 - c0) as usize + 1;
+                    let text = texts
+                        .iter()
+                        .find(|t| t.chars().count() + 4 <= width)
+                        .or(texts.last())
+                        .map_or("", String::as_str);
+                    let bracket = range_bracket(text, width);
                     let room = (canvas.x + canvas.width).saturating_sub(c0) as usize;
                     buf.set_stringn(c0, row_of(canvas, &self.y, *y), bracket, room, *style);
                 }

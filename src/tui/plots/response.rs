@@ -106,18 +106,27 @@ pub fn plot(
         } else {
             Style::default().fg(theme.type_color(&b.response_type))
         };
-        let kind = if b.hidden {
-            "isola, hidden"
+        let t = short_type(&b.response_type);
+        let texts = if b.hidden {
+            vec![
+                format!("{t} isola, hidden"),
+                format!("{t} hidden"),
+                t.into(),
+            ]
         } else if b.partly_hidden {
-            "partly hidden"
+            vec![
+                format!("{t} partly hidden"),
+                format!("{t} partly"),
+                t.into(),
+            ]
         } else {
-            "reached"
+            vec![format!("{t} reached by a sweep"), t.into()]
         };
         plot.layers.push(Layer::Range {
             x0: b.omega_min,
             x1: b.omega_max,
             y: b.peak_amplitude * 1.12,
-            text: format!("{} {kind}", short_type(&b.response_type)),
+            texts,
             style,
         });
     }
