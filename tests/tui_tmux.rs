@@ -11,6 +11,25 @@ struct Tmux {
 }
 
 impl Tmux {
+    /// A detached 80×24 tmux session named `name` running `command`.
+    fn start(name: &str, command: &str) -> Tmux {
+        let tmux = Tmux {
+            name: format!("{name}-{}", std::process::id()),
+        };
+        tmux.run(&[
+            "new-session",
+            "-d",
+            "-s",
+            &tmux.name,
+            "-x",
+            "80",
+            "-y",
+            "24",
+            command,
+        ]);
+        tmux
+    }
+
     fn run(&self, args: &[&str]) -> String {
         let out = Command::new("tmux").args(args).output().expect("tmux runs");
         String::from_utf8_lossy(&out.stdout).into_owned()
@@ -74,9 +93,6 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
         panic!("tmux is needed for this test (apt-get install tmux)");
     }
     let session = session();
-    let tmux = Tmux {
-        name: format!("isola-e2e-{}", std::process::id()),
-    };
     let state = session.with_file_name("state");
     let command = format!(
         "XDG_STATE_HOME={} {} tui {}; echo EXITED:$?; sleep 60",
@@ -84,17 +100,7 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
         env!("CARGO_BIN_EXE_isola"),
         session.display()
     );
-    tmux.run(&[
-        "new-session",
-        "-d",
-        "-s",
-        &tmux.name,
-        "-x",
-        "80",
-        "-y",
-        "24",
-        &command,
-    ]);
+    let tmux = Tmux::start("isola-e2e", &command);
     let screen = tmux.wait_for("the workbench", |s| {
         s.contains("Analyses") && s.contains("not run")
     });
@@ -157,9 +163,6 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
 #[test]
 fn sigterm_gives_the_terminal_back() {
     let session = session();
-    let tmux = Tmux {
-        name: format!("isola-term-{}", std::process::id()),
-    };
     let state = session.with_file_name("state");
     let command = format!(
         "XDG_STATE_HOME={} {} tui {} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo EXITED:$?; sleep 60",
@@ -167,17 +170,7 @@ fn sigterm_gives_the_terminal_back() {
         env!("CARGO_BIN_EXE_isola"),
         session.display()
     );
-    tmux.run(&[
-        "new-session",
-        "-d",
-        "-s",
-        &tmux.name,
-        "-x",
-        "80",
-        "-y",
-        "24",
-        &command,
-    ]);
+    let tmux = Tmux::start("isola-term", &command);
     let screen = tmux.wait_for("the exit", |s| s.contains("EXITED:"));
     assert!(screen.contains("EXITED:0"), "{screen}");
     assert_eq!(

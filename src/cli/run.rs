@@ -43,18 +43,7 @@ fn parse_shard(s: &str) -> Result<Shard, String> {
 /// Sends tracing events to `run.log` in the session's results directory (never to the
 /// terminal, where the progress bar lives).
 fn log_to_file(session: &Session) -> anyhow::Result<()> {
-    let dir = session.results_dir();
-    std::fs::create_dir_all(&dir)?;
-    let file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(dir.join("run.log"))?;
-    let _ = tracing_subscriber::fmt()
-        .with_writer(std::sync::Mutex::new(file))
-        .with_ansi(false)
-        .with_max_level(tracing::Level::INFO)
-        .try_init();
-    Ok(())
+    super::log_to(&session.results_dir().join("run.log"))
 }
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {

@@ -21,7 +21,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use clap::Args;
 use crossterm::event::{self, Event, KeyEventKind};
 use isola::session::Session;
@@ -108,28 +107,10 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
     Ok(app)
 }
 
-/// Logs go to a file: nothing may write to the screen while the TUI runs.
-fn log_to_file() -> anyhow::Result<()> {
-    let path = config::log_path();
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&path)
-        .with_context(|| format!("log file {}", path.display()))?;
-    let _ = tracing_subscriber::fmt()
-        .with_writer(std::sync::Mutex::new(file))
-        .with_ansi(false)
-        .with_max_level(tracing::Level::INFO)
-        .try_init();
-    Ok(())
-}
-
 /// Runs the TUI until the user quits or a signal asks it to.
 pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
-    log_to_file()?;
+    // nothing may write to the screen while the TUI runs
+    crate::cli::log_to(&config::log_path())?;
     let mut app = build_app(args)?;
     tracing::info!(session = %app.session.path.display(), "tui started");
     let terminate = terminal::termination_flag()?;

@@ -61,7 +61,6 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             match &e.state {
                 JobState::Running => {
                     let f = e.progress.fraction();
-                    let (done, total) = e.progress.get();
                     let tail = format!(
                         " {:>3.0}% {} {}",
                         f * 100.0,
@@ -74,7 +73,6 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
                     spans.push(Span::styled("█".repeat(full), t.ok()));
                     spans.push(Span::styled("░".repeat(bar_w - full), t.muted()));
                     spans.push(Span::raw(tail));
-                    let _ = (done, total);
                 }
                 JobState::Queued => spans.push(Span::styled("queued", t.muted())),
                 JobState::Done { seconds } => spans.push(Span::styled(
