@@ -71,8 +71,8 @@ impl Drop for Tmux {
 }
 
 /// Fig 4's example session with a coarser grid, so that it runs in about a second.
-fn session() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("isola-tmux-{}", std::process::id()));
+fn session(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("isola-tmux-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let text = std::fs::read_to_string("sessions/fig04_response_adr06.toml")
@@ -92,7 +92,7 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
     if Command::new("tmux").arg("-V").output().is_err() {
         panic!("tmux is needed for this test (apt-get install tmux)");
     }
-    let session = session();
+    let session = session("run");
     let state = session.with_file_name("state");
     let command = format!(
         "XDG_STATE_HOME={} {} tui {}; echo EXITED:$?; sleep 60",
@@ -162,7 +162,7 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
 
 #[test]
 fn sigterm_gives_the_terminal_back() {
-    let session = session();
+    let session = session("term");
     let state = session.with_file_name("state");
     let command = format!(
         "XDG_STATE_HOME={} {} tui {} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo EXITED:$?; sleep 60",
@@ -178,4 +178,30 @@ fn sigterm_gives_the_terminal_back() {
             .trim(),
         "0"
     );
+}
+
+#[test]
+fn closing_the_terminal_leaves_no_process_behind() {
+    let unique = session("hangup");
+    let command = format!("{} tui {}", env!("CARGO_BIN_EXE_isola"), unique.display());
+    let tmux = Tmux::start("isola-hup", &command);
+    tmux.wait_for("the workbench", |s| s.contains("Analyses"));
+    let running = || {
+        Command::new("pgrep")
+            .args(["-f", &unique.display().to_string()])
+            .output()
+            .map(|o| !o.stdout.is_empty())
+            .unwrap_or(false)
+    };
+    assert!(running());
+    // the pane closes: the terminal hangs up under the workbench
+    tmux.run(&["kill-session", "-t", &tmux.name]);
+    let start = Instant::now();
+    while running() {
+        assert!(
+            start.elapsed() < Duration::from_secs(8),
+            "the workbench outlived its terminal"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
 }

@@ -26,12 +26,44 @@ pub struct JobContext<P> {
     partial: Sender<P>,
 }
 
+/// How the workers share the machine with whoever else runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Priority {
+    /// As the process that starts them.
+    Normal,
+    /// Lowered (nice +10 on Linux), so that an interactive thread beside them — the
+    /// workbench reading keys — always gets a core at once.
+    Background,
+}
+
+/// Lowers the calling thread's priority (Linux sets nice per thread).
+fn lower_this_thread() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: setpriority has no memory effects; 0 names the calling thread on Linux.
+    unsafe {
+        libc::setpriority(libc::PRIO_PROCESS, 0, 10);
+    }
+}
+
 impl<P> JobContext<P> {
     /// A context with its own pool of `threads` workers (0: one per core).
     pub fn new(threads: usize, progress: Arc<Progress>) -> Result<(Self, Receiver<P>), JobError> {
-        let pool = rayon::ThreadPoolBuilder::new()
+        Self::with_priority(threads, Priority::Normal, progress)
+    }
+
+    /// A context whose workers run at `priority`.
+    pub fn with_priority(
+        threads: usize,
+        priority: Priority,
+        progress: Arc<Progress>,
+    ) -> Result<(Self, Receiver<P>), JobError> {
+        let mut builder = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
-            .thread_name(|i| format!("isola-worker-{i}"))
+            .thread_name(|i| format!("isola-worker-{i}"));
+        if priority == Priority::Background {
+            builder = builder.start_handler(|_| lower_this_thread());
+        }
+        let pool = builder
             .build()
             .map_err(|e| JobError::Failed(e.to_string()))?;
         let (partial, rx) = channel();
@@ -85,8 +117,17 @@ impl<T: Send + 'static, P: Send + 'static> Job<T, P> {
         threads: usize,
         work: impl FnOnce(&JobContext<P>) -> Result<T, JobError> + Send + 'static,
     ) -> Result<Self, JobError> {
+        Self::spawn_with(threads, Priority::Normal, work)
+    }
+
+    /// [`Job::spawn`] with workers at `priority`.
+    pub fn spawn_with(
+        threads: usize,
+        priority: Priority,
+        work: impl FnOnce(&JobContext<P>) -> Result<T, JobError> + Send + 'static,
+    ) -> Result<Self, JobError> {
         let progress = Arc::new(Progress::new(0));
-        let (ctx, partial) = JobContext::new(threads, progress.clone())?;
+        let (ctx, partial) = JobContext::with_priority(threads, priority, progress.clone())?;
         let handle = std::thread::Builder::new()
             .name("isola-job".into())
             .spawn(move || ctx.run(|| work(&ctx)).and_then(|r| r))

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use isola::analysis::Progress;
 use isola::analysis::scalogram::{Scalogram, ScalogramSpec, scalogram};
 use isola::analysis::time_history::{TimeHistory, TimeHistorySpec, time_history};
-use isola::jobs::{Job, JobError};
+use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;
 use isola::session::run::{Outcome, Shard, run_analysis};
@@ -223,8 +223,9 @@ impl JobList {
     }
 }
 
+/// Workers run in the background: the UI thread must get a core the moment a key arrives.
 fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
-    Job::spawn(threads, move |ctx| match work {
+    Job::spawn_with(threads, Priority::Background, move |ctx| match work {
         Work::Analysis { session, name } => {
             let entry = session
                 .analysis(&name)

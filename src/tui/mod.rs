@@ -114,6 +114,7 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
     let mut app = build_app(args)?;
     tracing::info!(session = %app.session.path.display(), "tui started");
     let terminate = terminal::termination_flag()?;
+    terminal::spawn_watchdog(terminate.clone())?;
     let mut guard = terminal::TerminalGuard::enter()?;
     let frame_time = Duration::from_millis(50);
     let mut last_draw = Instant::now() - frame_time;

@@ -4,7 +4,8 @@
 
 use std::io::{Stdout, stdout};
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 use crossterm::execute;
 use crossterm::terminal::{
@@ -67,4 +68,44 @@ pub fn termination_flag() -> anyhow::Result<Arc<AtomicBool>> {
         signal_hook::flag::register(signal, flag.clone())?;
     }
     Ok(flag)
+}
+
+/// Watches, on a thread of its own, for the terminal going away (a hang-up: the SSH link or
+/// the tmux pane closed, which some terminals report only as end of input) and raises
+/// `terminate`; if the loop has not returned 3 s after `terminate` was raised, it restores
+/// what it can and exits, so that no orphan is left spinning on a dead terminal. Finished
+/// chunks are already on disk.
+pub fn spawn_watchdog(terminate: Arc<AtomicBool>) -> anyhow::Result<()> {
+    std::thread::Builder::new()
+        .name("isola-watchdog".into())
+        .spawn(move || {
+            let mut raised_at: Option<Instant> = None;
+            loop {
+                std::thread::sleep(Duration::from_millis(200));
+                if terminal_hung_up() {
+                    terminate.store(true, Ordering::Relaxed);
+                }
+                if terminate.load(Ordering::Relaxed) {
+                    let raised = *raised_at.get_or_insert_with(Instant::now);
+                    if raised.elapsed() > Duration::from_secs(3) {
+                        tracing::warn!("the terminal is gone and the loop did not return: exiting");
+                        restore();
+                        std::process::exit(1);
+                    }
+                }
+            }
+        })?;
+    Ok(())
+}
+
+/// True when standard input, the terminal, has hung up.
+fn terminal_hung_up() -> bool {
+    let mut fd = libc::pollfd {
+        fd: 0,
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: one valid pollfd, no timeout.
+    let ready = unsafe { libc::poll(&mut fd, 1, 0) };
+    ready > 0 && fd.revents & (libc::POLLHUP | libc::POLLERR | libc::POLLNVAL) != 0
 }
