@@ -4,6 +4,7 @@ pub mod attractor;
 pub mod basin;
 pub mod batch;
 pub mod chirp_sweep;
+pub mod continuation;
 pub mod family;
 pub mod floquet;
 pub mod force_curve;
@@ -29,6 +30,8 @@ pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady
 pub enum AnalysisError {
     #[error(transparent)]
     Param(#[from] crate::model::ParamError),
+    #[error(transparent)]
+    Shooting(#[from] shooting::ShootingError),
     #[error("cancelled")]
     Cancelled,
 }
