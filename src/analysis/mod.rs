@@ -4,7 +4,9 @@ pub mod attractor;
 pub mod basin;
 pub mod batch;
 pub mod chirp_sweep;
+pub mod continuation;
 pub mod family;
+pub mod floquet;
 pub mod force_curve;
 pub mod frequency_response;
 pub mod grid;
@@ -13,6 +15,7 @@ pub mod period_map;
 pub mod progress;
 pub mod ratio;
 pub mod scalogram;
+pub mod shooting;
 pub mod steady_state;
 pub mod stepped_sweep;
 pub mod time_history;
@@ -27,6 +30,8 @@ pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady
 pub enum AnalysisError {
     #[error(transparent)]
     Param(#[from] crate::model::ParamError),
+    #[error(transparent)]
+    Shooting(#[from] shooting::ShootingError),
     #[error("cancelled")]
     Cancelled,
 }

@@ -1,0 +1,815 @@
+//! Pseudo-arclength continuation of periodic responses in ω_e or a model parameter.
+//!
+//! Unknowns y = (λ_I, v, μ) at τ = 0; equations P^k(x; μ) − x = 0 plus the arclength
+//! condition t·(y − y_pred) = 0. The state columns of the Jacobian are M − I from the
+//! variational equations; the μ column is a central difference of the map. At each point the
+//! Floquet multipliers give stability and the test functions of [`TestFunctions`]; a sign
+//! change between two points is located by false position along the arclength (each trial a
+//! corrected point). A subharmonic branch that shrinks onto a response of a divisor period
+//! (its Poincaré points merge: a period doubling of the parent) ends there; one that comes
+//! back to its seed is closed, an isola when it is a subharmonic.
+
+use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::AnalysisError;
+use super::family::FamilyParameter;
+use super::floquet::{Multipliers, TestFunctions};
+use super::progress::Progress;
+use super::shooting::{
+    PeriodFlow, PeriodicOrbit, ShootingError, ShootingSpec, VariationalFlow, shoot,
+};
+use crate::model::error::{ParamError, check};
+use crate::model::{ParamSpec, Params};
+use crate::solver::Collision;
+
+/// The parameter a branch is continued in: ω_e or one of the model's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum ContinuationParameter {
+    Omega,
+    Model(FamilyParameter),
+}
+
+impl ContinuationParameter {
+    pub fn name(&self) -> &'static str {
+        match self {
+            ContinuationParameter::Omega => "omega",
+            ContinuationParameter::Model(p) => p.name(),
+        }
+    }
+
+    /// Parses a name as users write it (`omega`, `adr`, `e_a`, `c_tilde`, `lambda_p`, `j`).
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "omega" | "w" => Some(ContinuationParameter::Omega),
+            _ => FamilyParameter::parse(s).map(ContinuationParameter::Model),
+        }
+    }
+
+    /// Its value in `p`.
+    pub fn value(&self, p: &Params) -> f64 {
+        match self {
+            ContinuationParameter::Omega => p.omega(),
+            ContinuationParameter::Model(m) => match m {
+                FamilyParameter::Adr => p.drive_i().adr().unwrap_or(0.0),
+                FamilyParameter::EA => p.drive_i().e_a(),
+                FamilyParameter::CTilde => p.c_tilde(),
+                FamilyParameter::LambdaP => p.lambda_p(),
+                FamilyParameter::J => p.j(),
+            },
+        }
+    }
+
+    /// `base` with this parameter set to `value`.
+    pub fn apply(&self, base: &Params, value: f64) -> Result<Params, ParamError> {
+        match self {
+            ContinuationParameter::Omega => base.with_omega(value),
+            ContinuationParameter::Model(m) => m.apply(base, value),
+        }
+    }
+}
+
+impl TryFrom<String> for ContinuationParameter {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Self::parse(&s).ok_or_else(|| {
+            format!("unknown parameter '{s}': allowed omega, adr, e_a, c_tilde, lambda_p, j")
+        })
+    }
+}
+
+impl From<ContinuationParameter> for String {
+    fn from(p: ContinuationParameter) -> String {
+        p.name().to_string()
+    }
+}
+
+/// How a branch is continued.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ContinuationSpec {
+    pub parameter: ContinuationParameter,
+    /// The branch stops where the parameter leaves [min, max].
+    pub min: f64,
+    pub max: f64,
+    /// First arclength step, and its bounds (arclength in (λ_I, v, μ)).
+    pub step: f64,
+    pub step_min: f64,
+    pub step_max: f64,
+    /// Points per direction at most.
+    pub max_points: usize,
+    pub shooting: ShootingSpec,
+}
+
+impl Default for ContinuationSpec {
+    fn default() -> Self {
+        ContinuationSpec {
+            parameter: ContinuationParameter::Omega,
+            min: 0.2,
+            max: 6.0,
+            step: 0.01,
+            step_min: 1e-7,
+            step_max: 0.04,
+            max_points: 3000,
+            shooting: ShootingSpec::default(),
+        }
+    }
+}
+
+impl ContinuationSpec {
+    /// Checks every field; `base` must be valid at both ends of the range.
+    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+        check(
+            "min",
+            self.min,
+            |m| m < self.max,
+            format!("< max = {}", self.max),
+        )?;
+        self.parameter.apply(base, self.min)?;
+        self.parameter.apply(base, self.max)?;
+        check("step_max", self.step_max, |s| s > 0.0 && s <= 1.0, "(0, 1]")?;
+        check(
+            "step_min",
+            self.step_min,
+            |s| s > 0.0 && s < self.step_max,
+            format!("(0, step_max = {})", self.step_max),
+        )?;
+        check(
+            "step",
+            self.step,
+            |s| s >= self.step_min && s <= self.step_max,
+            format!(
+                "[step_min, step_max] = [{}, {}]",
+                self.step_min, self.step_max
+            ),
+        )?;
+        check(
+            "max_points",
+            self.max_points as f64,
+            |n| (2.0..=1e6).contains(&n),
+            "[2, 1000000]",
+        )?;
+        self.shooting.validate()
+    }
+}
+
+/// One point of a continued branch: what a plot needs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BranchPoint {
+    /// Value of the continuation parameter.
+    pub parameter: f64,
+    /// Forcing frequency ω_e (the parameter itself when continuing in ω_e).
+    pub omega: f64,
+    /// The stroboscopic point [λ_I, v] at τ = 0.
+    pub x: [f64; 2],
+    /// max − min of λ_I over the response period.
+    pub amplitude: f64,
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    pub multipliers: Multipliers,
+    pub stable: bool,
+    pub tests: TestFunctions,
+    /// det(monodromy) − exp(∫ tr A dτ): the Liouville check of the variational integration.
+    pub liouville_error: f64,
+}
+
+/// What happens at a special point of a branch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BifurcationKind {
+    /// A real multiplier through +1: the branch turns back in the parameter.
+    Fold,
+    /// A real multiplier through −1: a branch of twice the period is born.
+    PeriodDoubling,
+    /// A complex pair through the unit circle.
+    NeimarkSacker,
+    /// The branch shrinks onto a response of a divisor period (a period doubling of that
+    /// parent branch) and ends there.
+    ParentPeriodDoubling,
+}
+
+impl BifurcationKind {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            BifurcationKind::Fold => "fold",
+            BifurcationKind::PeriodDoubling => "period-doubling",
+            BifurcationKind::NeimarkSacker => "neimark-sacker",
+            BifurcationKind::ParentPeriodDoubling => "parent-period-doubling",
+        }
+    }
+}
+
+/// A located bifurcation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Bifurcation {
+    pub kind: BifurcationKind,
+    pub parameter: f64,
+    pub omega: f64,
+    pub x: [f64; 2],
+    pub amplitude: f64,
+    /// Multipliers there (of the parent's map for a parent period doubling).
+    pub multipliers: Multipliers,
+    /// Width of the final bracket in the parameter: how precisely it was located.
+    pub precision: f64,
+    /// Period of the response that bifurcates (the parent's for a parent period doubling).
+    pub period: usize,
+}
+
+/// Why one direction of a branch stopped.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "end")]
+pub enum BranchEnd {
+    /// Came back to the seed: the branch is a closed curve.
+    Closed,
+    /// The parameter reached the end of its range.
+    Bound {
+        value: f64,
+    },
+    /// The orbit reaches a frame or the Gent limit.
+    Collision {
+        tau: f64,
+        lambda_i: f64,
+    },
+    /// Merged into the parent response of this period at its period doubling.
+    Parent {
+        period: usize,
+    },
+    /// The corrector failed even at the smallest step.
+    StepTooSmall,
+    MaxPoints,
+}
+
+/// A continued branch: its points in order along the curve, located bifurcations and the
+/// reason each end stopped.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ContinuedBranch {
+    pub period: usize,
+    pub parameter: ContinuationParameter,
+    /// The model at the seed.
+    pub base: ParamSpec,
+    pub points: Vec<BranchPoint>,
+    pub bifurcations: Vec<Bifurcation>,
+    /// How the first and the last point of `points` ended the branch.
+    pub ends: [BranchEnd; 2],
+}
+
+impl ContinuedBranch {
+    /// The branch closes on itself.
+    pub fn closed(&self) -> bool {
+        self.ends.contains(&BranchEnd::Closed)
+    }
+
+    /// The located bifurcations of one kind.
+    pub fn of_kind(&self, kind: BifurcationKind) -> impl Iterator<Item = &Bifurcation> {
+        self.bifurcations.iter().filter(move |b| b.kind == kind)
+    }
+
+    /// Smallest and largest parameter value along the branch, located folds included.
+    pub fn parameter_range(&self) -> (f64, f64) {
+        let values = self.points.iter().map(|p| p.parameter);
+        let located = self.bifurcations.iter().map(|b| b.parameter);
+        values
+            .chain(located)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    }
+
+    /// The responses of the branch at parameter `value`: one per crossing of `value` along
+    /// the branch, each converged by shooting from the interpolated point.
+    pub fn orbits_at(
+        &self,
+        value: f64,
+        shooting: &ShootingSpec,
+    ) -> Result<Vec<PeriodicOrbit>, ContinuationError> {
+        let base = self.base.build()?;
+        let params = self.parameter.apply(&base, value)?;
+        let mut out = Vec::new();
+        for w in self.points.windows(2) {
+            let (a, b) = (w[0].parameter - value, w[1].parameter - value);
+            if a == 0.0 || (a < 0.0) != (b < 0.0) {
+                let f = a / (a - b);
+                let x = [0, 1].map(|c| w[0].x[c] + f * (w[1].x[c] - w[0].x[c]));
+                out.push(shoot(&params, self.period, x, shooting)?);
+            }
+        }
+        Ok(out)
+    }
+
+    /// Maximal runs of points of equal stability, as (first, last, stable) index ranges.
+    pub fn arcs(&self) -> Vec<(usize, usize, bool)> {
+        let mut arcs: Vec<(usize, usize, bool)> = Vec::new();
+        for (i, p) in self.points.iter().enumerate() {
+            match arcs.last_mut() {
+                Some(a) if a.2 == p.stable => a.1 = i,
+                _ => arcs.push((i, i, p.stable)),
+            }
+        }
+        arcs
+    }
+}
+
+/// Why a branch could not be started.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContinuationError {
+    #[error(transparent)]
+    Param(#[from] ParamError),
+    #[error("no periodic response at the seed: {0}")]
+    Seed(#[from] ShootingError),
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<ContinuationError> for AnalysisError {
+    fn from(e: ContinuationError) -> Self {
+        match e {
+            ContinuationError::Param(p) => AnalysisError::Param(p),
+            ContinuationError::Cancelled => AnalysisError::Cancelled,
+            ContinuationError::Seed(s) => AnalysisError::Shooting(s),
+        }
+    }
+}
+
+/// Reads one test function (`None` where it does not apply).
+type TestOf = fn(&TestFunctions) -> Option<f64>;
+
+/// A corrected point with everything computed there.
+#[derive(Debug, Clone)]
+struct Solved {
+    y: Vector3<f64>,
+    flow: PeriodFlow,
+    /// [M − I | ∂P/∂μ].
+    jac: Matrix2x3<f64>,
+    iterations: usize,
+}
+
+/// Why a corrector failed.
+enum Failure {
+    Collision(Collision),
+    Diverged,
+}
+
+/// The continuation problem for period `k` about the model `base`.
+struct Problem<'a> {
+    base: Params,
+    k: usize,
+    spec: &'a ContinuationSpec,
+}
+
+impl Problem<'_> {
+    fn params_at(&self, mu: f64) -> Option<Params> {
+        self.spec.parameter.apply(&self.base, mu).ok()
+    }
+
+    /// P^k, its monodromy and the μ column at y.
+    fn evaluate(&self, y: &Vector3<f64>) -> Result<Solved, Failure> {
+        let p = self.params_at(y[2]).ok_or(Failure::Diverged)?;
+        let x = [y[0], y[1]];
+        let flow = VariationalFlow::new(&p, self.spec.shooting.tol)
+            .orbit(x, self.k)
+            .map_err(Failure::Collision)?;
+        let d = 1e-6 * y[2].abs().max(1.0);
+        let side = |mu: f64| {
+            let q = self.params_at(mu)?;
+            VariationalFlow::new(&q, self.spec.shooting.tol)
+                .map(x, self.k)
+                .ok()
+        };
+        let dp = match (side(y[2] + d), side(y[2] - d)) {
+            (Some(a), Some(b)) => [(a[0] - b[0]) / (2.0 * d), (a[1] - b[1]) / (2.0 * d)],
+            (Some(a), None) => [(a[0] - flow.end[0]) / d, (a[1] - flow.end[1]) / d],
+            (None, Some(b)) => [(flow.end[0] - b[0]) / d, (flow.end[1] - b[1]) / d],
+            (None, None) => return Err(Failure::Diverged),
+        };
+        let m = flow.monodromy;
+        let jac = Matrix2x3::new(
+            m[(0, 0)] - 1.0,
+            m[(0, 1)],
+            dp[0],
+            m[(1, 0)],
+            m[(1, 1)] - 1.0,
+            dp[1],
+        );
+        Ok(Solved {
+            y: *y,
+            flow,
+            jac,
+            iterations: 0,
+        })
+    }
+
+    fn residual(s: &Solved) -> Vector2<f64> {
+        Vector2::new(s.flow.end[0] - s.y[0], s.flow.end[1] - s.y[1])
+    }
+
+    /// Newton on [P^k(x) − x; t·(y − pred)] = 0 from the predictor.
+    fn correct(&self, pred: Vector3<f64>, t: &Vector3<f64>) -> Result<Solved, Failure> {
+        let tol = self.spec.shooting.newton_tol;
+        let mut y = pred;
+        for it in 0..self.spec.shooting.max_iterations {
+            let mut s = self.evaluate(&y)?;
+            let r = Self::residual(&s);
+            if it > 0 && r.amax() < tol {
+                s.iterations = it;
+                return Ok(s);
+            }
+            let a = Matrix3::from_rows(&[s.jac.row(0).into(), s.jac.row(1).into(), t.transpose()]);
+            let rhs = Vector3::new(-r[0], -r[1], -t.dot(&(y - pred)));
+            let dy = a.lu().solve(&rhs).ok_or(Failure::Diverged)?;
+            if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
+                return Err(Failure::Diverged);
+            }
+            y += dy;
+        }
+        Err(Failure::Diverged)
+    }
+
+    /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
+    fn tangent(s: &Solved, prev: &Vector3<f64>) -> Vector3<f64> {
+        let r0: Vector3<f64> = s.jac.row(0).transpose();
+        let r1: Vector3<f64> = s.jac.row(1).transpose();
+        let t = r0.cross(&r1).normalize();
+        if t.dot(prev) < 0.0 { -t } else { t }
+    }
+
+    fn omega_at(&self, mu: f64) -> f64 {
+        match self.spec.parameter {
+            ContinuationParameter::Omega => mu,
+            ContinuationParameter::Model(_) => self.base.omega(),
+        }
+    }
+
+    fn point(&self, s: &Solved) -> BranchPoint {
+        let m = &s.flow.monodromy;
+        let multipliers = Multipliers::of(m);
+        BranchPoint {
+            parameter: s.y[2],
+            omega: self.omega_at(s.y[2]),
+            x: [s.y[0], s.y[1]],
+            amplitude: s.flow.lambda_max - s.flow.lambda_min,
+            lambda_min: s.flow.lambda_min,
+            lambda_max: s.flow.lambda_max,
+            multipliers,
+            stable: multipliers.stable(),
+            tests: TestFunctions::of(m),
+            liouville_error: m.determinant() - s.flow.trace_integral.exp(),
+        }
+    }
+
+    /// Difference vectors P^j(x) − x for each proper divisor j of k.
+    fn divisor_gaps(&self, s: &Solved) -> Vec<(usize, [f64; 2])> {
+        let x = s.flow.poincare[0];
+        (1..self.k)
+            .filter(|j| self.k % j == 0)
+            .map(|j| {
+                let pj = s.flow.poincare[j];
+                (j, [pj[0] - x[0], pj[1] - x[1]])
+            })
+            .collect()
+    }
+
+    /// The root of `g` (g(0) and g(h) of opposite sign) along the secant from `from`, by
+    /// false position on corrected points. Returns the point nearest the root and the last
+    /// bracket's width in the parameter.
+    fn locate(
+        &self,
+        from: &Solved,
+        t: &Vector3<f64>,
+        (g0, g1, h, end): (f64, f64, f64, &Solved),
+        g: impl Fn(&Solved) -> f64,
+    ) -> (Solved, f64) {
+        let (mut lo, mut hi, mut g_lo, mut g_hi) = (0.0, h, g0, g1);
+        let (mut s_lo, mut s_hi) = (from.clone(), end.clone());
+        let mut side = 0;
+        for _ in 0..40 {
+            if (s_hi.y[2] - s_lo.y[2]).abs() < 1e-11 && (s_hi.y - s_lo.y).amax() < 1e-9 {
+                break;
+            }
+            let mut sigma = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+            if !(sigma > lo && sigma < hi) {
+                sigma = 0.5 * (lo + hi);
+            }
+            let Ok(trial) = self.correct(from.y + t * sigma, t) else {
+                break;
+            };
+            let gt = g(&trial);
+            if gt == 0.0 {
+                return (trial, 0.0);
+            }
+            if (gt < 0.0) == (g_lo < 0.0) {
+                (lo, g_lo, s_lo) = (sigma, gt, trial);
+                if side == 1 {
+                    g_hi *= 0.5;
+                }
+                side = 1;
+            } else {
+                (hi, g_hi, s_hi) = (sigma, gt, trial);
+                if side == -1 {
+                    g_lo *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        let precision = (s_hi.y[2] - s_lo.y[2]).abs();
+        let best = if g_lo.abs() <= g_hi.abs() { s_lo } else { s_hi };
+        (best, precision)
+    }
+
+    fn bifurcation(&self, kind: BifurcationKind, s: &Solved, precision: f64) -> Bifurcation {
+        let p = self.point(s);
+        Bifurcation {
+            kind,
+            parameter: p.parameter,
+            omega: p.omega,
+            x: p.x,
+            amplitude: p.amplitude,
+            multipliers: p.multipliers,
+            precision,
+            period: self.k,
+        }
+    }
+
+    /// The bifurcations whose test functions change sign between `a` and `b`, located.
+    fn crossings(&self, a: &Solved, b: &Solved, t: &Vector3<f64>, h: f64) -> Vec<Bifurcation> {
+        let (ta, tb) = (
+            TestFunctions::of(&a.flow.monodromy),
+            TestFunctions::of(&b.flow.monodromy),
+        );
+        let mut found = Vec::new();
+        let tests: [(BifurcationKind, TestOf); 3] = [
+            (BifurcationKind::Fold, |t| Some(t.fold)),
+            (BifurcationKind::PeriodDoubling, |t| Some(t.flip)),
+            (BifurcationKind::NeimarkSacker, |t| t.torus),
+        ];
+        for (kind, f) in tests {
+            let (Some(ga), Some(gb)) = (f(&ta), f(&tb)) else {
+                continue;
+            };
+            if (ga < 0.0) != (gb < 0.0) {
+                let g = |s: &Solved| f(&TestFunctions::of(&s.flow.monodromy)).unwrap_or(ga);
+                let (at, precision) = self.locate(a, t, (ga, gb, h, b), g);
+                found.push(self.bifurcation(kind, &at, precision));
+            }
+        }
+        found
+    }
+
+    /// If the Poincaré points of a divisor period j merged between `a` and `b` (the gap
+    /// P^j(x) − x reversed), the period doubling of the parent period-j response there.
+    fn collapse(&self, a: &Solved, b: &Solved) -> Option<Bifurcation> {
+        let (ga, gb) = (self.divisor_gaps(a), self.divisor_gaps(b));
+        for ((j, da), (_, db)) in ga.into_iter().zip(gb) {
+            let dot = da[0] * db[0] + da[1] * db[1];
+            let norms = da[0].hypot(da[1]) * db[0].hypot(db[1]);
+            if dot < -0.5 * norms {
+                return Some(self.parent_period_doubling(j, a, b));
+            }
+        }
+        None
+    }
+
+    /// The period doubling of the period-j parent between the branch points `a` and `b`:
+    /// the parent is shot at fixed parameter from the mid-points of the merging Poincaré
+    /// points, and its flip test det(M_j + I) is driven to zero by the secant method in μ
+    /// (the doubling sits at the branch's turning point, outside [μ_a, μ_b] in general).
+    fn parent_period_doubling(&self, j: usize, a: &Solved, b: &Solved) -> Bifurcation {
+        let shooting = &self.spec.shooting;
+        let parent = |s: &Solved, mu: f64, seed: Option<[f64; 2]>| {
+            let x = s.flow.poincare[0];
+            let pj = s.flow.poincare[j];
+            let guess = seed.unwrap_or([0.5 * (x[0] + pj[0]), 0.5 * (x[1] + pj[1])]);
+            let p = self.params_at(mu)?;
+            shoot(&p, j, guess, shooting).ok()
+        };
+        let flip = |o: &PeriodicOrbit| {
+            let m = o.monodromy;
+            let (tr, det) = (m[0][0] + m[1][1], m[0][0] * m[1][1] - m[0][1] * m[1][0]);
+            det + tr + 1.0
+        };
+        let mut best = parent(b, b.y[2], None).map(|o| (b.y[2], o));
+        let mut other = parent(a, a.y[2], None).map(|o| (a.y[2], o));
+        let mut precision = (b.y[2] - a.y[2]).abs();
+        for _ in 0..30 {
+            let (Some((m1, o1)), Some((m0, o0))) = (&best, &other) else {
+                break;
+            };
+            let (f1, f0) = (flip(o1), flip(o0));
+            if f1 == f0 || precision < 1e-12 {
+                break;
+            }
+            let step = (-f1 * (m1 - m0) / (f1 - f0)).clamp(-0.05, 0.05);
+            let mu = m1 + step;
+            let Some(o) = parent(b, mu, Some(o1.poincare[0])) else {
+                break;
+            };
+            precision = step.abs();
+            other = best.take();
+            best = Some((mu, o));
+        }
+        let mut bif = self.bifurcation(BifurcationKind::ParentPeriodDoubling, b, precision);
+        bif.period = j;
+        if let Some((mu, o)) = best {
+            bif.parameter = mu;
+            bif.omega = self.omega_at(mu);
+            bif.x = o.poincare[0];
+            bif.amplitude = o.amplitude;
+            bif.multipliers = o.multipliers;
+        }
+        bif
+    }
+
+    /// Continues from `start` along `t0` until an end; returns the points after `start`.
+    fn run(
+        &self,
+        start: &Solved,
+        t0: Vector3<f64>,
+        seed: &[[f64; 2]],
+        progress: &Progress,
+    ) -> Result<(Vec<BranchPoint>, Vec<Bifurcation>, BranchEnd), ContinuationError> {
+        let spec = self.spec;
+        let (mut prev, mut t, mut h) = (start.clone(), t0, spec.step);
+        let mut points = Vec::new();
+        let mut bifs = Vec::new();
+        let mu0 = start.y[2];
+        loop {
+            if progress.is_cancelled() {
+                return Err(ContinuationError::Cancelled);
+            }
+            if points.len() >= spec.max_points {
+                return Ok((points, bifs, BranchEnd::MaxPoints));
+            }
+            let next = match self.correct(prev.y + t * h, &t) {
+                Ok(s) => Some(s),
+                Err(Failure::Collision(c)) if h <= spec.step_min => {
+                    return Ok((
+                        points,
+                        bifs,
+                        BranchEnd::Collision {
+                            tau: c.tau,
+                            lambda_i: c.lambda_i,
+                        },
+                    ));
+                }
+                Err(_) => None,
+            };
+            let next = next.and_then(|s| {
+                let tn = Self::tangent(&s, &t);
+                // refuse a step whose corrector moved far from the predictor or that turns
+                // the tangent sharply: it may have jumped to another part of the branch
+                let moved = (s.y - (prev.y + t * h)).norm();
+                let smooth = tn.dot(&t) > 0.9 && moved < 0.3 * h;
+                (smooth || h <= spec.step_min).then_some((s, tn))
+            });
+            let Some((next, t_next)) = next else {
+                if h <= spec.step_min {
+                    return Ok((points, bifs, BranchEnd::StepTooSmall));
+                }
+                h = (h * 0.5).max(spec.step_min);
+                continue;
+            };
+            progress.add(1);
+            // the end of the parameter range
+            let mu = next.y[2];
+            if mu < spec.min || mu > spec.max {
+                let bound = if mu < spec.min { spec.min } else { spec.max };
+                let g = |s: &Solved| s.y[2] - bound;
+                let (at, _) = self.locate(&prev, &t, (g(&prev), g(&next), h, &next), g);
+                bifs.extend(self.crossings(&prev, &at, &t, t.dot(&(at.y - prev.y))));
+                points.push(self.point(&at));
+                return Ok((points, bifs, BranchEnd::Bound { value: bound }));
+            }
+            if let Some(b) = self.collapse(&prev, &next) {
+                let period = b.period;
+                bifs.push(b);
+                return Ok((points, bifs, BranchEnd::Parent { period }));
+            }
+            bifs.extend(self.crossings(&prev, &next, &t, h));
+            // back at the seed (or at one of its shifts, for a subharmonic)
+            let (a, b) = (prev.y[2] - mu0, next.y[2] - mu0);
+            if points.len() >= 4 && (a < 0.0) != (b < 0.0) {
+                let w = a / (a - b);
+                let xi = [0, 1].map(|c| prev.y[c] + w * (next.y[c] - prev.y[c]));
+                let step_x = (next.y[0] - prev.y[0])
+                    .abs()
+                    .max((next.y[1] - prev.y[1]).abs());
+                let near = seed
+                    .iter()
+                    .any(|q| (q[0] - xi[0]).abs().max((q[1] - xi[1]).abs()) < 0.25 * step_x + 1e-7);
+                if near {
+                    points.push(self.point(&next));
+                    return Ok((points, bifs, BranchEnd::Closed));
+                }
+            }
+            points.push(self.point(&next));
+            h = match next.iterations {
+                0..=2 => h * 1.5,
+                3 => h,
+                _ => h * 0.6,
+            }
+            .clamp(spec.step_min, spec.step_max);
+            (prev, t) = (next, t_next);
+        }
+    }
+}
+
+/// The branch of period-`k` responses through `seed` = [λ_I, v] at τ = 0 (a point near the
+/// response in `params`), continued both ways in `spec.parameter`. The seed is first
+/// converged by Newton at fixed parameter.
+pub fn continue_branch(
+    params: &Params,
+    k: usize,
+    seed: [f64; 2],
+    spec: &ContinuationSpec,
+    progress: &Progress,
+) -> Result<ContinuedBranch, ContinuationError> {
+    spec.validate(params)?;
+    let orbit = shoot(params, k, seed, &spec.shooting)?;
+    continue_from_orbit(params, &orbit, spec, progress)
+}
+
+/// The branch through a converged periodic response of `params`.
+pub fn continue_from_orbit(
+    params: &Params,
+    orbit: &PeriodicOrbit,
+    spec: &ContinuationSpec,
+    progress: &Progress,
+) -> Result<ContinuedBranch, ContinuationError> {
+    let problem = Problem {
+        base: *params,
+        k: orbit.period,
+        spec,
+    };
+    let mu0 = spec.parameter.value(params);
+    let x = orbit.poincare[0];
+    let start = problem
+        .evaluate(&Vector3::new(x[0], x[1], mu0))
+        .map_err(|_| ShootingError::Singular)?;
+    let t0 = Problem::tangent(&start, &Vector3::new(0.0, 0.0, 1.0));
+    let (fwd, mut bifs, end_fwd) = problem.run(&start, t0, &orbit.poincare, progress)?;
+    let mut points = vec![problem.point(&start)];
+    let end_start = if end_fwd == BranchEnd::Closed {
+        BranchEnd::Closed
+    } else {
+        let (back, b2, end_back) = problem.run(&start, -t0, &orbit.poincare, progress)?;
+        bifs.extend(b2);
+        points = back.into_iter().rev().chain(points).collect();
+        end_back
+    };
+    points.extend(fwd);
+    Ok(ContinuedBranch {
+        period: orbit.period,
+        parameter: spec.parameter,
+        base: params.to_spec(),
+        points,
+        bifurcations: bifs,
+        ends: [end_start, end_fwd],
+    })
+}
+
+/// At a period doubling of a period-k branch, the branch of period 2k born there: started
+/// along the critical eigenvector (multiplier −1) and continued both ways.
+pub fn switch_at_period_doubling(
+    branch: &ContinuedBranch,
+    pd: &Bifurcation,
+    spec: &ContinuationSpec,
+    progress: &Progress,
+) -> Result<ContinuedBranch, ContinuationError> {
+    let base = branch.base.build()?;
+    let params = spec.parameter.apply(&base, pd.parameter)?;
+    let k = branch.period;
+    let flow = VariationalFlow::new(&params, spec.shooting.tol)
+        .orbit(pd.x, k)
+        .map_err(|c| ContinuationError::Seed(ShootingError::Collision(c)))?;
+    // null vector of M + I
+    let a = flow.monodromy + Matrix2::identity();
+    let e = if a.row(0).amax() >= a.row(1).amax() {
+        Vector2::new(-a[(0, 1)], a[(0, 0)])
+    } else {
+        Vector2::new(-a[(1, 1)], a[(1, 0)])
+    }
+    .normalize();
+    let problem = Problem {
+        base: params,
+        k: 2 * k,
+        spec,
+    };
+    let t = Vector3::new(e[0], e[1], 0.0);
+    let origin = Vector3::new(pd.x[0], pd.x[1], pd.parameter);
+    let mut h = spec.step;
+    let first = loop {
+        match problem.correct(origin + t * h, &t) {
+            Ok(s) if (s.y - origin).amax() > 0.1 * h => break s,
+            _ if h > spec.step_min => h *= 0.5,
+            _ => {
+                return Err(ContinuationError::Seed(ShootingError::NoConvergence {
+                    iterations: spec.shooting.max_iterations,
+                    residual: f64::NAN,
+                }));
+            }
+        }
+    };
+    let at = spec.parameter.apply(&base, first.y[2])?;
+    let orbit = PeriodicOrbit::from_flow(problem.omega_at(first.y[2]), 2 * k, &first.flow, 0);
+    continue_from_orbit(&at, &orbit, spec, progress)
+}

@@ -1,0 +1,117 @@
+//! Floquet multipliers of a periodic response (eigenvalues of its 2 × 2 monodromy matrix),
+//! its stability, and the test functions whose sign changes mark bifurcations.
+
+use nalgebra::Matrix2;
+use serde::{Deserialize, Serialize};
+
+/// A complex Floquet multiplier.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Multiplier {
+    pub re: f64,
+    pub im: f64,
+}
+
+impl Multiplier {
+    pub fn modulus(&self) -> f64 {
+        self.re.hypot(self.im)
+    }
+}
+
+/// The two multipliers, ordered by decreasing modulus.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Multipliers(pub [Multiplier; 2]);
+
+impl Multipliers {
+    /// Eigenvalues of `m` from its trace and determinant.
+    pub fn of(m: &Matrix2<f64>) -> Self {
+        let tr = m.trace();
+        let det = m.determinant();
+        let disc = 0.25 * tr * tr - det;
+        let pair = if disc >= 0.0 {
+            let r = disc.sqrt();
+            // the larger root in the stable form, the smaller from the product
+            let big = 0.5 * tr + r.copysign(tr);
+            let small = if big != 0.0 { det / big } else { 0.5 * tr - r };
+            [
+                Multiplier { re: big, im: 0.0 },
+                Multiplier { re: small, im: 0.0 },
+            ]
+        } else {
+            let im = (-disc).sqrt();
+            [
+                Multiplier { re: 0.5 * tr, im },
+                Multiplier {
+                    re: 0.5 * tr,
+                    im: -im,
+                },
+            ]
+        };
+        let mut pair = pair;
+        if pair[1].modulus() > pair[0].modulus() {
+            pair.swap(0, 1);
+        }
+        Multipliers(pair)
+    }
+
+    /// Largest modulus.
+    pub fn spectral_radius(&self) -> f64 {
+        self.0[0].modulus()
+    }
+
+    /// Both multipliers strictly inside the unit circle.
+    pub fn stable(&self) -> bool {
+        self.spectral_radius() < 1.0
+    }
+
+    /// A complex-conjugate pair.
+    pub fn complex(&self) -> bool {
+        self.0[0].im != 0.0
+    }
+}
+
+/// The bifurcation test functions of a monodromy matrix M, each changing sign where a
+/// multiplier crosses the unit circle in its own way.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TestFunctions {
+    /// det(M − I) = (μ₁ − 1)(μ₂ − 1): a real multiplier through +1 (fold).
+    pub fold: f64,
+    /// det(M + I) = (μ₁ + 1)(μ₂ + 1): a real multiplier through −1 (period doubling).
+    pub flip: f64,
+    /// det M − 1 = μ₁μ₂ − 1 for a complex pair (Neimark–Sacker), else `None`.
+    pub torus: Option<f64>,
+}
+
+impl TestFunctions {
+    pub fn of(m: &Matrix2<f64>) -> Self {
+        let tr = m.trace();
+        let det = m.determinant();
+        TestFunctions {
+            fold: det - tr + 1.0,
+            flip: det + tr + 1.0,
+            torus: (tr * tr < 4.0 * det).then_some(det - 1.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multipliers_of_known_matrices() {
+        let m = Matrix2::new(0.5, 0.0, 0.0, -2.0);
+        let mu = Multipliers::of(&m);
+        assert_eq!(mu.0[0].re, -2.0);
+        assert!((mu.0[1].re - 0.5).abs() < 1e-15);
+        assert!(!mu.stable());
+        let (c, s) = (0.9 * 1.0f64.cos(), 0.9 * 1.0f64.sin());
+        let rot = Matrix2::new(c, -s, s, c);
+        let mu = Multipliers::of(&rot);
+        assert!(mu.complex() && mu.stable());
+        assert!((mu.spectral_radius() - 0.9).abs() < 1e-14);
+        let t = TestFunctions::of(&rot);
+        assert!(t.torus.unwrap() < 0.0);
+        let t = TestFunctions::of(&Matrix2::new(1.0, 0.3, 0.0, 0.4));
+        assert!(t.fold.abs() < 1e-15 && t.flip > 0.0 && t.torus.is_none());
+    }
+}
