@@ -1,6 +1,7 @@
 //! The command line: clap definitions and one module per command.
 
 mod basin;
+mod continue_cmd;
 mod family;
 mod force;
 mod model_args;
@@ -37,6 +38,9 @@ enum Command {
     Response(response::ResponseArgs),
     /// A frequency response per value of one parameter (Fig 7–12).
     Family(family::FamilyArgs),
+    /// Continue the branch through one response in ω or a model parameter, with Floquet
+    /// stability, folds and period doublings.
+    Continue(continue_cmd::ContinueArgs),
     /// Run a session's analyses headless; resumes after a crash, can be sharded.
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
@@ -59,6 +63,7 @@ pub fn run() -> ExitCode {
         Command::Force(args) => force::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Family(args) => family::run(&args),
+        Command::Continue(args) => continue_cmd::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
         #[cfg(feature = "tui")]
