@@ -89,7 +89,7 @@ fn round_trip_keeps_comments() {
         original,
         "an unedited save is byte-identical"
     );
-    s.set_model_value("lambda_p", 1.03).unwrap();
+    s.set_model_key(None, "lambda_p", 1.03).unwrap();
     s.save_as(&path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     for comment in original.lines().filter(|l| l.trim_start().starts_with('#')) {
@@ -226,7 +226,7 @@ fn changed_settings_make_results_stale() {
     let entry = s.analyses[0].clone();
     run_analysis(&s, &entry, Shard::ALL, &Progress::new(0)).unwrap();
     assert!(is_current(&s, &entry));
-    s.set_model_value("omega", 1.8).unwrap();
+    s.set_model_key(None, "omega", 1.8).unwrap();
     let entry = s.analyses[0].clone();
     assert!(!is_current(&s, &entry));
     std::fs::remove_dir_all(&dir).unwrap();

@@ -81,7 +81,7 @@ pub struct FamilyMember {
 impl FamilyMember {
     /// The subharmonic branches (period ≥ 2) at this value.
     pub fn subharmonic_branches(&self) -> impl Iterator<Item = &Branch> {
-        self.response.branches.iter().filter(|b| b.period >= 2)
+        self.response.branches.iter().filter(|b| b.is_subharmonic())
     }
 }
 

@@ -125,6 +125,28 @@ pub struct Branch {
     pub partly_hidden: bool,
 }
 
+impl Branch {
+    /// A subharmonic branch: its responses repeat every two forcing periods or more.
+    pub fn is_subharmonic(&self) -> bool {
+        self.period >= 2
+    }
+
+    /// One line: type, ω range, peak, and whether the sweeps reach it.
+    pub fn describe(&self) -> String {
+        let reach = if self.hidden {
+            "hidden"
+        } else if self.partly_hidden {
+            "attached, partly hidden"
+        } else {
+            "attached"
+        };
+        format!(
+            "{} ω {:.2}–{:.2} peak {:.3} {reach}",
+            self.response_type, self.omega_min, self.omega_max, self.peak_amplitude
+        )
+    }
+}
+
 /// The full result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FrequencyResponse {

@@ -25,18 +25,26 @@ impl Serialize for Ratio {
     }
 }
 
-impl<'de> Deserialize<'de> for Ratio {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let text = String::deserialize(d)?;
+impl std::str::FromStr for Ratio {
+    type Err = String;
+
+    /// `m:k`, as [`Ratio`] displays it.
+    fn from_str(text: &str) -> Result<Self, String> {
         let parsed = text
             .split_once(':')
             .and_then(|(m, k)| Some((m.parse::<u32>().ok()?, k.parse::<u32>().ok()?)));
         match parsed {
             Some((m, k)) if k > 0 => Ok(Ratio::new(m, k)),
-            _ => Err(serde::de::Error::custom(format!(
-                "'{text}' is not a ratio m:k"
-            ))),
+            _ => Err(format!("'{text}' is not a ratio m:k")),
         }
+    }
+}
+
+impl<'de> Deserialize<'de> for Ratio {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        String::deserialize(d)?
+            .parse()
+            .map_err(serde::de::Error::custom)
     }
 }
 

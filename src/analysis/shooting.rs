@@ -13,49 +13,13 @@ use serde::{Deserialize, Serialize};
 
 use super::floquet::Multipliers;
 use crate::model::Params;
+use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::field::{Field, Membrane, Mode};
 use crate::solver::{Collision, Tolerance};
 
 /// Augmented state: [λ_I, v, Φ₀₀, Φ₀₁, Φ₁₀, Φ₁₁].
 type Aug = [f64; 6];
 
-// Dormand–Prince 5(4) tableau.
-const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-const A: [&[f64]; 6] = [
-    &[0.2],
-    &[3.0 / 40.0, 9.0 / 40.0],
-    &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
-    &[
-        19372.0 / 6561.0,
-        -25360.0 / 2187.0,
-        64448.0 / 6561.0,
-        -212.0 / 729.0,
-    ],
-    &[
-        9017.0 / 3168.0,
-        -355.0 / 33.0,
-        46732.0 / 5247.0,
-        49.0 / 176.0,
-        -5103.0 / 18656.0,
-    ],
-    &[
-        35.0 / 384.0,
-        0.0,
-        500.0 / 1113.0,
-        125.0 / 192.0,
-        -2187.0 / 6784.0,
-        11.0 / 84.0,
-    ],
-];
-const E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
 /// Points per step at which the switching functions are scanned (cubic Hermite in x, v).
 const SCAN_POINTS: usize = 4;
 /// Most steps in one call (a guard against a stalled step size).

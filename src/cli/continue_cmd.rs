@@ -17,12 +17,9 @@ use super::parse;
 pub struct ContinueArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// Initial displacement Δλ = λ_I − λ_p at τ = 0 of the trajectory that finds the seed.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    x0: f64,
-    /// Initial velocity at τ = 0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    v0: f64,
+    /// The initial state of the trajectory that finds the seed.
+    #[command(flatten)]
+    start: super::start_ranges::Start,
     /// The parameter to continue in: omega, adr, e_a, c_tilde, lambda_p or j.
     #[arg(long, default_value = "omega", value_parser = |s: &str| ContinuationParameter::parse(s).ok_or_else(|| format!("'{s}': one of omega, adr, e_a, c_tilde, lambda_p, j")))]
     vary: ContinuationParameter,
@@ -42,15 +39,15 @@ pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let seed = steady_state(
         &params,
-        params.lambda_p() + args.x0,
-        args.v0,
+        params.lambda_p() + args.start.x0,
+        args.start.v0,
         &SteadyStateSpec::default(),
     );
     let k = seed.period.ok_or_else(|| {
         anyhow::anyhow!(
             "the trajectory from Δλ {}, v {} settles to a {} response: nothing to continue",
-            args.x0,
-            args.v0,
+            args.start.x0,
+            args.start.v0,
             seed.class.as_str()
         )
     })?;

@@ -59,25 +59,7 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
     let name = args.vary.name();
     let members = ctx.run(|| {
         family(&params, &spec, &progress, |m| {
-            let subs: Vec<String> = m
-                .subharmonic_branches()
-                .map(|b| {
-                    format!(
-                        "{} ω {:.2}–{:.2} peak {:.3}{}",
-                        b.response_type,
-                        b.omega_min,
-                        b.omega_max,
-                        b.peak_amplitude,
-                        if b.hidden {
-                            " hidden"
-                        } else if b.partly_hidden {
-                            " attached, partly hidden"
-                        } else {
-                            " attached"
-                        }
-                    )
-                })
-                .collect();
+            let subs: Vec<String> = m.subharmonic_branches().map(|b| b.describe()).collect();
             println!(
                 "{name} = {:<8} {}",
                 m.value,

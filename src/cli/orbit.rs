@@ -14,12 +14,8 @@ use super::model_args::ModelArgs;
 pub struct OrbitArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// Initial displacement Δλ = λ_I − λ_p at τ = 0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    x0: f64,
-    /// Initial velocity dλ_I/dτ at τ = 0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    v0: f64,
+    #[command(flatten)]
+    start: super::start_ranges::Start,
     /// Longest response period (in forcing periods) still called periodic.
     #[arg(long = "max-period", default_value_t = 8)]
     max_period: usize,
@@ -75,24 +71,27 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
         ..SteadyStateSpec::default()
     };
     spec.validate()?;
-    let x0 = params.lambda_p() + args.x0;
+    let x0 = params.lambda_p() + args.start.x0;
     let steady = if args.reference {
         let tol = Tolerance {
             rtol: args.rtol,
             atol: args.rtol * 1e-2,
         };
         tol.validate()?;
-        steady_state_with(&mut DopriPeriodMap::new(&params, tol, x0, args.v0), &spec)
+        steady_state_with(
+            &mut DopriPeriodMap::new(&params, tol, x0, args.start.v0),
+            &spec,
+        )
     } else {
         steady_state_with(
-            &mut Rk4PeriodMap::new(&params, &spec.resolution, x0, args.v0),
+            &mut Rk4PeriodMap::new(&params, &spec.resolution, x0, args.start.v0),
             &spec,
         )
     };
     if let Some(path) = &args.history_csv {
         let spec = TimeHistorySpec {
-            dx0: args.x0,
-            v0: args.v0,
+            dx0: args.start.x0,
+            v0: args.start.v0,
             steady: spec,
             ..TimeHistorySpec::default()
         };
@@ -117,8 +116,8 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
             phi_dc: d.phi_dc(),
             phi_ac: d.phi_ac(),
             omega: params.omega(),
-            x0: args.x0,
-            v0: args.v0,
+            x0: args.start.x0,
+            v0: args.start.v0,
             integrator: if args.reference { "dopri5" } else { "rk4" },
             response_type: steady.response_type(),
             steady: &steady,
@@ -162,7 +161,10 @@ fn print_summary(p: &Params, args: &OrbitArgs, s: &SteadyState) {
         );
     }
     println!("forcing    ω_e {} ({:.2} Hz)", p.omega(), dev.hz(p.omega()));
-    println!("start      Δλ {}  v {}  at τ = 0", args.x0, args.v0);
+    println!(
+        "start      Δλ {}  v {}  at τ = 0",
+        args.start.x0, args.start.v0
+    );
     println!(
         "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"
     );

@@ -1,4 +1,5 @@
-//! The ranges of initial states shared by the commands that sample many of them.
+//! Initial states as the commands take them: one (`orbit`, `continue`) or ranges of them
+//! (the commands that sample many).
 
 use clap::Args;
 use isola::analysis::grid::Axis;
@@ -24,4 +25,15 @@ impl StartRanges {
             Axis::new(self.v_range.0, self.v_range.1, n_v),
         )
     }
+}
+
+/// One initial state (Δλ, v) at τ = 0.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct Start {
+    /// Initial displacement Δλ = λ_I − λ_p at τ = 0.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub x0: f64,
+    /// Initial velocity dλ_I/dτ at τ = 0.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub v0: f64,
 }

@@ -12,10 +12,11 @@ use serde::de::DeserializeOwned;
 
 use super::run::{Manifest, ResultPaths, read_manifest};
 use super::schema::{AnalysisEntry, Session, Settings};
+use crate::analysis::Ratio;
 use crate::analysis::SteadyState;
 use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::family::FamilyMember;
-use crate::analysis::frequency_response::Response;
+use crate::analysis::frequency_response::{Branch, Response};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +28,7 @@ pub struct ResponsePoint {
     /// `1:1`, `1:2`, `2:1`, `1:3 subharmonic`, `non-periodic`, `collision`...
     pub response_type: String,
     pub period: Option<usize>,
+    pub ratio: Option<Ratio>,
     pub hidden: Option<bool>,
     pub branch: Option<usize>,
     /// Share of the sampled initial states that reached it.
@@ -50,6 +52,7 @@ impl ResponsePoint {
             amplitude: s.amplitude,
             response_type: s.response_type(),
             period: s.period,
+            ratio: s.ratio,
             hidden: None,
             branch: None,
             share: 0.0,
@@ -58,57 +61,46 @@ impl ResponsePoint {
     }
 }
 
-/// A branch of responses (same type, continuous over ω_e), summarised from its points.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BranchSummary {
-    pub id: usize,
-    pub response_type: String,
-    pub omega_min: f64,
-    pub omega_max: f64,
-    pub peak_amplitude: f64,
-    pub peak_omega: f64,
-    /// No sweep reaches any of its points.
-    pub hidden: bool,
-    /// Some points hidden, some reached.
-    pub partly_hidden: bool,
-}
-
-/// Groups points by branch id.
-pub fn summarise_branches(points: &[ResponsePoint]) -> Vec<BranchSummary> {
-    let mut by_id: Vec<BranchSummary> = Vec::new();
-    let mut hidden_count: HashMap<usize, (usize, usize)> = HashMap::new();
+/// The branches of `points` (grouped by branch id), as the frequency response made them.
+pub fn branches(points: &[ResponsePoint]) -> Vec<Branch> {
+    let mut by_id: Vec<Branch> = Vec::new();
+    let mut hidden_count: HashMap<usize, usize> = HashMap::new();
     for p in points {
-        let (Some(id), Some(a)) = (p.branch, p.amplitude) else {
+        let (Some(id), Some(a), Some(period), Some(ratio)) =
+            (p.branch, p.amplitude, p.period, p.ratio)
+        else {
             continue;
         };
-        let counts = hidden_count.entry(id).or_default();
-        counts.0 += usize::from(p.hidden == Some(true));
-        counts.1 += 1;
+        *hidden_count.entry(id).or_default() += usize::from(p.hidden == Some(true));
         match by_id.iter_mut().find(|b| b.id == id) {
             Some(b) => {
                 b.omega_min = b.omega_min.min(p.omega);
                 b.omega_max = b.omega_max.max(p.omega);
+                b.points += 1;
                 if a > b.peak_amplitude {
                     b.peak_amplitude = a;
                     b.peak_omega = p.omega;
                 }
             }
-            None => by_id.push(BranchSummary {
+            None => by_id.push(Branch {
                 id,
+                period,
+                ratio,
                 response_type: p.response_type.clone(),
                 omega_min: p.omega,
                 omega_max: p.omega,
                 peak_amplitude: a,
                 peak_omega: p.omega,
+                points: 1,
                 hidden: false,
                 partly_hidden: false,
             }),
         }
     }
     for b in &mut by_id {
-        let (hidden, all) = hidden_count[&b.id];
-        b.hidden = hidden == all;
-        b.partly_hidden = hidden > 0 && hidden < all;
+        let hidden = hidden_count[&b.id];
+        b.hidden = hidden == b.points;
+        b.partly_hidden = hidden > 0; // as the frequency response sets it: some, or all
     }
     by_id.sort_by_key(|b| b.id);
     by_id
@@ -485,6 +477,7 @@ impl Columns {
             amplitude: self.opt(row, "amplitude_stretch"),
             response_type: self.str(row, "response_type")?.to_string(),
             period: self.opt(row, "period_forcing_periods"),
+            ratio: self.opt(row, "ratio"),
             hidden: self.opt(row, "hidden"),
             branch: self.opt(row, "branch"),
             share: self.opt(row, "share").unwrap_or(0.0),

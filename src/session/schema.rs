@@ -340,19 +340,10 @@ impl Session {
         format!("{hash:016x}")
     }
 
-    /// Sets a key of `[model]` in the document (comments and layout kept) and re-validates.
-    pub fn set_model_value(&mut self, key: &str, value: f64) -> Result<(), SessionError> {
-        let mut document = self.document.clone();
-        if !document.contains_key("model") {
-            document["model"] = toml_edit::table();
-        }
-        document["model"][key] = toml_edit::value(value);
-        self.replace_document(document)
-    }
-
-    /// Sets model key `key` for analysis `index`: in the analysis' own `model` table if it
-    /// overrides that key, in `[model]` otherwise (or always, for `None`). The other form of
-    /// the same quantity (`omega` and `frequency_hz`, ...) is removed from that table.
+    /// Sets model key `key` for analysis `index` (comments and layout kept, then re-validated):
+    /// in the analysis' own `model` table if it overrides that key, in `[model]` otherwise (or
+    /// always, for `None`). The other form of the same quantity (`omega` and `frequency_hz`,
+    /// ...) is removed from that table.
     pub fn set_model_key(
         &mut self,
         index: Option<usize>,

@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::Collision;
+use super::dopri_tableau::{A, B, C, D, E};
 use super::field::{Field, Membrane, Mode};
 use crate::model::error::{ParamError, check};
 use crate::model::{Forcing, Params};
@@ -68,51 +69,6 @@ impl DenseStep {
     }
 }
 
-// Dormand–Prince 5(4) tableau.
-const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-const A2: [f64; 1] = [0.2];
-const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
-const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
-const A5: [f64; 4] = [
-    19372.0 / 6561.0,
-    -25360.0 / 2187.0,
-    64448.0 / 6561.0,
-    -212.0 / 729.0,
-];
-const A6: [f64; 5] = [
-    9017.0 / 3168.0,
-    -355.0 / 33.0,
-    46732.0 / 5247.0,
-    49.0 / 176.0,
-    -5103.0 / 18656.0,
-];
-const B: [f64; 6] = [
-    35.0 / 384.0,
-    0.0,
-    500.0 / 1113.0,
-    125.0 / 192.0,
-    -2187.0 / 6784.0,
-    11.0 / 84.0,
-];
-const E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
-// Hairer's dense-output coefficients for DOPRI5.
-const D: [f64; 7] = [
-    -12715105075.0 / 11282082432.0,
-    0.0,
-    87487479700.0 / 32700410799.0,
-    -10690763975.0 / 1880347072.0,
-    701980252875.0 / 199316789632.0,
-    -1453857185.0 / 822651844.0,
-    69997945.0 / 29380423.0,
-];
 /// Points per step at which the event functions are checked for a sign change.
 const EVENT_SCAN_POINTS: usize = 4;
 /// Most step attempts in one call before it gives up (a guard, never met in practice).
@@ -261,11 +217,11 @@ impl<F: Forcing> Dopri5<F> {
         };
         let mut k = [[0.0; 2]; 7];
         k[0] = k1;
-        k[1] = self.deriv(t + C[1] * h, comb(&k[..1], &A2), mode);
-        k[2] = self.deriv(t + C[2] * h, comb(&k[..2], &A3), mode);
-        k[3] = self.deriv(t + C[3] * h, comb(&k[..3], &A4), mode);
-        k[4] = self.deriv(t + C[4] * h, comb(&k[..4], &A5), mode);
-        k[5] = self.deriv(t + C[5] * h, comb(&k[..5], &A6), mode);
+        k[1] = self.deriv(t + C[1] * h, comb(&k[..1], A[0]), mode);
+        k[2] = self.deriv(t + C[2] * h, comb(&k[..2], A[1]), mode);
+        k[3] = self.deriv(t + C[3] * h, comb(&k[..3], A[2]), mode);
+        k[4] = self.deriv(t + C[4] * h, comb(&k[..4], A[3]), mode);
+        k[5] = self.deriv(t + C[5] * h, comb(&k[..5], A[4]), mode);
         let y1 = comb(&k[..6], &B);
         k[6] = self.deriv(t + h, y1, mode);
         let mut err_sq = 0.0;

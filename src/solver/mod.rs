@@ -7,6 +7,7 @@
 //!   collision events: time histories and the accuracy reference.
 
 pub mod dopri;
+pub(crate) mod dopri_tableau;
 pub mod drive_table;
 pub mod field;
 pub mod hermite;

@@ -67,7 +67,10 @@ pub enum InputPurpose {
 pub struct Picked {
     pub label: String,
     pub job: usize,
-    pub view: Option<HistoryView>,
+    /// The orbit's time history, once integrated.
+    pub view: Option<ResultView>,
+    /// Its own cursor: the plot's is kept for when the orbit is closed.
+    pub cursor: (usize, usize),
     pub summary: Option<String>,
 }
 
@@ -80,6 +83,8 @@ pub struct Message {
 
 pub struct App {
     pub session: Session,
+    /// The session as jobs and the result reader see it, taken again after each change.
+    snapshot: Arc<Session>,
     /// Edits not saved yet.
     pub modified: bool,
     pub selected: usize,
@@ -115,6 +120,7 @@ pub struct App {
 impl App {
     pub fn new(session: Session, theme: Theme, keymap: Keymap, threads: usize) -> Self {
         let mut app = App {
+            snapshot: Arc::new(session.clone()),
             stored: Vec::new(),
             watcher: Watcher::start(),
             session,
@@ -148,6 +154,7 @@ impl App {
 
     /// After a session is opened or replaced: readers, rows and cursor from scratch.
     fn reload_session_state(&mut self) {
+        self.snapshot = Arc::new(self.session.clone());
         self.stored = vec![Stored::default(); self.session.analyses.len()];
         self.selected = self
             .selected
@@ -211,7 +218,7 @@ impl App {
                         s.response_type(),
                         s.amplitude.map_or(String::new(), |a| format!("A {a:.4}"))
                     ));
-                    p.view = Some(HistoryView::from(h.as_ref()));
+                    p.view = Some(ResultView::History(HistoryView::from(h.as_ref())));
                 }
                 (Err(e), Some(p)) if p.job == finished.id => {
                     p.summary = Some(format!("failed: {e}"));
@@ -265,7 +272,7 @@ impl App {
         let which: Vec<usize> = (0..self.session.analyses.len())
             .filter(|&i| all || i == self.selected || self.is_sweep_partner(i))
             .collect();
-        self.watcher.poll(&Arc::new(self.session.clone()), which);
+        self.watcher.poll(&self.snapshot, which);
     }
 
     /// Takes what the watcher has read.
@@ -413,13 +420,16 @@ impl App {
                 }
             }
             Focus::Plot => {
-                if let Some(p) = &self.picked {
-                    if let Some(h) = &p.view {
-                        let view = ResultView::History(h.clone());
-                        self.cursor = plots::move_cursor(&view, self.cursor, dx, 0);
+                // on a plot, ↑ means up the axis
+                if let Some(p) = &mut self.picked {
+                    if let Some(view) = &p.view {
+                        p.cursor = plots::move_cursor(view, p.cursor, dx, -dy);
                     }
-                } else if let Some(view) = self.view() {
-                    // on a plot, ↑ means up the axis
+                } else if let Some(view) = self
+                    .stored
+                    .get(self.selected)
+                    .and_then(|r| r.view.as_deref())
+                {
                     self.cursor = plots::move_cursor(view, self.cursor, dx, -dy);
                 }
             }
@@ -491,6 +501,7 @@ impl App {
         };
         match result {
             Ok(()) => {
+                self.snapshot = Arc::new(self.session.clone());
                 self.editing = None;
                 self.param_error = None;
                 self.modified = true;
@@ -520,7 +531,7 @@ impl App {
         self.jobs.push(
             name.clone(),
             Work::Analysis {
-                session: Box::new(self.session.clone()),
+                session: self.snapshot.clone(),
                 name: name.clone(),
             },
         );
@@ -616,6 +627,7 @@ impl App {
             label,
             job,
             view: None,
+            cursor: (0, 0),
             summary: None,
         });
         self.tick();

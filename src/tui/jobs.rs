@@ -15,7 +15,7 @@ use isola::session::run::{Outcome, Shard, run_analysis};
 /// What a job computes.
 pub enum Work {
     /// Analysis `name` of a session (a snapshot taken when it was queued).
-    Analysis { session: Box<Session>, name: String },
+    Analysis { session: Arc<Session>, name: String },
     /// One orbit, from a point picked on a plot.
     Orbit {
         params: Box<Params>,

@@ -92,17 +92,16 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
     let themes_dir = config::config_dir().map(|d| d.join("themes"));
     let theme = Theme::load(&theme_name, mode, themes_dir.as_deref())?;
     let keymap = Keymap::with_overrides(&config.keys).map_err(anyhow::Error::msg)?;
-    let (session, pick) = match &args.session {
-        Some(path) => (Session::load(path)?, false),
-        None => (
-            Session::parse(Path::new("untitled.toml"), UNTITLED)?,
-            Path::new("sessions").is_dir(),
-        ),
+    // without a session: an untitled one, beside the example sessions if there are some
+    let examples = Path::new("sessions");
+    let session = match &args.session {
+        Some(path) => Session::load(path)?,
+        None if examples.is_dir() => Session::parse(&examples.join("untitled.toml"), UNTITLED)?,
+        None => Session::parse(Path::new("untitled.toml"), UNTITLED)?,
     };
     let mut app = App::new(session, theme, keymap, args.threads);
-    if pick {
-        app.session.path = PathBuf::from("sessions/untitled.toml");
-        app.open_picker_in(Path::new("sessions"));
+    if args.session.is_none() && examples.is_dir() {
+        app.open_picker_in(examples);
     }
     Ok(app)
 }

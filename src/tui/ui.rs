@@ -104,14 +104,17 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     };
     if let Some(p) = &app.picked {
         match &p.view {
-            Some(h) => plots::history::draw(
+            Some(ResultView::History(h)) => plots::history::draw(
                 h,
                 Some(Line::styled("Esc: back to the plot", t.muted())),
-                &ctx,
+                &PlotContext {
+                    cursor: p.cursor,
+                    ..ctx
+                },
                 inner,
                 buf,
             ),
-            None => {
+            _ => {
                 Paragraph::new(Line::styled("integrating the orbit…", t.muted())).render(inner, buf)
             }
         }

@@ -6,7 +6,7 @@ use ratatui::text::{Line, Span};
 
 use super::frame::{Axis, Layer, XyPlot, legend_item};
 use super::{PlotContext, PointCursor, response};
-use isola::session::results::{FamilyView, summarise_branches};
+use isola::session::results::{FamilyView, branches};
 
 pub fn plot(f: &FamilyView, ctx: &PlotContext) -> XyPlot {
     let theme = ctx.theme;
@@ -47,19 +47,10 @@ pub fn plot(f: &FamilyView, ctx: &PlotContext) -> XyPlot {
             .insert(1, Span::raw(format!("{} {member}  ", f.parameter)));
         plot.footer.push(line);
         if let Some((_, points)) = f.members.iter().find(|(v, _)| *v == member) {
-            let subharmonic: Vec<String> = summarise_branches(points)
+            let subharmonic: Vec<String> = branches(points)
                 .iter()
-                .filter(|b| b.response_type != "1:1" && b.response_type != "2:1")
-                .map(|b| {
-                    format!(
-                        "{} ω {:.2}–{:.2} peak {:.3}{}",
-                        b.response_type,
-                        b.omega_min,
-                        b.omega_max,
-                        b.peak_amplitude,
-                        if b.hidden { " hidden" } else { " attached" }
-                    )
-                })
+                .filter(|b| b.is_subharmonic())
+                .map(|b| b.describe())
                 .collect();
             plot.footer.push(Line::styled(
                 if subharmonic.is_empty() {

@@ -146,15 +146,16 @@ pub fn draw_axes(
     s: Style,
     buf: &mut Buffer,
 ) -> Option<Rect> {
-    let y_ticks = ticks(y.min, y.max, 4);
-    let step = y_ticks.get(1).map_or(1.0, |b| b - y_ticks[0]);
-    let label_w = y_ticks
-        .iter()
-        .map(|t| tick_label(*t, step).len())
-        .max()
-        .unwrap_or(1) as u16;
     // rows: y axis name, data, x axis line, x labels, footer
     let height = area.height.checked_sub(3 + footer as u16)?;
+    // the labels drawn are the labels measured
+    let yt = ticks(y.min, y.max, (height as usize / 3).clamp(2, 6));
+    let ystep = yt.get(1).map_or(1.0, |b| b - yt[0]);
+    let label_w = yt
+        .iter()
+        .map(|t| tick_label(*t, ystep).len())
+        .max()
+        .unwrap_or(1) as u16;
     let width = area.width.checked_sub(label_w + 1)?;
     if height < 3 || width < 8 {
         return None;
@@ -162,8 +163,6 @@ pub fn draw_axes(
     let canvas = Rect::new(area.x + label_w + 1, area.y + 1, width, height);
     let (x0, y0) = (canvas.x, canvas.y);
     buf.set_stringn(area.x, area.y, &y.name, area.width as usize, s);
-    let yt = ticks(y.min, y.max, (canvas.height as usize / 3).clamp(2, 6));
-    let ystep = yt.get(1).map_or(1.0, |b| b - yt[0]);
     for r in 0..canvas.height {
         buf.set_string(x0 - 1, y0 + r, "│", s);
     }

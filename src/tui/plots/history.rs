@@ -54,38 +54,27 @@ pub fn draw(
             )),
         ]));
     }
-    let mut time = XyPlot::new(
-        Axis::fit("τ", h.tau.iter().copied(), 0.0),
-        Axis::fit("λ_I", h.lambda.iter().copied(), 0.05),
-    );
-    time.layers.push(Layer::Points {
-        points: series(&transient, &|k| (h.tau[k], h.lambda[k])),
-        color: theme.muted,
-    });
-    time.layers.push(Layer::Curve {
-        points: series(&steady, &|k| (h.tau[k], h.lambda[k])),
-        color: steady_color,
-    });
-    let mut phase = XyPlot::new(
-        Axis::fit("λ_I", h.lambda.iter().copied(), 0.05),
-        Axis::fit("v", h.v.iter().copied(), 0.05),
-    );
-    phase.layers.push(Layer::Points {
-        points: series(&transient, &|k| (h.lambda[k], h.v[k])),
-        color: theme.muted,
-    });
-    phase.layers.push(Layer::Curve {
-        points: series(&steady, &|k| (h.lambda[k], h.v[k])),
-        color: steady_color,
-    });
-    if n > 0 {
-        time.cursor = Some((h.tau[i], h.lambda[i]));
-        phase.cursor = Some((h.lambda[i], h.v[i]));
-    }
-    for p in [&mut time, &mut phase] {
+    // one plot of (x, y) over the samples: the transient muted, the steady part in colour
+    let plot = |x_name: &str, x: &[f64], y_name: &str, y: &[f64], x_margin: f64| {
+        let mut p = XyPlot::new(
+            Axis::fit(x_name, x.iter().copied(), x_margin),
+            Axis::fit(y_name, y.iter().copied(), 0.05),
+        );
+        p.layers.push(Layer::Points {
+            points: series(&transient, &|k| (x[k], y[k])),
+            color: theme.muted,
+        });
+        p.layers.push(Layer::Curve {
+            points: series(&steady, &|k| (x[k], y[k])),
+            color: steady_color,
+        });
+        p.cursor = (n > 0).then(|| (x[i], y[i]));
         p.axis_style = theme.muted();
         p.cursor_style = theme.cursor();
-    }
+        p
+    };
+    let time = plot("τ", &h.tau, "λ_I", &h.lambda, 0.0);
+    let phase = plot("λ_I", &h.lambda, "v", &h.v, 0.05);
     let footer_rows = footer.len() as u16;
     let [plots, foot] =
         Layout::vertical([Constraint::Min(4), Constraint::Length(footer_rows)]).areas(area);

@@ -7,7 +7,7 @@ use ratatui::text::{Line, Span};
 
 use super::frame::{Axis, Layer, XyPlot, legend_item};
 use super::{PlotContext, PointCursor};
-use isola::session::results::{ResponsePoint, summarise_branches};
+use isola::session::results::{ResponsePoint, branches};
 
 /// The glyph of a response type: filled when reached by a sweep, outlined when hidden.
 pub fn glyph(response_type: &str, hidden: bool) -> &'static str {
@@ -32,15 +32,6 @@ pub fn short_type(response_type: &str) -> &str {
         .split_whitespace()
         .next()
         .unwrap_or(response_type)
-}
-
-/// A subharmonic type (1:k with k > 1), whose branches are annotated.
-fn is_subharmonic(response_type: &str) -> bool {
-    response_type
-        .split_whitespace()
-        .next()
-        .and_then(|r| r.split_once(':'))
-        .is_some_and(|(a, b)| a == "1" && b != "1")
 }
 
 /// Amplitude over ω_e of `points`, joined by a line in sweep order if `joined`.
@@ -95,10 +86,10 @@ pub fn plot(
         });
     }
     // subharmonic branches: a bar over their ω range and a label
-    let branches = summarise_branches(points);
+    let branches = branches(points);
     let annotated: Vec<_> = branches
         .iter()
-        .filter(|b| is_subharmonic(&b.response_type) && b.omega_max > b.omega_min)
+        .filter(|b| b.is_subharmonic() && b.omega_max > b.omega_min)
         .collect();
     for b in &annotated {
         let style = if b.hidden {
