@@ -54,7 +54,7 @@ fn every_example_session_loads_and_its_cheapest_analysis_runs() {
             .find(|a| {
                 matches!(
                     a.settings,
-                    Settings::ForceCurve(_) | Settings::TimeHistory(_)
+                    Settings::ForceCurve(_) | Settings::TimeHistory(_) | Settings::Continuation(_)
                 )
             })
             .or_else(|| {

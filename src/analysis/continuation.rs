@@ -240,6 +240,23 @@ pub enum BranchEnd {
     MaxPoints,
 }
 
+impl std::fmt::Display for BranchEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BranchEnd::Closed => write!(f, "closed"),
+            BranchEnd::Bound { value } => write!(f, "range end {value}"),
+            BranchEnd::Collision { tau, lambda_i } => {
+                write!(f, "collision (τ {tau:.3}, λ_I {lambda_i:.4})")
+            }
+            BranchEnd::Parent { period } => {
+                write!(f, "period doubling of a period-{period} response")
+            }
+            BranchEnd::StepTooSmall => write!(f, "corrector failed"),
+            BranchEnd::MaxPoints => write!(f, "point limit"),
+        }
+    }
+}
+
 /// A continued branch: its points in order along the curve, located bifurcations and the
 /// reason each end stopped.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -668,6 +685,8 @@ impl Problem<'_> {
                 h = (h * 0.5).max(spec.step_min);
                 continue;
             };
+            // a branch's length is not known ahead: each point announces itself as it is done
+            progress.grow_total(1);
             progress.add(1);
             // the end of the parameter range
             let mu = next.y[2];

@@ -3,6 +3,7 @@
 pub mod attractor;
 pub mod basin;
 pub mod batch;
+pub mod branch_from_state;
 pub mod chirp_sweep;
 pub mod continuation;
 pub mod family;
@@ -10,6 +11,7 @@ pub mod floquet;
 pub mod force_curve;
 pub mod frequency_response;
 pub mod grid;
+pub mod hunt;
 pub mod period_detector;
 pub mod period_map;
 pub mod progress;
@@ -32,6 +34,10 @@ pub enum AnalysisError {
     Param(#[from] crate::model::ParamError),
     #[error(transparent)]
     Shooting(#[from] shooting::ShootingError),
+    #[error(
+        "the trajectory from Δλ {dx0}, v {v0} settles to a {class} response: nothing to continue"
+    )]
+    NoPeriodicSeed { dx0: f64, v0: f64, class: String },
     #[error("cancelled")]
     Cancelled,
 }

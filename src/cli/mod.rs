@@ -4,6 +4,7 @@ mod basin;
 mod continue_cmd;
 mod family;
 mod force;
+mod hunt;
 mod model_args;
 mod orbit;
 mod parse;
@@ -41,6 +42,9 @@ enum Command {
     /// Continue the branch through one response in ω or a model parameter, with Floquet
     /// stability, folds and period doublings.
     Continue(continue_cmd::ContinueArgs),
+    /// Find the subharmonic branches of a frequency response and continue each: isola or
+    /// attached, its folds, period doublings, stable and unstable arcs.
+    Hunt(hunt::HuntArgs),
     /// Run a session's analyses headless; resumes after a crash, can be sharded.
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
@@ -64,6 +68,7 @@ pub fn run() -> ExitCode {
         Command::Sweep(args) => sweep::run(&args),
         Command::Family(args) => family::run(&args),
         Command::Continue(args) => continue_cmd::run(&args),
+        Command::Hunt(args) => hunt::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
         #[cfg(feature = "tui")]

@@ -153,6 +153,10 @@ pub struct ExportArgs {
     /// The analysis whose result to export.
     #[arg(long)]
     analysis: String,
+    /// A companion table instead of the main result: `attractors` (basin), `responses`
+    /// (family) or `branches` (hunt).
+    #[arg(long, value_parser = ["attractors", "responses", "branches"])]
+    table: Option<String>,
     /// Keep rows where COLUMN OP VALUE holds (OP: = != < <= > >=); repeat to combine.
     #[arg(long = "where", value_name = "COLUMN OP VALUE")]
     filters: Vec<String>,
@@ -223,7 +227,19 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
         .iter()
         .map(|f| parse_filter(f))
         .collect::<anyhow::Result<_>>()?;
-    let mut reader = csv::Reader::from_path(&paths.csv)?;
+    let source = match &args.table {
+        Some(table) => paths.csv.with_extension(format!("{table}.csv")),
+        None => paths.csv.clone(),
+    };
+    if !source.exists() {
+        anyhow::bail!(
+            "{}: a {} has no {} table",
+            entry.name,
+            entry.settings.kind(),
+            args.table.as_deref().unwrap_or("main")
+        );
+    }
+    let mut reader = csv::Reader::from_path(&source)?;
     let headers = reader.headers()?.clone();
     let columns: Vec<usize> = filters
         .iter()

@@ -307,3 +307,98 @@ pub fn family_csv(
         Ok(())
     })
 }
+
+/// Where a hunt's continued branches live beside its frequency response: `A.branches.csv`.
+pub fn branches_path(response_csv: &Path) -> PathBuf {
+    response_csv.with_extension("branches.csv")
+}
+
+/// The columns of a continued-branch file (see [`continued_csv`]); the parameter column is
+/// named after the continuation parameter.
+const CONTINUED_COLUMNS: [&str; 13] = [
+    "branch",
+    "period",
+    "verdict",
+    "kind",
+    "omega_e",
+    "lambda_i_0",
+    "v_0",
+    "amplitude_stretch",
+    "stable",
+    "mu1_re",
+    "mu1_im",
+    "mu2_re",
+    "mu2_im",
+];
+
+/// One row per point (kind `point`, in order along the branch) and per located bifurcation
+/// (its kind) of each branch, numbered from 0. Columns: branch, period, verdict (isola,
+/// attached, half-attached, open), kind, the continuation parameter, ω_e, the state at τ = 0,
+/// amplitude, stability and both Floquet multipliers.
+pub fn continued_csv(
+    branches: &[&crate::analysis::continuation::ContinuedBranch],
+    path: &Path,
+) -> anyhow::Result<()> {
+    use crate::analysis::floquet::Multipliers;
+    use crate::analysis::hunt::Verdict;
+    let parameter = branches.first().map_or("omega", |b| b.parameter.name());
+    write_atomic(path, |w| {
+        let mut header = CONTINUED_COLUMNS[..4].to_vec();
+        header.push(parameter);
+        header.extend(&CONTINUED_COLUMNS[4..]);
+        w.write_record(&header)?;
+        for (id, b) in branches.iter().enumerate() {
+            let verdict = Verdict::of(b).as_str();
+            let row = |kind: &str,
+                       par: f64,
+                       omega: f64,
+                       x: [f64; 2],
+                       amp: f64,
+                       stable: Option<bool>,
+                       m: &Multipliers| {
+                let mut r = vec![
+                    id.to_string(),
+                    b.period.to_string(),
+                    verdict.to_string(),
+                    kind.to_string(),
+                    format!("{par:.10}"),
+                    format!("{omega:.10}"),
+                    format!("{:.10}", x[0]),
+                    format!("{:.10}", x[1]),
+                    format!("{amp:.10}"),
+                    stable.map(|s| s.to_string()).unwrap_or_default(),
+                ];
+                for mu in m.0 {
+                    r.push(format!("{:.10}", mu.re));
+                    r.push(format!("{:.10}", mu.im));
+                }
+                r
+            };
+            for p in &b.points {
+                let r = row(
+                    "point",
+                    p.parameter,
+                    p.omega,
+                    p.x,
+                    p.amplitude,
+                    Some(p.stable),
+                    &p.multipliers,
+                );
+                w.write_record(&r)?;
+            }
+            for f in &b.bifurcations {
+                let r = row(
+                    f.kind.as_str(),
+                    f.parameter,
+                    f.omega,
+                    f.x,
+                    f.amplitude,
+                    None,
+                    &f.multipliers,
+                );
+                w.write_record(&r)?;
+            }
+        }
+        Ok(())
+    })
+}

@@ -17,6 +17,7 @@ use crate::analysis::SteadyState;
 use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::family::FamilyMember;
 use crate::analysis::frequency_response::{Branch, Response};
+use crate::analysis::hunt::HuntSpec;
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -170,6 +171,54 @@ pub struct FamilyView {
     pub members: Vec<(f64, Vec<ResponsePoint>)>,
 }
 
+/// A point along a continued branch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContinuedPoint {
+    /// Value of the continuation parameter.
+    pub parameter: f64,
+    pub omega: f64,
+    pub amplitude: f64,
+    pub stable: bool,
+    /// The orbit's state [λ_I, v] at τ = 0.
+    pub start: [f64; 2],
+}
+
+/// A located bifurcation on a continued branch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BifurcationPoint {
+    /// `fold`, `period-doubling`, `parent-period-doubling`, `neimark-sacker`.
+    pub kind: String,
+    pub parameter: f64,
+    pub omega: f64,
+    pub amplitude: f64,
+}
+
+/// One continued branch read back.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ContinuedView {
+    pub period: usize,
+    /// `isola`, `attached`, `half-attached` or `open`.
+    pub verdict: String,
+    /// In order along the branch.
+    pub points: Vec<ContinuedPoint>,
+    pub bifurcations: Vec<BifurcationPoint>,
+}
+
+/// Continued branches in one parameter.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ContinuationView {
+    /// The continuation parameter's name (`omega`, `adr`, ...).
+    pub parameter: String,
+    pub branches: Vec<ContinuedView>,
+}
+
+/// A hunt: the frequency response's points and its subharmonic branches continued in ω_e.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct HuntView {
+    pub responses: Vec<ResponsePoint>,
+    pub continued: Vec<ContinuedView>,
+}
+
 /// Plot-ready data of one analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ResultView {
@@ -180,6 +229,8 @@ pub enum ResultView {
     Response(Vec<ResponsePoint>),
     Basin(BasinView),
     Family(FamilyView),
+    Continuation(ContinuationView),
+    Hunt(HuntView),
 }
 
 /// Where an analysis' stored result stands.
@@ -359,7 +410,7 @@ impl ResultReader {
                     }
                 }
             }
-            Settings::FrequencyResponse(spec) => {
+            Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
                 let responses: Vec<Response> = parse(bytes)?;
                 if !matches!(self.partial, Partial::Response(_)) {
                     self.partial = Partial::Response(vec![Vec::new(); spec.omega.points]);
@@ -413,6 +464,10 @@ impl ResultReader {
                         .collect(),
                 })
             }
+            (Partial::Response(per_omega), Settings::Hunt(_)) => ResultView::Hunt(HuntView {
+                responses: per_omega.iter().flatten().cloned().collect(),
+                continued: Vec::new(),
+            }),
             (Partial::Response(per_omega), _) => {
                 ResultView::Response(per_omega.iter().flatten().cloned().collect())
             }
@@ -547,6 +602,18 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 .map(|r| c.response_point(r))
                 .collect::<anyhow::Result<_>>()?,
         ),
+        Settings::Hunt(_) => {
+            let responses = rows
+                .iter()
+                .map(|r| c.response_point(r))
+                .collect::<anyhow::Result<_>>()?;
+            let continued = read_continued(&super::export::branches_path(&paths.csv))?;
+            ResultView::Hunt(HuntView {
+                responses,
+                continued: continued.branches,
+            })
+        }
+        Settings::Continuation(_) => ResultView::Continuation(read_continued(&paths.csv)?),
         Settings::Basin(spec) => {
             let labels = rows
                 .iter()
@@ -591,5 +658,50 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 members,
             })
         }
+    })
+}
+
+/// Reads a continued-branch file (see [`super::export::continued_csv`]).
+fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
+    let mut reader = csv::Reader::from_path(path)?;
+    let parameter = reader
+        .headers()?
+        .get(4)
+        .ok_or_else(|| anyhow::anyhow!("no parameter column"))?
+        .to_string();
+    let (c, rows) = rows(path)?;
+    let mut branches: Vec<ContinuedView> = Vec::new();
+    for r in &rows {
+        let id = c.f64(r, "branch")? as usize;
+        if branches.len() <= id {
+            branches.resize(id + 1, ContinuedView::default());
+        }
+        let b = &mut branches[id];
+        b.period = c.f64(r, "period")? as usize;
+        b.verdict = c.str(r, "verdict")?.to_string();
+        let (value, omega, amplitude) = (
+            c.f64(r, &parameter)?,
+            c.f64(r, "omega_e")?,
+            c.f64(r, "amplitude_stretch")?,
+        );
+        match c.str(r, "kind")? {
+            "point" => b.points.push(ContinuedPoint {
+                parameter: value,
+                omega,
+                amplitude,
+                stable: c.str(r, "stable")? == "true",
+                start: [c.f64(r, "lambda_i_0")?, c.f64(r, "v_0")?],
+            }),
+            kind => b.bifurcations.push(BifurcationPoint {
+                kind: kind.to_string(),
+                parameter: value,
+                omega,
+                amplitude,
+            }),
+        }
+    }
+    Ok(ContinuationView {
+        parameter,
+        branches,
     })
 }

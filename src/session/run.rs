@@ -2,7 +2,8 @@
 //! session so that a killed run resumes where it stopped and produces the same files.
 //!
 //! Layout, for analysis `A` of `sessions/NAME.toml`:
-//! - `sessions/NAME.results/A.csv`: the result (see README for the columns);
+//! - `sessions/NAME.results/A.csv`: the result (see README for the columns); a hunt's
+//!   continued branches go beside it in `A.branches.csv`;
 //! - `sessions/NAME.results/A.manifest.json`: fingerprint, version, chunks, timing, completion;
 //! - `sessions/NAME.results/A.chunks/000012.json`: finished chunks while the run is under way.
 //!
@@ -18,10 +19,12 @@ use super::atomic::write_atomic;
 use super::export;
 use super::schema::{AnalysisEntry, Session, Settings};
 use crate::analysis::basin::BasinPlan;
+use crate::analysis::branch_from_state::branch_from_state;
 use crate::analysis::chirp_sweep::chirp_sweep;
 use crate::analysis::family::{FamilyMember, family_member};
 use crate::analysis::force_curve::force_curves;
 use crate::analysis::frequency_response::{Response, ResponsePlan};
+use crate::analysis::hunt::{HuntSpec, hunt_in};
 use crate::analysis::stepped_sweep::stepped_sweep;
 use crate::analysis::time_history::time_history;
 use crate::analysis::{AnalysisError, Progress};
@@ -173,7 +176,7 @@ pub fn run_analysis(
                 None => (computed, missing_count(&paths, n)),
             }
         }
-        Settings::FrequencyResponse(spec) => {
+        Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
             let plan = ResponsePlan::new(&params, spec).map_err(cancelled)?;
             let n = plan.chunks();
             manifest.chunks_total = n;
@@ -190,7 +193,15 @@ pub fn run_analysis(
             match load_chunks::<Vec<Response>>(&paths, n) {
                 Some(per_omega) => {
                     let fr = plan.finish(per_omega, progress).map_err(cancelled)?;
-                    export::response_csv(&fr, &paths.csv)?;
+                    if let Settings::Hunt(hunt) = &entry.settings {
+                        let found = hunt_in(&params, fr, &hunt.continuation, progress)
+                            .map_err(cancelled)?;
+                        let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
+                        export::continued_csv(&branches, &export::branches_path(&paths.csv))?;
+                        export::response_csv(&found.response, &paths.csv)?;
+                    } else {
+                        export::response_csv(&fr, &paths.csv)?;
+                    }
                     (computed, 0)
                 }
                 None => (computed, missing_count(&paths, n)),
@@ -291,7 +302,14 @@ fn run_single(
             )?;
             export::stepped_csv(&steps, device, csv)
         }
-        Settings::Basin(_) | Settings::FrequencyResponse(_) | Settings::Family(_) => {
+        Settings::Continuation(spec) => {
+            let branch = branch_from_state(params, spec, progress)?;
+            export::continued_csv(&[&branch], csv)
+        }
+        Settings::Basin(_)
+        | Settings::FrequencyResponse(_)
+        | Settings::Family(_)
+        | Settings::Hunt(_) => {
             unreachable!("chunked kinds are run chunk by chunk")
         }
     }

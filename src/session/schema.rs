@@ -19,11 +19,13 @@ use serde::{Deserialize, Serialize};
 use super::model_section::ModelSection;
 use crate::analysis::SteadyStateSpec;
 use crate::analysis::basin::BasinSpec;
+use crate::analysis::branch_from_state::BranchFromState;
 use crate::analysis::chirp_sweep::ChirpSpec;
 use crate::analysis::family::FamilySpec;
 use crate::analysis::force_curve::ForceCurveSpec;
 use crate::analysis::frequency_response::FrequencyResponseSpec;
 use crate::analysis::grid::Axis;
+use crate::analysis::hunt::HuntSpec;
 use crate::analysis::time_history::TimeHistorySpec;
 use crate::model::{Device, ParamSpec, Params};
 
@@ -99,10 +101,12 @@ pub enum Settings {
     FrequencyResponse(FrequencyResponseSpec),
     Basin(BasinSpec),
     Family(FamilySpec),
+    Continuation(BranchFromState),
+    Hunt(HuntSpec),
 }
 
 /// The kinds a session may name.
-pub const KINDS: [&str; 7] = [
+pub const KINDS: [&str; 9] = [
     "force_curve",
     "time_history",
     "chirp_sweep",
@@ -110,6 +114,8 @@ pub const KINDS: [&str; 7] = [
     "frequency_response",
     "basin",
     "family",
+    "continuation",
+    "hunt",
 ];
 
 impl Settings {
@@ -132,6 +138,8 @@ impl Settings {
             "stepped_sweep" => Settings::SteppedSweep(get(table)?),
             "frequency_response" => Settings::FrequencyResponse(get(table)?),
             "basin" => Settings::Basin(get(table)?),
+            "continuation" => Settings::Continuation(get(table)?),
+            "hunt" => Settings::Hunt(get(table)?),
             "family" => {
                 let t = table.ok_or("a family needs settings: parameter and values")?;
                 Settings::Family(
@@ -159,6 +167,8 @@ impl Settings {
             Settings::FrequencyResponse(s) => toml::Table::try_from(s),
             Settings::Basin(s) => toml::Table::try_from(s),
             Settings::Family(s) => toml::Table::try_from(s),
+            Settings::Continuation(s) => toml::Table::try_from(s),
+            Settings::Hunt(s) => toml::Table::try_from(s),
         }
     }
 
@@ -171,6 +181,8 @@ impl Settings {
             Settings::FrequencyResponse(_) => "frequency_response",
             Settings::Basin(_) => "basin",
             Settings::Family(_) => "family",
+            Settings::Continuation(_) => "continuation",
+            Settings::Hunt(_) => "hunt",
         }
     }
 }
@@ -502,6 +514,11 @@ fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::mod
         Settings::FrequencyResponse(s) => s.validate(),
         Settings::Basin(s) => s.validate(),
         Settings::Family(s) => s.validate(params),
+        Settings::Continuation(s) => {
+            s.steady.validate()?;
+            s.continuation.validate(params)
+        }
+        Settings::Hunt(s) => s.validate(params),
     }
 }
 

@@ -589,6 +589,9 @@ impl App {
                 (Settings::Family(FamilySpec { parameter, .. }), Some(v)) => {
                     parameter.apply(&p, v)?
                 }
+                (Settings::Continuation(spec), Some(v)) => {
+                    spec.continuation.parameter.apply(&p, v)?
+                }
                 _ => p,
             };
             match omega {

@@ -271,6 +271,78 @@ fn every_other_view_draws() {
     snapshot!("family_120x40", screen);
 }
 
+const HUNT: &str = r#"# the isola hunted, and continued in ADR
+schema = 1
+[model]
+adr = 0.6
+e_a = 0.04
+
+[[analysis]]
+name = "hunt"
+kind = "hunt"
+[analysis.settings.response]
+omega = { min = 3.0, max = 6.0, points = 31 }
+dx = { min = -0.6, max = 0.6, points = 5 }
+v = { min = -0.6, max = 0.6, points = 5 }
+[analysis.settings.continuation]
+min = 2.0
+max = 6.5
+
+[[analysis]]
+name = "in_adr"
+kind = "continuation"
+model = { omega = 4.6 }
+[analysis.settings]
+dx0 = 0.3
+[analysis.settings.continuation]
+parameter = "adr"
+min = 0.1
+max = 1.5
+"#;
+
+/// A hunt draws its continued isola over the brute-force points (folds marked, the verdict
+/// in the footer); a continuation in ADR draws alone, and its cursor picks an orbit.
+#[test]
+fn continued_branches_draw_over_the_brute_force() {
+    let path = fixture("hunt", HUNT);
+    let mut app = app(&path, ColorMode::Truecolor);
+    for i in 0..2 {
+        app.selected = i;
+        app.run_selected();
+    }
+    settle(&mut app);
+    app.focus = Focus::Analyses;
+    app.selected = 1;
+    key(&mut app, KeyCode::Up);
+    let Some(ResultView::Hunt(h)) = app.view() else {
+        panic!("no hunt view");
+    };
+    assert_eq!(h.continued.len(), 1);
+    assert_eq!(h.continued[0].verdict, "isola");
+    assert_eq!(h.continued[0].bifurcations.len(), 2);
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("1:2 isola  ω 3.5896–5.4439"), "{screen}");
+    assert_eq!(
+        screen.matches('✕').count(),
+        4,
+        "two folds and the legend's\n{screen}"
+    );
+    snapshot!("hunt_80x24", screen);
+    key(&mut app, KeyCode::Down);
+    let Some(ResultView::Continuation(c)) = app.view() else {
+        panic!("no continuation view");
+    };
+    assert_eq!(c.parameter, "adr");
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("✕ 0.20657"), "{screen}");
+    snapshot!("continuation_80x24", screen);
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Right);
+    key(&mut app, KeyCode::Enter);
+    settle(&mut app);
+    assert!(app.picked.as_ref().is_some_and(|p| p.view.is_some()));
+}
+
 #[test]
 fn a_parameter_edit_is_checked_applied_and_saved() {
     let path = fixture("edit", RESPONSE);

@@ -140,15 +140,24 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
                 Some(Settings::FrequencyResponse(s)) => (s.omega.min, s.omega.max),
                 _ => (0.0, 6.0),
             };
-            plots::response::plot(points, range, false, &ctx).render(inner, buf);
+            plots::response::plot(points, &[], range, false, &ctx).render(inner, buf);
         }
+        ResultView::Hunt(h) => {
+            let range = match entry.map(|e| &e.settings) {
+                Some(Settings::Hunt(s)) => (s.response.omega.min, s.response.omega.max),
+                _ => (0.0, 6.0),
+            };
+            plots::response::plot(&h.responses, &h.continued, range, false, &ctx)
+                .render(inner, buf);
+        }
+        ResultView::Continuation(c) => plots::continued::plot(c, &ctx).render(inner, buf),
         ResultView::Stepped(points) => {
             let (lo, hi) = points
                 .iter()
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                     (a.min(p.omega), b.max(p.omega))
                 });
-            plots::response::plot(points, (lo, hi), true, &ctx).render(inner, buf);
+            plots::response::plot(points, &[], (lo, hi), true, &ctx).render(inner, buf);
         }
         ResultView::Basin(b) => plots::basin::draw(b, lambda_p, &ctx, inner, buf),
         ResultView::History(h) => plots::history::draw(h, None, &ctx, inner, buf),

@@ -91,25 +91,41 @@ pub struct XyPlot {
     pub footer: Vec<Line<'static>>,
 }
 
-/// About `n` round tick values (1, 2 or 5 × 10^k apart) inside [min, max].
+/// About `n` round tick values (1, 2 or 5 × 10^k apart) inside [min, max], at least two
+/// when the range is not empty.
 pub fn ticks(min: f64, max: f64, n: usize) -> Vec<f64> {
     let span = max - min;
     if span.is_nan() || span <= 0.0 || n == 0 {
         return vec![min];
     }
-    let raw = span / n as f64;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
+    let in_range = |step: f64| -> Vec<f64> {
+        let first = (min / step - 1e-9).ceil();
+        (0..=n + 1)
+            .map(|i| (first + i as f64) * step)
+            .take_while(|t| *t <= max + step * 1e-9)
+            .map(|t| if t.abs() < step * 1e-9 { 0.0 } else { t })
+            .collect()
+    };
+    // 10^e exactly as a division for e < 0, so that 0.01 × 9 is 0.09
+    let e = (span / n as f64).log10().floor() as i32;
+    let scaled = |m: f64| {
+        if e < 0 {
+            m / 10f64.powi(-e)
+        } else {
+            m * 10f64.powi(e)
+        }
+    };
+    // round steps from the largest that gives at most n ticks down, until two fit
+    let steps = [10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1].map(scaled);
+    let first = steps
         .iter()
-        .map(|m| m * mag)
-        .find(|s| span / s <= n as f64)
-        .unwrap_or(10.0 * mag);
-    let first = (min / step).ceil() * step;
-    (0..=n + 1)
-        .map(|i| first + i as f64 * step)
-        .take_while(|t| *t <= max + step * 1e-9)
-        .map(|t| if t.abs() < step * 1e-9 { 0.0 } else { t })
-        .collect()
+        .rposition(|s| span / s <= n as f64)
+        .unwrap_or(0);
+    steps[first..]
+        .iter()
+        .map(|&s| in_range(s))
+        .find(|t| t.len() >= 2)
+        .unwrap_or_else(|| in_range(steps[steps.len() - 1]))
 }
 
 /// A tick label with as few digits as the step needs.
@@ -362,5 +378,7 @@ mod tests {
         assert_eq!(tick_label(0.4, 0.2), "0.4");
         assert_eq!(tick_label(3.0, 1.0), "3");
         assert_eq!(tick_label(0.05, 0.05), "0.05");
+        // a narrow range still gets two ticks, labelled with the digits they need
+        assert_eq!(ticks(0.0625, 0.0997, 3), vec![0.07, 0.08, 0.09]);
     }
 }

@@ -2,6 +2,7 @@
 //! a view and picks a point to integrate.
 
 pub mod basin;
+pub mod continued;
 pub mod family;
 pub mod force;
 pub mod frame;
@@ -11,7 +12,7 @@ pub mod response;
 pub mod sweep;
 
 use isola::model::Device;
-use isola::session::results::{ResponsePoint, ResultView};
+use isola::session::results::{HuntView, ResponsePoint, ResultView};
 
 use super::theme::Theme;
 
@@ -83,7 +84,8 @@ pub enum Start {
     Offset([f64; 2]),
 }
 
-/// A point picked off a plot: integrate from `start` at `omega` (and family `member` value).
+/// A point picked off a plot: integrate from `start` at `omega` (and at `member`, the value of
+/// a family's or a continuation's parameter).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pick {
     pub omega: Option<f64>,
@@ -108,9 +110,18 @@ pub fn move_cursor(
 ) -> (usize, usize) {
     let fine = |n: usize| (n / 100).max(1) as isize;
     match view {
-        ResultView::Response(points) | ResultView::Stepped(points) => {
+        ResultView::Response(points)
+        | ResultView::Stepped(points)
+        | ResultView::Hunt(HuntView {
+            responses: points, ..
+        }) => {
             let c = PointCursor::new(points);
             move_point(&c, cursor, dx, dy)
+        }
+        ResultView::Continuation(c) => {
+            let branch = step(cursor.1, dy, c.branches.len());
+            let n = c.branches.get(branch).map_or(0, |b| b.points.len());
+            (step(cursor.0, dx * fine(n), n), branch)
         }
         ResultView::Family(f) => {
             let c = PointCursor::tagged(
@@ -147,7 +158,11 @@ fn move_point(c: &PointCursor, cursor: (usize, usize), dx: isize, dy: isize) -> 
 /// The orbit under the cursor, if the view has one.
 pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
     match view {
-        ResultView::Response(points) | ResultView::Stepped(points) => {
+        ResultView::Response(points)
+        | ResultView::Stepped(points)
+        | ResultView::Hunt(HuntView {
+            responses: points, ..
+        }) => {
             let p = PointCursor::new(points).point(cursor)?;
             Some(Pick {
                 omega: Some(p.omega),
@@ -173,6 +188,14 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
             member: None,
             start: Start::Offset([*b.dx.get(cursor.0)?, *b.v.get(cursor.1)?]),
         }),
+        ResultView::Continuation(c) => {
+            let p = continued::point(c, cursor)?;
+            Some(Pick {
+                omega: Some(p.omega),
+                member: Some(p.parameter),
+                start: Start::Absolute(p.start),
+            })
+        }
         _ => None,
     }
 }
@@ -181,9 +204,11 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
 pub fn initial_cursor(view: &ResultView) -> (usize, usize) {
     match view {
         ResultView::Basin(b) => (b.dx.len() / 2, b.v.len() / 2),
-        ResultView::Response(points) | ResultView::Stepped(points) => {
-            largest(&PointCursor::new(points))
-        }
+        ResultView::Response(points)
+        | ResultView::Stepped(points)
+        | ResultView::Hunt(HuntView {
+            responses: points, ..
+        }) => largest(&PointCursor::new(points)),
         ResultView::Family(f) => largest(&PointCursor::tagged(
             f.members
                 .iter()

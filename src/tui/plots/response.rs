@@ -7,7 +7,7 @@ use ratatui::text::{Line, Span};
 
 use super::frame::{Axis, Layer, XyPlot, legend_item};
 use super::{PlotContext, PointCursor};
-use isola::session::results::{ResponsePoint, branches};
+use isola::session::results::{ContinuedView, ResponsePoint, branches};
 
 /// The glyph of a response type: filled when reached by a sweep, outlined when hidden.
 pub fn glyph(response_type: &str, hidden: bool) -> &'static str {
@@ -34,9 +34,12 @@ pub fn short_type(response_type: &str) -> &str {
         .unwrap_or(response_type)
 }
 
-/// Amplitude over ω_e of `points`, joined by a line in sweep order if `joined`.
+/// Amplitude over ω_e of `points`, joined by a line in sweep order if `joined`, with
+/// `continued` branches drawn over them (a hunt's; these then replace the brute-force
+/// branches' lines in the footer).
 pub fn plot(
     points: &[ResponsePoint],
+    continued: &[ContinuedView],
     omega_range: (f64, f64),
     joined: bool,
     ctx: &PlotContext,
@@ -45,6 +48,11 @@ pub fn plot(
     let top = points
         .iter()
         .filter_map(|p| p.amplitude)
+        .chain(
+            continued
+                .iter()
+                .flat_map(|b| b.points.iter().map(|p| p.amplitude)),
+        )
         .fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
         Axis::new("ω_e", omega_range.0, omega_range.1),
@@ -148,7 +156,10 @@ pub fn plot(
         legend.push(Span::styled(format!("{n}× {t}  "), theme.muted()));
     }
     plot.footer.push(Line::from(legend));
-    for b in annotated {
+    if !continued.is_empty() {
+        super::continued::overlay(&mut plot, continued, |p| p.omega, "ω", ctx);
+    }
+    for b in annotated.into_iter().filter(|_| continued.is_empty()) {
         plot.footer.push(Line::from(Span::styled(
             format!(
                 "{} ω {:.2}–{:.2} ({:.1}–{:.1} Hz) peak {:.3}{}",

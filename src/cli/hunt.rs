@@ -1,0 +1,138 @@
+//! `isola hunt`: the frequency response from many initial states, then each subharmonic
+//! branch it finds continued both ways in ω: isola or attached, folds, period doublings and
+//! stable and unstable arcs.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use isola::analysis::Progress;
+use isola::analysis::continuation::ContinuationSpec;
+use isola::analysis::frequency_response::FrequencyResponseSpec;
+use isola::analysis::hunt::{HuntSpec, hunt};
+use isola::jobs::JobContext;
+use isola::model::Device;
+
+use super::model_args::ModelArgs;
+use super::parse;
+use super::start_ranges::StartRanges;
+
+#[derive(Debug, Args)]
+pub struct HuntArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Grid of initial states NΔλ x Nv of the frequency response.
+    #[arg(long, default_value = "15x15", value_parser = parse::grid)]
+    ics: (usize, usize),
+    #[command(flatten)]
+    starts: StartRanges,
+    /// Range MIN:MAX the branches are continued over (default: the --omega grid's).
+    #[arg(long, value_parser = parse::interval)]
+    range: Option<(f64, f64)>,
+    /// Largest arclength step of the continuation.
+    #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max)]
+    step_max: f64,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write the continued branches (one row per point and per bifurcation) to this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Write the frequency response (one row per response per ω) to this CSV file.
+    #[arg(long = "response-csv")]
+    response_csv: Option<PathBuf>,
+}
+
+pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
+    let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
+        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let params = args.model.params_at(omega.min)?;
+    let (dx, v) = args.starts.axes(args.ics);
+    let (min, max) = args
+        .range
+        .unwrap_or((omega.min.min(omega.max), omega.min.max(omega.max)));
+    let spec = HuntSpec {
+        response: FrequencyResponseSpec {
+            omega,
+            dx,
+            v,
+            ..FrequencyResponseSpec::default()
+        },
+        continuation: ContinuationSpec {
+            min,
+            max,
+            step_max: args.step_max,
+            step: ContinuationSpec::default().step.min(args.step_max),
+            ..ContinuationSpec::default()
+        },
+    };
+    let progress = std::sync::Arc::new(Progress::new(0));
+    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let started = Instant::now();
+    let found = ctx.run(|| hunt(&params, &spec, &progress))??;
+    let dev = Device::silicone();
+    let subharmonic = found
+        .response
+        .branches
+        .iter()
+        .filter(|b| b.is_subharmonic())
+        .count();
+    println!(
+        "hunt: {} ω values × {} initial states, {subharmonic} subharmonic brute-force branches → {} continued, in {:.2} s ({} threads)",
+        found.response.omegas.len(),
+        args.ics.0 * args.ics.1,
+        found.branches.len(),
+        started.elapsed().as_secs_f64(),
+        ctx.pool.current_num_threads(),
+    );
+    for (i, h) in found.branches.iter().enumerate() {
+        println!(
+            "#{i} {} (brute-force branches {:?}, {} points)",
+            h.describe(),
+            h.seeds,
+            h.branch.points.len()
+        );
+        println!(
+            "   ω {:.4}–{:.4} = {:.2}–{:.2} Hz; ends: {} / {}",
+            h.omega_min,
+            h.omega_max,
+            dev.hz(h.omega_min),
+            dev.hz(h.omega_max),
+            h.branch.ends[0],
+            h.branch.ends[1]
+        );
+        let arcs = |a: &[[f64; 2]]| {
+            a.iter()
+                .map(|r| format!("{:.4}–{:.4}", r[0], r[1]))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        println!(
+            "   stable ω {}; unstable ω {}",
+            arcs(&h.stable_arcs),
+            arcs(&h.unstable_arcs)
+        );
+        for b in &h.branch.bifurcations {
+            println!(
+                "   {:<16} ω {:.9} (±{:.0e}), amplitude {:.6}",
+                b.kind.as_str(),
+                b.omega,
+                b.precision.max(f64::EPSILON),
+                b.amplitude
+            );
+        }
+    }
+    for f in &found.failures {
+        println!("brute-force branch {} not continued: {}", f.seed, f.reason);
+    }
+    if let Some(path) = &args.csv {
+        let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
+        isola::session::export::continued_csv(&branches, path)?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.response_csv {
+        isola::session::export::response_csv(&found.response, path)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
