@@ -108,3 +108,65 @@ fn summary_shows_physical_units() {
     }
     assert!(text.contains("25.6"), "ω_e 1.8 is 25.6 Hz:\n{text}");
 }
+
+/// `isola continue --switch` at ADR 1.0: the 1:1 branch's two period doublings, the 1:2
+/// branch born at the first and ending at the second, once, in one CSV with a row per point
+/// and per located bifurcation.
+#[test]
+fn continue_switches_at_period_doublings_into_one_csv() {
+    let csv = std::env::temp_dir().join(format!("isola-switch-{}.csv", std::process::id()));
+    let out = isola(&[
+        "continue",
+        "--adr",
+        "1.0",
+        "--omega",
+        "3.0",
+        "--range",
+        "2:6",
+        "--switch",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(text.matches("period-2 branch").count(), 1, "{text}");
+    assert!(text.contains("is the one above"), "{text}");
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    let header = rows.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "branch,period,verdict,kind,omega,omega_e,lambda_i_0,v_0,amplitude_stretch,stable,mu1_re,mu1_im,mu2_re,mu2_im"
+    );
+    let kinds = |branch: &str, kind: &str| {
+        rows.lines()
+            .filter(|l| l.starts_with(&format!("{branch},")) && l.split(',').nth(3) == Some(kind))
+            .count()
+    };
+    assert_eq!(kinds("0", "period-doubling"), 2);
+    assert_eq!(kinds("1", "parent-period-doubling"), 2);
+    assert_eq!(kinds("1", "fold"), 2);
+    assert!(kinds("1", "point") > 50);
+    // the small-amplitude end near ω 4.93 stops at the doubling, not on the doubled 1:1
+    // response beyond it (amplitude ≈ 0.006 there too)
+    let low_end: f64 = rows
+        .lines()
+        .filter(|l| l.starts_with("1,") && l.split(',').nth(3) == Some("point"))
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split(',')
+                .skip(5)
+                .take(4)
+                .map(|x| x.parse().unwrap())
+                .collect();
+            (f[0], f[3])
+        })
+        .filter(|(w, amplitude)| *w < 5.2 && *amplitude < 0.02)
+        .map(|(w, _)| w)
+        .fold(f64::INFINITY, f64::min);
+    assert!(low_end >= 4.930032 && low_end < 4.94, "{low_end}");
+    let _ = std::fs::remove_file(&csv);
+}

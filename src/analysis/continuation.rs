@@ -348,6 +348,11 @@ impl From<ContinuationError> for AnalysisError {
     }
 }
 
+/// Poincaré points of one orbit closer than this (max-norm) are one point: far above the
+/// Newton tolerance, far below the gap of a subharmonic even 1e-10 away from its period
+/// doubling (the gap grows as the square root of the distance).
+const PARENT_GAP: f64 = 1e-7;
+
 /// Reads one test function (`None` where it does not apply).
 type TestOf = fn(&TestFunctions) -> Option<f64>;
 
@@ -572,6 +577,15 @@ impl Problem<'_> {
         found
     }
 
+    /// The divisor period j whose Poincaré points of `s` coincide within
+    /// [`PARENT_GAP`]: `s` is a period-j response counted k/j times.
+    fn on_parent(&self, s: &Solved) -> Option<usize> {
+        self.divisor_gaps(s)
+            .into_iter()
+            .find(|(_, d)| d[0].abs().max(d[1].abs()) < PARENT_GAP)
+            .map(|(j, _)| j)
+    }
+
     /// If the Poincaré points of a divisor period j merged between `a` and `b` (the gap
     /// P^j(x) − x reversed), the period doubling of the parent period-j response there.
     fn collapse(&self, a: &Solved, b: &Solved) -> Option<Bifurcation> {
@@ -697,6 +711,13 @@ impl Problem<'_> {
                 bifs.extend(self.crossings(&prev, &at, &t, t.dot(&(at.y - prev.y))));
                 points.push(self.point(&at));
                 return Ok((points, bifs, BranchEnd::Bound { value: bound }));
+            }
+            // a corrected point on the parent itself (its Poincaré points coincide): the
+            // branch walked through the period doubling onto the doubled parent
+            if let Some(j) = self.on_parent(&next) {
+                let b = self.parent_period_doubling(j, &prev, &next);
+                bifs.push(b);
+                return Ok((points, bifs, BranchEnd::Parent { period: j }));
             }
             if let Some(b) = self.collapse(&prev, &next) {
                 let period = b.period;

@@ -7,7 +7,10 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::branch_from_state::{BranchFromState, branch_from_state};
-use isola::analysis::continuation::{ContinuationParameter, ContinuationSpec, ContinuedBranch};
+use isola::analysis::continuation::{
+    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch,
+    switch_at_period_doubling,
+};
 
 use super::model_args::ModelArgs;
 use super::parse;
@@ -28,6 +31,10 @@ pub struct ContinueArgs {
     /// Largest arclength step.
     #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max)]
     step_max: f64,
+    /// At each period doubling, switch to the branch of twice the period born there and
+    /// continue it too.
+    #[arg(long)]
+    switch: bool,
     /// Write one row per branch point and per bifurcation to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -49,15 +56,49 @@ pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
         },
         ..BranchFromState::default()
     };
-    let branch = branch_from_state(&params, &spec, &Progress::new(0))?;
+    let progress = Progress::new(0);
+    let branch = branch_from_state(&params, &spec, &progress)?;
     print_summary(&branch);
+    let mut born = Vec::new();
+    if args.switch {
+        for pd in branch.of_kind(BifurcationKind::PeriodDoubling) {
+            let known = born.iter().any(|b: &ContinuedBranch| {
+                b.of_kind(BifurcationKind::ParentPeriodDoubling)
+                    .any(|end| (end.parameter - pd.parameter).abs() < 1e-6)
+            });
+            if known {
+                println!(
+                    "the branch born at {} = {:.9} is the one above (it ends there)",
+                    args.vary.name(),
+                    pd.parameter
+                );
+                continue;
+            }
+            println!(
+                "switching at the period doubling at {} = {:.9}:",
+                args.vary.name(),
+                pd.parameter
+            );
+            match switch_at_period_doubling(&branch, pd, &spec.continuation, &progress) {
+                Ok(b) => {
+                    print_summary(&b);
+                    born.push(b);
+                }
+                Err(e) => println!("  no branch: {e}"),
+            }
+        }
+    }
+    let points: usize = std::iter::once(&branch)
+        .chain(&born)
+        .map(|b| b.points.len())
+        .sum();
     println!(
-        "{} points in {:.2} s",
-        branch.points.len(),
+        "{points} points in {:.2} s",
         started.elapsed().as_secs_f64()
     );
     if let Some(path) = &args.csv {
-        isola::session::export::continued_csv(&[&branch], path)?;
+        let all: Vec<&ContinuedBranch> = std::iter::once(&branch).chain(&born).collect();
+        isola::session::export::continued_csv(&all, path)?;
         println!("wrote {}", path.display());
     }
     Ok(())
