@@ -167,6 +167,6 @@ fn continue_switches_at_period_doublings_into_one_csv() {
         .filter(|(w, amplitude)| *w < 5.2 && *amplitude < 0.02)
         .map(|(w, _)| w)
         .fold(f64::INFINITY, f64::min);
-    assert!(low_end >= 4.930032 && low_end < 4.94, "{low_end}");
+    assert!((4.930032..4.94).contains(&low_end), "{low_end}");
     let _ = std::fs::remove_file(&csv);
 }
