@@ -187,3 +187,47 @@ fn adr_1_0_hunt_finds_the_attached_branch_and_the_1_3() {
     assert!(third.omega_min < 3.6 && third.omega_max > 3.6);
     brute_force_lies_on_stable_arcs(&h);
 }
+
+/// Across ADR (Fig 7's family): no subharmonic at 0.15, a hidden isola at 0.3 and 0.6, an
+/// attached branch at 0.8: born between 0.15 and 0.3 and merged between 0.6 and 0.8, as the
+/// paper estimates (≈ 0.25 and ≈ 0.65).
+#[test]
+fn the_isola_is_born_and_merges_across_adr() {
+    use isola::analysis::family::FamilyParameter;
+    use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family, transitions};
+    let p = Params::paper(0.6, 3.0).unwrap();
+    let spec = HuntFamilySpec {
+        parameter: FamilyParameter::Adr,
+        values: vec![0.15, 0.3, 0.6, 0.8],
+        hunt: HuntSpec {
+            response: FrequencyResponseSpec {
+                omega: Axis::new(3.0, 6.0, 31),
+                dx: Axis::new(-0.8, 0.8, 7),
+                v: Axis::new(-1.0, 1.0, 7),
+                ..FrequencyResponseSpec::default()
+            },
+            continuation: ContinuationSpec {
+                min: 2.0,
+                max: 6.5,
+                ..ContinuationSpec::default()
+            },
+        },
+    };
+    let members = hunt_family(&p, &spec, &Progress::new(0), |_| {}).unwrap();
+    let verdicts: Vec<_> = members.iter().map(|m| m.verdict(2)).collect();
+    assert_eq!(
+        verdicts,
+        [
+            None,
+            Some(Verdict::Isola),
+            Some(Verdict::Isola),
+            Some(Verdict::Attached)
+        ]
+    );
+    let t = transitions(&members);
+    let of_1_2: Vec<_> = t.iter().filter(|t| t.period == 2).collect();
+    assert_eq!(of_1_2.len(), 2, "{t:?}");
+    assert_eq!((of_1_2[0].from, of_1_2[0].to), (0.15, 0.3));
+    assert_eq!((of_1_2[1].from, of_1_2[1].to), (0.6, 0.8));
+    assert!(of_1_2[1].describe("adr").contains("merges"));
+}

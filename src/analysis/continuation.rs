@@ -353,6 +353,10 @@ impl From<ContinuationError> for AnalysisError {
 /// doubling (the gap grows as the square root of the distance).
 const PARENT_GAP: f64 = 1e-7;
 
+/// A branch is taken to end on a parent only after a step at most this long (arclength)
+/// confirms it.
+const PARENT_CONFIRM_STEP: f64 = 1e-3;
+
 /// Reads one test function (`None` where it does not apply).
 type TestOf = fn(&TestFunctions) -> Option<f64>;
 
@@ -589,15 +593,23 @@ impl Problem<'_> {
     /// If the Poincaré points of a divisor period j merged between `a` and `b` (the gap
     /// P^j(x) − x reversed), the period doubling of the parent period-j response there.
     fn collapse(&self, a: &Solved, b: &Solved) -> Option<Bifurcation> {
+        self.reversed_gap(a, b)
+            .map(|j| self.parent_period_doubling(j, a, b))
+    }
+
+    /// True if some divisor period's gap P^j(x) − x reversed between `a` and `b`.
+    fn collapse_gap(&self, a: &Solved, b: &Solved) -> bool {
+        self.reversed_gap(a, b).is_some()
+    }
+
+    /// The divisor period j whose gap P^j(x) − x reversed between `a` and `b`.
+    fn reversed_gap(&self, a: &Solved, b: &Solved) -> Option<usize> {
         let (ga, gb) = (self.divisor_gaps(a), self.divisor_gaps(b));
-        for ((j, da), (_, db)) in ga.into_iter().zip(gb) {
+        ga.into_iter().zip(gb).find_map(|((j, da), (_, db))| {
             let dot = da[0] * db[0] + da[1] * db[1];
             let norms = da[0].hypot(da[1]) * db[0].hypot(db[1]);
-            if dot < -0.5 * norms {
-                return Some(self.parent_period_doubling(j, a, b));
-            }
-        }
-        None
+            (dot < -0.5 * norms).then_some(j)
+        })
     }
 
     /// The period doubling of the period-j parent between the branch points `a` and `b`:
@@ -711,6 +723,13 @@ impl Problem<'_> {
                 bifs.extend(self.crossings(&prev, &at, &t, t.dot(&(at.y - prev.y))));
                 points.push(self.point(&at));
                 return Ok((points, bifs, BranchEnd::Bound { value: bound }));
+            }
+            // the branch seems to reach a parent: confirm with a short step, since a long
+            // one can jump across a hairpin near a fold onto the other side or the parent
+            let at_parent = self.on_parent(&next).is_some() || self.collapse_gap(&prev, &next);
+            if at_parent && h > PARENT_CONFIRM_STEP.max(spec.step_min) {
+                h = (h * 0.25).max(spec.step_min);
+                continue;
             }
             // a corrected point on the parent itself (its Poincaré points coincide): the
             // branch walked through the period doubling onto the doubled parent

@@ -12,6 +12,7 @@ pub mod force_curve;
 pub mod frequency_response;
 pub mod grid;
 pub mod hunt;
+pub mod hunt_family;
 pub mod period_detector;
 pub mod period_map;
 pub mod progress;

@@ -8,8 +8,10 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::continuation::ContinuationSpec;
+use isola::analysis::family::FamilyParameter;
 use isola::analysis::frequency_response::FrequencyResponseSpec;
 use isola::analysis::hunt::{HuntSpec, hunt};
+use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family, transitions};
 use isola::jobs::JobContext;
 use isola::model::Device;
 
@@ -26,6 +28,13 @@ pub struct HuntArgs {
     ics: (usize, usize),
     #[command(flatten)]
     starts: StartRanges,
+    /// Hunt at each value of this parameter (adr, e_a, c_tilde, lambda_p, j), given by
+    /// --values: where isolas are born and where they merge.
+    #[arg(long, requires = "values", value_parser = |s: &str| FamilyParameter::parse(s).ok_or_else(|| format!("'{s}': one of adr, e_a, c_tilde, lambda_p, j")))]
+    vary: Option<FamilyParameter>,
+    /// The values of --vary, increasing, comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    values: Vec<f64>,
     /// Range MIN:MAX the branches are continued over (default: the --omega grid's).
     #[arg(long, value_parser = parse::interval)]
     range: Option<(f64, f64)>,
@@ -69,6 +78,41 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
+    if let Some(parameter) = args.vary {
+        let family = HuntFamilySpec {
+            parameter,
+            values: args.values.clone(),
+            hunt: spec,
+        };
+        let members = ctx.run(|| {
+            hunt_family(&params, &family, &progress, |m| {
+                let line: Vec<String> = m.branches.iter().map(|b| b.describe()).collect();
+                println!(
+                    "{} {}: {}",
+                    parameter.name(),
+                    m.value,
+                    if line.is_empty() {
+                        "no subharmonic branch".into()
+                    } else {
+                        line.join("; ")
+                    }
+                );
+            })
+        })??;
+        for t in transitions(&members) {
+            println!("{}", t.describe(parameter.name()));
+        }
+        println!(
+            "{} values in {:.2} s",
+            members.len(),
+            started.elapsed().as_secs_f64()
+        );
+        if let Some(path) = &args.csv {
+            isola::session::export::hunt_family_csv(parameter.name(), &members, path)?;
+            println!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
     let found = ctx.run(|| hunt(&params, &spec, &progress))??;
     let dev = Device::silicone();
     let subharmonic = found

@@ -402,3 +402,57 @@ pub fn continued_csv(
         Ok(())
     })
 }
+
+/// One row per hunted branch per value of a hunt family: `PARAMETER, period, verdict,
+/// hidden, omega_min, omega_max, peak_amplitude_stretch, peak_omega, folds,
+/// period_doublings` (the located ω_e of each kind, `;`-separated).
+pub fn hunt_family_csv(
+    parameter: &str,
+    members: &[crate::analysis::hunt_family::HuntMember],
+    path: &Path,
+) -> anyhow::Result<()> {
+    use crate::analysis::continuation::BifurcationKind;
+    write_atomic(path, |w| {
+        w.write_record([
+            parameter,
+            "period",
+            "verdict",
+            "hidden",
+            "omega_min",
+            "omega_max",
+            "peak_amplitude_stretch",
+            "peak_omega",
+            "folds",
+            "period_doublings",
+        ])?;
+        for m in members {
+            for b in &m.branches {
+                let located = |kinds: &[BifurcationKind]| {
+                    b.branch
+                        .bifurcations
+                        .iter()
+                        .filter(|f| kinds.contains(&f.kind))
+                        .map(|f| format!("{:.9}", f.omega))
+                        .collect::<Vec<_>>()
+                        .join(";")
+                };
+                w.write_record([
+                    m.value.to_string(),
+                    b.branch.period.to_string(),
+                    b.verdict.as_str().to_string(),
+                    b.hidden.to_string(),
+                    format!("{:.9}", b.omega_min),
+                    format!("{:.9}", b.omega_max),
+                    format!("{:.9}", b.peak_amplitude),
+                    format!("{:.6}", b.peak_omega),
+                    located(&[BifurcationKind::Fold]),
+                    located(&[
+                        BifurcationKind::PeriodDoubling,
+                        BifurcationKind::ParentPeriodDoubling,
+                    ]),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,144 @@
+//! The hunt across a parameter family: at each value of one model parameter, the subharmonic
+//! branches of the frequency response continued in ω_e and told apart (isola, attached); the
+//! values between which the picture changes bracket where an isola is born or merges.
+
+use serde::{Deserialize, Serialize};
+
+use super::AnalysisError;
+use super::family::FamilyParameter;
+use super::hunt::{HuntSpec, HuntedBranch, Verdict, hunt};
+use super::progress::Progress;
+use crate::model::Params;
+use crate::model::error::ParamError;
+
+/// A hunt per value of `parameter`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HuntFamilySpec {
+    pub parameter: FamilyParameter,
+    pub values: Vec<f64>,
+    #[serde(default)]
+    pub hunt: HuntSpec,
+}
+
+impl HuntFamilySpec {
+    /// Checks the values (1 to 1000, increasing, each a valid model with `base`) and the hunt.
+    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+        let increasing = self.values.windows(2).all(|w| w[1] > w[0]);
+        if self.values.is_empty() || self.values.len() > 1000 || !increasing {
+            return Err(ParamError {
+                field: "values",
+                value: self.values.len() as f64,
+                allowed: "1 to 1000 increasing values".into(),
+            });
+        }
+        for &v in &self.values {
+            let p = self.parameter.apply(base, v)?;
+            self.hunt.validate(&p)?;
+        }
+        Ok(())
+    }
+}
+
+/// The hunted branches at one value of the family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HuntMember {
+    pub value: f64,
+    pub branches: Vec<HuntedBranch>,
+}
+
+impl HuntMember {
+    /// The verdict of the period-`k` branch with the largest peak, if there is one.
+    pub fn verdict(&self, k: usize) -> Option<Verdict> {
+        self.branches
+            .iter()
+            .filter(|b| b.branch.period == k)
+            .max_by(|a, b| a.peak_amplitude.total_cmp(&b.peak_amplitude))
+            .map(|b| b.verdict)
+    }
+}
+
+/// Between two adjacent values the period-k picture changes: `before` → `after` (`None`: no
+/// such branch).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Transition {
+    pub period: usize,
+    pub from: f64,
+    pub to: f64,
+    pub before: Option<Verdict>,
+    pub after: Option<Verdict>,
+}
+
+impl Transition {
+    /// `1:2 isola born between adr 0.2 and 0.3`, `... merges ...`.
+    pub fn describe(&self, parameter: &str) -> String {
+        let what = match (self.before, self.after) {
+            (None, Some(Verdict::Isola)) => "an isola is born".to_string(),
+            (Some(Verdict::Isola), None) => "the isola vanishes".to_string(),
+            (Some(Verdict::Isola), Some(Verdict::Attached | Verdict::HalfAttached)) => {
+                "the isola merges with the main branch".to_string()
+            }
+            (Some(Verdict::Attached | Verdict::HalfAttached), Some(Verdict::Isola)) => {
+                "the branch detaches into an isola".to_string()
+            }
+            (a, b) => format!(
+                "{} → {}",
+                a.map_or("none", |v| v.as_str()),
+                b.map_or("none", |v| v.as_str())
+            ),
+        };
+        format!(
+            "1:{}: {what} between {parameter} {} and {}",
+            self.period, self.from, self.to
+        )
+    }
+}
+
+/// Runs the hunt at each value in turn (each on the whole pool).
+pub fn hunt_family(
+    params: &Params,
+    spec: &HuntFamilySpec,
+    progress: &Progress,
+    mut on_member: impl FnMut(&HuntMember),
+) -> Result<Vec<HuntMember>, AnalysisError> {
+    spec.validate(params)?;
+    spec.values
+        .iter()
+        .map(|&value| {
+            let p = spec.parameter.apply(params, value)?;
+            let found = hunt(&p, &spec.hunt, progress)?;
+            let member = HuntMember {
+                value,
+                branches: found.branches,
+            };
+            on_member(&member);
+            Ok(member)
+        })
+        .collect()
+}
+
+/// Where the verdict of each subharmonic period changes between adjacent members.
+pub fn transitions(members: &[HuntMember]) -> Vec<Transition> {
+    let mut periods: Vec<usize> = members
+        .iter()
+        .flat_map(|m| m.branches.iter().map(|b| b.branch.period))
+        .collect();
+    periods.sort_unstable();
+    periods.dedup();
+    let mut out = Vec::new();
+    for k in periods {
+        for w in members.windows(2) {
+            let (before, after) = (w[0].verdict(k), w[1].verdict(k));
+            if before != after {
+                out.push(Transition {
+                    period: k,
+                    from: w[0].value,
+                    to: w[1].value,
+                    before,
+                    after,
+                });
+            }
+        }
+    }
+    out
+}
