@@ -10,7 +10,8 @@ use isola::analysis::Progress;
 use isola::analysis::continuation::ContinuationSpec;
 use isola::analysis::family::FamilyParameter;
 use isola::analysis::frequency_response::FrequencyResponseSpec;
-use isola::analysis::hunt::{HuntSpec, hunt};
+use isola::analysis::frequency_response::frequency_response;
+use isola::analysis::hunt::{HuntSpec, hunt_in};
 use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family, transitions};
 use isola::jobs::JobContext;
 use isola::model::Device;
@@ -113,7 +114,10 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
-    let found = ctx.run(|| hunt(&params, &spec, &progress))??;
+    spec.validate(&params)?;
+    let response = ctx.run(|| frequency_response(&params, &spec.response, &progress))??;
+    let brute_force = started.elapsed().as_secs_f64();
+    let found = ctx.run(|| hunt_in(&params, response, &spec.continuation, &progress))??;
     let dev = Device::silicone();
     let subharmonic = found
         .response
@@ -122,11 +126,12 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
         .filter(|b| b.is_subharmonic())
         .count();
     println!(
-        "hunt: {} ω values × {} initial states, {subharmonic} subharmonic brute-force branches → {} continued, in {:.2} s ({} threads)",
+        "hunt: {} ω values × {} initial states, {subharmonic} subharmonic brute-force branches → {} continued, in {:.2} s ({brute_force:.2} s brute force, {:.2} s continuation; {} threads)",
         found.response.omegas.len(),
         args.ics.0 * args.ics.1,
         found.branches.len(),
         started.elapsed().as_secs_f64(),
+        started.elapsed().as_secs_f64() - brute_force,
         ctx.pool.current_num_threads(),
     );
     for (i, h) in found.branches.iter().enumerate() {
