@@ -13,10 +13,9 @@ use isola::analysis::grid::Axis;
 use isola::analysis::hunt::{Hunt, HuntSpec, Verdict, hunt};
 use isola::model::Params;
 
-/// A hunt over ω 3.0–6.0 by 0.1 from 7 × 7 initial states.
-fn hunt_at(adr: f64) -> Hunt {
-    let p = Params::paper(adr, 3.0).unwrap();
-    let spec = HuntSpec {
+/// A hunt over ω 3.0–6.0 by 0.1 from 7 × 7 initial states, continued over ω 2–6.5.
+fn coarse_hunt() -> HuntSpec {
+    HuntSpec {
         response: FrequencyResponseSpec {
             omega: Axis::new(3.0, 6.0, 31),
             dx: Axis::new(-0.8, 0.8, 7),
@@ -28,8 +27,12 @@ fn hunt_at(adr: f64) -> Hunt {
             max: 6.5,
             ..ContinuationSpec::default()
         },
-    };
-    hunt(&p, &spec, &Progress::new(0)).unwrap()
+    }
+}
+
+fn hunt_at(adr: f64) -> Hunt {
+    let p = Params::paper(adr, 3.0).unwrap();
+    hunt(&p, &coarse_hunt(), &Progress::new(0)).unwrap()
 }
 
 /// Every brute-force response of every subharmonic branch lies on the hunted branch it was
@@ -199,19 +202,7 @@ fn the_isola_is_born_and_merges_across_adr() {
     let spec = HuntFamilySpec {
         parameter: FamilyParameter::Adr,
         values: vec![0.15, 0.3, 0.6, 0.8],
-        hunt: HuntSpec {
-            response: FrequencyResponseSpec {
-                omega: Axis::new(3.0, 6.0, 31),
-                dx: Axis::new(-0.8, 0.8, 7),
-                v: Axis::new(-1.0, 1.0, 7),
-                ..FrequencyResponseSpec::default()
-            },
-            continuation: ContinuationSpec {
-                min: 2.0,
-                max: 6.5,
-                ..ContinuationSpec::default()
-            },
-        },
+        hunt: coarse_hunt(),
     };
     let members = hunt_family(&p, &spec, &Progress::new(0), |_| {}).unwrap();
     let verdicts: Vec<_> = members.iter().map(|m| m.verdict(2)).collect();
