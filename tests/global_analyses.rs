@@ -194,9 +194,91 @@ fn basin_early_stop_and_threads_do_not_change_results() {
             &plain.table.attractors[a].response,
             &fast.table.attractors[b].response,
         );
-        assert_eq!((ra.class, ra.period), (rb.class, rb.period), "cell {c}");
-        if let (Some(x), Some(y)) = (ra.amplitude, rb.amplitude) {
-            assert!((x - y).abs() < 1e-4, "cell {c}: {x} vs {y}");
+        assert_eq!(
+            (ra.class, ra.period, ra.ratio),
+            (rb.class, rb.period, rb.ratio),
+            "cell {c}"
+        );
+        match (ra.amplitude, rb.amplitude) {
+            (Some(x), Some(y)) => assert!((x - y).abs() < 1e-4, "cell {c}: {x} vs {y}"),
+            (x, y) => assert_eq!(x.is_some(), y.is_some(), "cell {c}"),
+        }
+    }
+}
+
+/// Offline check of the full Fig 6A basin (201 × 251, about 30 s of CPU: run with
+/// `cargo test --test global_analyses -- --ignored`): the early stop gives every cell the plain
+/// method's class, period and ratio, and its amplitude within 1e-4.
+#[test]
+#[ignore]
+fn fig6a_full_basin_early_stop_equals_plain() {
+    use isola::analysis::basin::BasinPlan;
+    use rayon::prelude::*;
+    let p = Params::paper(0.6, 3.7).unwrap();
+    let outcomes = |early_stop: bool| {
+        let spec = BasinSpec {
+            early_stop,
+            ..BasinSpec::default()
+        };
+        let progress = Progress::new(0);
+        let plan = BasinPlan::new(&p, &spec, &progress).unwrap();
+        (0..plan.chunks())
+            .into_par_iter()
+            .map(|n| plan.chunk(n, &progress).unwrap())
+            .collect::<Vec<_>>()
+            .concat()
+    };
+    let (plain, fast) = (outcomes(false), outcomes(true));
+    assert_eq!(plain.len(), 201 * 251);
+    let mut worst = 0.0f64;
+    for (c, (a, b)) in plain.iter().zip(&fast).enumerate() {
+        assert_eq!(
+            (a.class, a.period, a.ratio),
+            (b.class, b.period, b.ratio),
+            "cell {c}"
+        );
+        if let (Some(x), Some(y)) = (a.amplitude, b.amplitude) {
+            worst = worst.max((x - y).abs());
+        }
+    }
+    eprintln!("largest amplitude difference {worst:e}");
+    assert!(worst < 1e-4, "{worst}");
+}
+
+/// The early stop changes no result of a frequency response either: across the 1:2 isola at
+/// ADR 0.6 (ω_e 3.5–3.9, 9 × 9 starts, neighbour seeding), every ω_e has the same responses in
+/// the same order (class, period, ratio, starts reaching it, seeded or not) as integrating
+/// every start to full convergence, with amplitudes within 1e-4.
+#[test]
+fn response_early_stop_keeps_every_response() {
+    let spec = FrequencyResponseSpec {
+        omega: Axis::new(3.5, 3.9, 5),
+        dx: Axis::new(-0.8, 0.8, 9),
+        v: Axis::new(-1.0, 1.0, 9),
+        sweeps: false,
+        ..FrequencyResponseSpec::default()
+    };
+    let plain_spec = FrequencyResponseSpec {
+        early_stop: false,
+        ..spec.clone()
+    };
+    let p = Params::paper(0.6, 1.0).unwrap();
+    let fast = frequency_response(&p, &spec, &Progress::new(0)).unwrap();
+    let plain = frequency_response(&p, &plain_spec, &Progress::new(0)).unwrap();
+    assert!(
+        plain.responses.iter().any(|r| r.steady.period == Some(2)),
+        "the isola is in the range"
+    );
+    assert_eq!(fast.responses.len(), plain.responses.len());
+    for (a, b) in plain.responses.iter().zip(&fast.responses) {
+        let key = |r: &isola::analysis::frequency_response::Response| {
+            let s = &r.steady;
+            (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
+        };
+        assert_eq!(key(a), key(b));
+        match (a.steady.amplitude, b.steady.amplitude) {
+            (Some(x), Some(y)) => assert!((x - y).abs() < 1e-4, "ω {}: {x} vs {y}", a.omega),
+            (x, y) => assert_eq!(x.is_some(), y.is_some(), "ω {}", a.omega),
         }
     }
 }
