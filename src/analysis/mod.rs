@@ -3,6 +3,7 @@
 pub mod attractor;
 pub mod basin;
 pub mod batch;
+pub mod bifurcation_curve;
 pub mod branch_from_state;
 pub mod chirp_sweep;
 pub mod continuation;
@@ -13,6 +14,7 @@ pub mod frequency_response;
 pub mod grid;
 pub mod hunt;
 pub mod hunt_family;
+pub mod isola_limits;
 pub mod period_detector;
 pub mod period_map;
 pub mod progress;

@@ -12,7 +12,8 @@ use isola::analysis::family::FamilyParameter;
 use isola::analysis::frequency_response::FrequencyResponseSpec;
 use isola::analysis::frequency_response::frequency_response;
 use isola::analysis::hunt::{HuntSpec, hunt_in};
-use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family, transitions};
+use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family};
+use isola::analysis::isola_limits::locate_limits;
 use isola::jobs::JobContext;
 use isola::model::Device;
 
@@ -100,8 +101,19 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
                 );
             })
         })??;
-        for t in transitions(&members) {
-            println!("{}", t.describe(parameter.name()));
+        let name = parameter.name();
+        for (t, limit) in locate_limits(&params, &family, &members, 1e-4, &progress)? {
+            match limit {
+                Some(l) => println!(
+                    "{}: at {name} = {:.9} ± {:.0e} (ω {:.6}, amplitude {:.6})",
+                    t.describe(name),
+                    l.value,
+                    l.precision,
+                    l.omega,
+                    l.amplitude
+                ),
+                None => println!("{}", t.describe(name)),
+            }
         }
         println!(
             "{} values in {:.2} s",

@@ -1,0 +1,548 @@
+//! Folds and period doublings continued in two parameters: the curves that bound where
+//! responses exist, and their turning points, where an isola is born (its two folds meet at a
+//! minimum of the second parameter) or merges with another branch (two facing folds meet at
+//! a maximum).
+//!
+//! Unknowns y = (λ_I, v, μ₁, μ₂) at τ = 0; equations P^k(x) − x = 0 and the test function
+//! det(M − I) = 0 (fold) or det(M + I) = 0 (period doubling), M the monodromy of the k-fold
+//! map; pseudo-arclength with the condition t·(y − y_pred) = 0. The state columns of the first
+//! two rows are M − I from the variational equations; every other entry of the Jacobian is a
+//! central difference (relative step 1e-6; the test function is a smooth function of M away
+//! from collisions, and the integration tolerance 1e-11 leaves it good to about 1e-5, which
+//! only slows Newton, not the point it converges to).
+
+use nalgebra::{Matrix2, Matrix4, RowVector4, Vector4};
+use serde::{Deserialize, Serialize};
+
+use super::continuation::{
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, ContinuationParameter,
+};
+use super::floquet::{Multipliers, TestFunctions};
+use super::progress::Progress;
+use super::shooting::{PeriodFlow, ShootingError, ShootingSpec, VariationalFlow};
+use crate::model::error::{ParamError, check};
+use crate::model::{ParamSpec, Params};
+use crate::solver::Collision;
+
+/// Relative step of the finite differences in the Jacobian.
+const DIFFERENCE_STEP: f64 = 1e-6;
+/// The test function converges to this times the Newton tolerance: it carries the
+/// integration's error amplified by the monodromy (1e-8 puts the critical multiplier within
+/// about 1e-7 of ±1).
+const TEST_TOL_FACTOR: f64 = 100.0;
+
+/// How a bifurcation is continued in a second parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CurveSpec {
+    /// The second parameter (the first is the branch's own).
+    pub second: ContinuationParameter,
+    /// The curve stops where the second parameter leaves [min, max]...
+    pub min: f64,
+    pub max: f64,
+    /// ... or the first leaves [first_min, first_max].
+    pub first_min: f64,
+    pub first_max: f64,
+    /// First arclength step and its bounds (arclength in (λ_I, v, μ₁, μ₂)).
+    pub step: f64,
+    pub step_min: f64,
+    pub step_max: f64,
+    /// Points per direction at most.
+    pub max_points: usize,
+    pub shooting: ShootingSpec,
+}
+
+impl Default for CurveSpec {
+    /// ADR over [0.05, 1.5], the first parameter (ω_e) over [0.2, 6].
+    fn default() -> Self {
+        CurveSpec {
+            second: ContinuationParameter::Model(super::family::FamilyParameter::Adr),
+            min: 0.05,
+            max: 1.5,
+            first_min: 0.2,
+            first_max: 6.0,
+            step: 0.01,
+            step_min: 1e-6,
+            step_max: 0.03,
+            max_points: 2000,
+            shooting: ShootingSpec::default(),
+        }
+    }
+}
+
+impl CurveSpec {
+    /// Checks every field for a curve whose first parameter is `first`, about `base`.
+    pub fn validate(&self, base: &Params, first: ContinuationParameter) -> Result<(), ParamError> {
+        if self.second == first {
+            return Err(ParamError {
+                field: "second",
+                value: f64::NAN,
+                allowed: format!("a parameter other than the branch's own ({})", first.name()),
+            });
+        }
+        check(
+            "min",
+            self.min,
+            |m| m < self.max,
+            format!("< max = {}", self.max),
+        )?;
+        check(
+            "first_min",
+            self.first_min,
+            |m| m < self.first_max,
+            format!("< first_max = {}", self.first_max),
+        )?;
+        for v in [self.min, self.max] {
+            self.second.apply(base, v)?;
+        }
+        for v in [self.first_min, self.first_max] {
+            first.apply(base, v)?;
+        }
+        check("step_max", self.step_max, |s| s > 0.0 && s <= 1.0, "(0, 1]")?;
+        check(
+            "step_min",
+            self.step_min,
+            |s| s > 0.0 && s < self.step_max,
+            format!("(0, step_max = {})", self.step_max),
+        )?;
+        check(
+            "step",
+            self.step,
+            |s| s >= self.step_min && s <= self.step_max,
+            format!(
+                "[step_min, step_max] = [{}, {}]",
+                self.step_min, self.step_max
+            ),
+        )?;
+        check(
+            "max_points",
+            self.max_points as f64,
+            |n| (2.0..=1e6).contains(&n),
+            "[2, 1000000]",
+        )?;
+        self.shooting.validate()
+    }
+}
+
+/// One point of a bifurcation curve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CurvePoint {
+    /// The first parameter's value (the branch's own).
+    pub first: f64,
+    pub second: f64,
+    pub omega: f64,
+    /// The orbit's state [λ_I, v] at τ = 0.
+    pub x: [f64; 2],
+    pub amplitude: f64,
+    pub multipliers: Multipliers,
+}
+
+/// Which parameter turns at an extremum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Turning {
+    First,
+    Second,
+}
+
+/// A located extremum of one parameter along the curve: where two bifurcations of the same
+/// kind meet (the curve folds back in that parameter).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Extremum {
+    pub of: Turning,
+    /// A minimum of that parameter (else a maximum).
+    pub minimum: bool,
+    pub point: CurvePoint,
+    /// Width of the last bracket in that parameter.
+    pub precision: f64,
+}
+
+/// A fold or period-doubling curve in two parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BifurcationCurve {
+    /// `Fold` or `PeriodDoubling` (a parent's period doubling is continued as the parent's).
+    pub kind: BifurcationKind,
+    /// Period of the response that bifurcates.
+    pub period: usize,
+    pub first: ContinuationParameter,
+    pub second: ContinuationParameter,
+    /// The model the curve started from.
+    pub base: ParamSpec,
+    /// In order along the curve.
+    pub points: Vec<CurvePoint>,
+    pub extrema: Vec<Extremum>,
+    /// How the first and the last point of `points` ended the curve.
+    pub ends: [BranchEnd; 2],
+}
+
+impl BifurcationCurve {
+    /// The extrema of one parameter.
+    pub fn extrema_of(&self, of: Turning) -> impl Iterator<Item = &Extremum> {
+        self.extrema.iter().filter(move |e| e.of == of)
+    }
+}
+
+/// Continues `bif`, located on a branch of `base` continued in `first`, in `first` and
+/// `spec.second` both ways from where it was found.
+pub fn continue_bifurcation(
+    base: &Params,
+    first: ContinuationParameter,
+    bif: &Bifurcation,
+    spec: &CurveSpec,
+    progress: &Progress,
+) -> Result<BifurcationCurve, ContinuationError> {
+    spec.validate(base, first)?;
+    let flip = match bif.kind {
+        BifurcationKind::Fold => false,
+        BifurcationKind::PeriodDoubling | BifurcationKind::ParentPeriodDoubling => true,
+        BifurcationKind::NeimarkSacker => {
+            return Err(ContinuationError::Param(ParamError {
+                field: "kind",
+                value: f64::NAN,
+                allowed: "a fold or a period doubling".into(),
+            }));
+        }
+    };
+    let problem = Curve {
+        base: *base,
+        k: bif.period,
+        first,
+        second: spec.second,
+        flip,
+        spec,
+    };
+    let guess = Vector4::new(bif.x[0], bif.x[1], bif.parameter, spec.second.value(base));
+    // the located point is good to the locator's precision: polish it on the curve, the
+    // arclength condition fixing the second parameter
+    let along_second = Vector4::new(0.0, 0.0, 0.0, 1.0);
+    let start = problem
+        .correct(guess, &along_second)
+        .map_err(|f| ContinuationError::Seed(f.into_shooting()))?;
+    let t0 = problem
+        .tangent(&start, &along_second)
+        .ok_or(ContinuationError::Seed(ShootingError::Singular))?;
+    let (fwd, mut extrema, end_fwd) = problem.run(&start, t0, progress)?;
+    let mut points = vec![problem.point(&start)];
+    let end_back = if end_fwd == BranchEnd::Closed {
+        BranchEnd::Closed
+    } else {
+        let (back, e2, end) = problem.run(&start, -t0, progress)?;
+        extrema.extend(e2);
+        points = back.into_iter().rev().chain(points).collect();
+        end
+    };
+    points.extend(fwd);
+    Ok(BifurcationCurve {
+        kind: if flip {
+            BifurcationKind::PeriodDoubling
+        } else {
+            BifurcationKind::Fold
+        },
+        period: bif.period,
+        first,
+        second: spec.second,
+        base: base.to_spec(),
+        points,
+        extrema,
+        ends: [end_back, end_fwd],
+    })
+}
+
+/// A corrected curve point with its Jacobian.
+#[derive(Debug, Clone)]
+struct Solved {
+    y: Vector4<f64>,
+    flow: PeriodFlow,
+    /// Rows: P^k(x) − x (two) and the test function; columns: λ_I, v, μ₁, μ₂.
+    jac: nalgebra::Matrix3x4<f64>,
+    iterations: usize,
+}
+
+/// Why a corrector failed.
+enum Failure {
+    Collision(Collision),
+    Diverged,
+}
+
+impl Failure {
+    fn into_shooting(self) -> ShootingError {
+        match self {
+            Failure::Collision(c) => ShootingError::Collision(c),
+            Failure::Diverged => ShootingError::Singular,
+        }
+    }
+}
+
+/// The curve problem for period `k` about the model `base`.
+struct Curve<'a> {
+    base: Params,
+    k: usize,
+    first: ContinuationParameter,
+    second: ContinuationParameter,
+    /// Period doubling (det(M + I)) rather than fold (det(M − I)).
+    flip: bool,
+    spec: &'a CurveSpec,
+}
+
+impl Curve<'_> {
+    fn params_at(&self, first: f64, second: f64) -> Option<Params> {
+        let p = self.second.apply(&self.base, second).ok()?;
+        self.first.apply(&p, first).ok()
+    }
+
+    fn flow(&self, y: &Vector4<f64>) -> Result<PeriodFlow, Failure> {
+        let p = self.params_at(y[2], y[3]).ok_or(Failure::Diverged)?;
+        VariationalFlow::new(&p, self.spec.shooting.tol)
+            .orbit([y[0], y[1]], self.k)
+            .map_err(Failure::Collision)
+    }
+
+    fn test(&self, m: &Matrix2<f64>) -> f64 {
+        let t = TestFunctions::of(m);
+        if self.flip { t.flip } else { t.fold }
+    }
+
+    /// The residual [P^k(x) − x; test] of a flow from `y`.
+    fn residual(&self, y: &Vector4<f64>, flow: &PeriodFlow) -> nalgebra::Vector3<f64> {
+        nalgebra::Vector3::new(
+            flow.end[0] - y[0],
+            flow.end[1] - y[1],
+            self.test(&flow.monodromy),
+        )
+    }
+
+    /// The flow at `y` and the Jacobian of the residual there.
+    fn evaluate(&self, y: &Vector4<f64>) -> Result<Solved, Failure> {
+        let flow = self.flow(y)?;
+        let mut jac = nalgebra::Matrix3x4::zeros();
+        for c in 0..4 {
+            let d = DIFFERENCE_STEP * y[c].abs().max(1.0);
+            let mut up = *y;
+            let mut down = *y;
+            up[c] += d;
+            down[c] -= d;
+            let (ru, rd) = (
+                self.residual(&up, &self.flow(&up)?),
+                self.residual(&down, &self.flow(&down)?),
+            );
+            jac.set_column(c, &((ru - rd) / (2.0 * d)));
+        }
+        // the state columns of P^k(x) − x exactly, from the variational equations
+        let m = flow.monodromy;
+        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            jac[(r, c)] = m[(r, c)] - if r == c { 1.0 } else { 0.0 };
+        }
+        Ok(Solved {
+            y: *y,
+            flow,
+            jac,
+            iterations: 0,
+        })
+    }
+
+    /// Newton on [residual; t·(y − pred)] = 0 from the predictor.
+    fn correct(&self, pred: Vector4<f64>, t: &Vector4<f64>) -> Result<Solved, Failure> {
+        let tol = self.spec.shooting.newton_tol;
+        let mut y = pred;
+        for it in 0..self.spec.shooting.max_iterations {
+            let mut s = self.evaluate(&y)?;
+            let r = self.residual(&y, &s.flow);
+            if it > 0 && r[0].abs().max(r[1].abs()) < tol && r[2].abs() < TEST_TOL_FACTOR * tol {
+                s.iterations = it;
+                return Ok(s);
+            }
+            let a = Self::bordered(&s, t);
+            let rhs = Vector4::new(-r[0], -r[1], -r[2], -t.dot(&(y - pred)));
+            let dy = a.lu().solve(&rhs).ok_or(Failure::Diverged)?;
+            if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
+                return Err(Failure::Diverged);
+            }
+            y += dy;
+        }
+        Err(Failure::Diverged)
+    }
+
+    /// The Jacobian with `t` as its last row.
+    fn bordered(s: &Solved, t: &Vector4<f64>) -> Matrix4<f64> {
+        Matrix4::from_rows(&[
+            s.jac.row(0).into_owned(),
+            s.jac.row(1).into_owned(),
+            s.jac.row(2).into_owned(),
+            RowVector4::new(t[0], t[1], t[2], t[3]),
+        ])
+    }
+
+    /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
+    fn tangent(&self, s: &Solved, prev: &Vector4<f64>) -> Option<Vector4<f64>> {
+        let t = Self::bordered(s, prev)
+            .lu()
+            .solve(&Vector4::new(0.0, 0.0, 0.0, 1.0))?
+            .normalize();
+        t.iter()
+            .all(|v| v.is_finite())
+            .then(|| if t.dot(prev) < 0.0 { -t } else { t })
+    }
+
+    fn point(&self, s: &Solved) -> CurvePoint {
+        let omega = match (self.first, self.second) {
+            (ContinuationParameter::Omega, _) => s.y[2],
+            (_, ContinuationParameter::Omega) => s.y[3],
+            _ => self.base.omega(),
+        };
+        CurvePoint {
+            first: s.y[2],
+            second: s.y[3],
+            omega,
+            x: [s.y[0], s.y[1]],
+            amplitude: s.flow.lambda_max - s.flow.lambda_min,
+            multipliers: Multipliers::of(&s.flow.monodromy),
+        }
+    }
+
+    fn outside(&self, y: &Vector4<f64>) -> bool {
+        let s = self.spec;
+        y[2] < s.first_min || y[2] > s.first_max || y[3] < s.min || y[3] > s.max
+    }
+
+    /// Continues from `start` along `t0` until an end; returns the points after `start` and
+    /// the extrema passed.
+    fn run(
+        &self,
+        start: &Solved,
+        t0: Vector4<f64>,
+        progress: &Progress,
+    ) -> Result<(Vec<CurvePoint>, Vec<Extremum>, BranchEnd), ContinuationError> {
+        let spec = self.spec;
+        let (mut prev, mut t, mut h) = (start.clone(), t0, spec.step);
+        let mut points = Vec::new();
+        let mut extrema = Vec::new();
+        loop {
+            if progress.is_cancelled() {
+                return Err(ContinuationError::Cancelled);
+            }
+            if points.len() >= spec.max_points {
+                return Ok((points, extrema, BranchEnd::MaxPoints));
+            }
+            let next = match self.correct(prev.y + t * h, &t) {
+                Ok(s) => Some(s),
+                Err(Failure::Collision(c)) if h <= spec.step_min => {
+                    return Ok((
+                        points,
+                        extrema,
+                        BranchEnd::Collision {
+                            tau: c.tau,
+                            lambda_i: c.lambda_i,
+                        },
+                    ));
+                }
+                Err(_) => None,
+            };
+            let next = next.and_then(|s| {
+                let tn = self.tangent(&s, &t)?;
+                let moved = (s.y - (prev.y + t * h)).norm();
+                let smooth = tn.dot(&t) > 0.9 && moved < 0.3 * h;
+                (smooth || h <= spec.step_min).then_some((s, tn))
+            });
+            let Some((next, t_next)) = next else {
+                if h <= spec.step_min {
+                    return Ok((points, extrema, BranchEnd::StepTooSmall));
+                }
+                h = (h * 0.5).max(spec.step_min);
+                continue;
+            };
+            progress.grow_total(1);
+            progress.add(1);
+            for (of, c) in [(Turning::First, 2), (Turning::Second, 3)] {
+                if (t[c] < 0.0) != (t_next[c] < 0.0) {
+                    extrema.push(self.extremum(&prev, &t, h, of, c));
+                }
+            }
+            if self.outside(&next.y) {
+                points.push(self.point(&next));
+                let value = if next.y[3] < spec.min || next.y[3] > spec.max {
+                    next.y[3]
+                } else {
+                    next.y[2]
+                };
+                return Ok((points, extrema, BranchEnd::Bound { value }));
+            }
+            let back_home = points.len() >= 8 && (next.y - start.y).norm() < 0.5 * h;
+            points.push(self.point(&next));
+            if back_home {
+                return Ok((points, extrema, BranchEnd::Closed));
+            }
+            // the test function is only piecewise smooth where the orbit grazes a switch
+            // (a membrane just going slack), and Newton on it then converges linearly: more
+            // iterations than on a branch are normal
+            h = match next.iterations {
+                0..=4 => h * 1.5,
+                5..=8 => h,
+                _ => h * 0.6,
+            }
+            .clamp(spec.step_min, spec.step_max);
+            (prev, t) = (next, t_next);
+        }
+    }
+
+    /// The extremum of coordinate `c` between `from` and the point a step `h` along `t`: the
+    /// tangent's component `c` driven to zero by false position on corrected points.
+    fn extremum(&self, from: &Solved, t: &Vector4<f64>, h: f64, of: Turning, c: usize) -> Extremum {
+        let component = |sigma: f64| -> Option<(f64, Solved)> {
+            let s = self.correct(from.y + t * sigma, t).ok()?;
+            let tn = self.tangent(&s, t)?;
+            Some((tn[c], s))
+        };
+        let g_from = self.tangent(from, t).map_or(t[c], |tn| tn[c]);
+        let (mut lo, mut hi, mut g_lo) = (0.0, h, g_from);
+        let (mut s_lo, mut s_hi) = (from.clone(), None::<Solved>);
+        let mut g_hi = match component(h) {
+            Some((g, s)) => {
+                s_hi = Some(s);
+                g
+            }
+            None => -g_from,
+        };
+        // false position with the Illinois correction: the end kept twice has its value halved
+        let mut side = 0;
+        for _ in 0..40 {
+            let mut sigma = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+            if !(sigma > lo && sigma < hi) {
+                sigma = 0.5 * (lo + hi);
+            }
+            let Some((g, s)) = component(sigma) else {
+                break;
+            };
+            if (g < 0.0) == (g_lo < 0.0) {
+                (lo, g_lo, s_lo) = (sigma, g, s);
+                if side == 1 {
+                    g_hi *= 0.5;
+                }
+                side = 1;
+            } else {
+                (hi, g_hi, s_hi) = (sigma, g, Some(s));
+                if side == -1 {
+                    g_lo *= 0.5;
+                }
+                side = -1;
+            }
+            if hi - lo < 1e-9 * h.max(1e-3) {
+                break;
+            }
+        }
+        let precision = s_hi
+            .as_ref()
+            .map_or(f64::NAN, |s| (s.y[c] - s_lo.y[c]).abs());
+        let best = match s_hi {
+            Some(s) if g_hi.abs() < g_lo.abs() => s,
+            _ => s_lo,
+        };
+        // at a minimum the coordinate was decreasing before it
+        let minimum = t[c] < 0.0;
+        Extremum {
+            of,
+            minimum,
+            point: self.point(&best),
+            precision,
+        }
+    }
+}

@@ -1,0 +1,188 @@
+//! Folds continued in two parameters, and where the isola is born and merges (issue 6).
+//!
+//! Checks that can fail: every point of a fold curve solves P²(x) = x with a multiplier
+//! within 1e-6 of +1; the fold curve of the ADR 0.6 isola passes through the folds that
+//! one-parameter continuations locate at other ADR values, within 1e-6 in ω; its minimum in
+//! ADR (the birth) equals, within 1e-6, the lowest ADR of the 1:2 response found by
+//! continuing in ADR at fixed ω (an independent computation), and lies below it at
+//! neighbouring ω; the merging value sits between an ADR where the branch is closed and one
+//! where it is attached, both checked by fresh continuations.
+
+use isola::analysis::Progress;
+use isola::analysis::bifurcation_curve::{CurveSpec, Turning, continue_bifurcation};
+use isola::analysis::continuation::{
+    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch, continue_branch,
+};
+use isola::analysis::family::FamilyParameter;
+use isola::analysis::hunt::Verdict;
+use isola::analysis::isola_limits::{isola_birth, isola_merge};
+use isola::analysis::{SteadyStateSpec, steady_state};
+use isola::model::Params;
+
+fn in_omega() -> ContinuationSpec {
+    ContinuationSpec {
+        min: 2.0,
+        max: 6.5,
+        ..ContinuationSpec::default()
+    }
+}
+
+/// The 1:2 branch through the response reached from Δλ = `dx`, v = 0, continued in ω.
+fn subharmonic(adr: f64, omega: f64, dx: f64) -> (Params, ContinuedBranch) {
+    let p = Params::paper(adr, omega).unwrap();
+    let brute = steady_state(&p, p.lambda_p() + dx, 0.0, &SteadyStateSpec::default());
+    assert_eq!(brute.period, Some(2));
+    let b = continue_branch(&p, 2, brute.poincare[0], &in_omega(), &Progress::new(0)).unwrap();
+    (p, b)
+}
+
+/// The lowest ADR at which the 1:2 response of `isola` (continued in ω at ADR 0.6) exists
+/// at ω: its larger orbit there continued in ADR, down to the fold.
+fn lowest_adr_at(isola: &ContinuedBranch, omega: f64) -> f64 {
+    let orbits = isola.orbits_at(omega, &Default::default()).unwrap();
+    let orbit = orbits
+        .iter()
+        .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
+        .expect("the isola spans ω");
+    let p = Params::paper(0.6, omega).unwrap();
+    let spec = ContinuationSpec {
+        parameter: ContinuationParameter::Model(FamilyParameter::Adr),
+        min: 0.1,
+        max: 1.0,
+        ..ContinuationSpec::default()
+    };
+    let b = continue_branch(&p, 2, orbit.poincare[0], &spec, &Progress::new(0)).unwrap();
+    let fold = b
+        .of_kind(BifurcationKind::Fold)
+        .next()
+        .expect("a fold in ADR");
+    fold.parameter
+}
+
+fn curve_spec() -> CurveSpec {
+    CurveSpec {
+        first_min: 2.0,
+        first_max: 6.5,
+        min: 0.1,
+        max: 1.05,
+        ..CurveSpec::default()
+    }
+}
+
+/// The fold curve of the ADR 0.6 isola in (ω, ADR) from its low fold: through the low folds
+/// at ADR 1.0 and its own high fold at 0.6, with its minimum (the birth) between.
+#[test]
+fn the_isola_fold_curve_joins_its_folds_and_its_birth() {
+    let (p, isola) = subharmonic(0.6, 3.7, 0.3);
+    let low = isola
+        .of_kind(BifurcationKind::Fold)
+        .min_by(|a, b| a.omega.total_cmp(&b.omega))
+        .unwrap();
+    let high = isola
+        .of_kind(BifurcationKind::Fold)
+        .max_by(|a, b| a.omega.total_cmp(&b.omega))
+        .unwrap();
+    let spec = CurveSpec {
+        max: 0.6 + 1e-3,
+        ..curve_spec()
+    };
+    let started = std::time::Instant::now();
+    let curve = continue_bifurcation(
+        &p,
+        ContinuationParameter::Omega,
+        low,
+        &spec,
+        &Progress::new(0),
+    )
+    .unwrap();
+    eprintln!(
+        "fold curve: {} points in {:.2} s, ends {:?}",
+        curve.points.len(),
+        started.elapsed().as_secs_f64(),
+        curve.ends
+    );
+    for pt in &curve.points {
+        let mu = pt
+            .multipliers
+            .0
+            .iter()
+            .map(|m| (m.re - 1.0).abs() + m.im.abs());
+        assert!(mu.fold(f64::INFINITY, f64::min) < 1e-6, "{pt:?}");
+    }
+    // the curve comes back up to ADR 0.6 at the isola's other fold
+    let crossing = curve
+        .points
+        .windows(2)
+        .filter(|w| (w[0].second - 0.6) * (w[1].second - 0.6) <= 0.0)
+        .map(|w| {
+            let f = (0.6 - w[0].second) / (w[1].second - w[0].second);
+            w[0].first + f * (w[1].first - w[0].first)
+        })
+        .collect::<Vec<_>>();
+    eprintln!("ω where the curve crosses ADR 0.6: {crossing:?}");
+    assert!(
+        crossing.iter().any(|w| (w - high.omega).abs() < 1e-4),
+        "{crossing:?} vs {}",
+        high.omega
+    );
+    let births: Vec<_> = curve
+        .extrema_of(Turning::Second)
+        .filter(|e| e.minimum)
+        .collect();
+    assert_eq!(births.len(), 1, "{:?}", curve.extrema);
+    let birth = &births[0].point;
+    eprintln!(
+        "birth: ADR {:.9} at ω {:.6}, amplitude {:.6}",
+        birth.second, birth.omega, birth.amplitude
+    );
+    // independent: the lowest ADR of the 1:2 response at that ω, and just beside it
+    let at = lowest_adr_at(&isola, birth.omega);
+    assert!((at - birth.second).abs() < 1e-6, "{at} vs {}", birth.second);
+    for dw in [-0.05, 0.05] {
+        assert!(lowest_adr_at(&isola, birth.omega + dw) > birth.second + 1e-5);
+    }
+}
+
+/// `isola_birth` from the isola at ADR 0.4; `isola_merge` from ADR 0.6 towards 0.8, checked
+/// by fresh continuations just below and above.
+#[test]
+fn birth_and_merging_across_adr() {
+    let (p, isola) = subharmonic(0.4, 4.5, 0.15);
+    assert!(isola.closed());
+    let birth = isola_birth(
+        &p,
+        &isola,
+        FamilyParameter::Adr,
+        &curve_spec(),
+        &Progress::new(0),
+    )
+    .unwrap()
+    .expect("a birth");
+    eprintln!("birth {birth:?}");
+    assert!((birth.value - 0.2064).abs() < 1e-3, "{birth:?}");
+    assert!(birth.precision < 1e-6);
+    let (p6, isola6) = subharmonic(0.6, 3.7, 0.3);
+    let started = std::time::Instant::now();
+    let merge = isola_merge(
+        &p6,
+        &isola6,
+        FamilyParameter::Adr,
+        0.8,
+        &in_omega(),
+        1e-4,
+        &Progress::new(0),
+    )
+    .unwrap()
+    .expect("a merge");
+    eprintln!(
+        "merge {merge:?} in {:.2} s",
+        started.elapsed().as_secs_f64()
+    );
+    assert!(merge.precision <= 1e-4);
+    assert!(merge.value > 0.6 && merge.value < 0.7, "{merge:?}");
+    // fresh continuations on both sides, seeded from brute force
+    let below = subharmonic(merge.value - 2.0 * merge.precision - 1e-3, 3.7, 0.3).1;
+    let above = subharmonic(merge.value + 2.0 * merge.precision + 1e-3, 3.7, 0.3).1;
+    assert_eq!(Verdict::of(&below), Verdict::Isola);
+    assert_eq!(Verdict::of(&above), Verdict::Attached);
+}
