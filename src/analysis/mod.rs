@@ -15,6 +15,7 @@ pub mod grid;
 pub mod hunt;
 pub mod hunt_family;
 pub mod isola_limits;
+pub mod map;
 pub mod period_detector;
 pub mod period_map;
 pub mod progress;

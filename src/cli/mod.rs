@@ -5,6 +5,7 @@ mod continue_cmd;
 mod family;
 mod force;
 mod hunt;
+mod map;
 mod model_args;
 mod orbit;
 mod parse;
@@ -45,6 +46,9 @@ enum Command {
     /// Find the subharmonic branches of a frequency response and continue each: isola or
     /// attached, its folds, period doublings, stable and unstable arcs.
     Hunt(hunt::HuntArgs),
+    /// How many stable responses coexist over ω and one model parameter, where hidden
+    /// responses are, with the fold and period-doubling curves.
+    Map(map::MapArgs),
     /// Run a session's analyses headless; resumes after a crash, can be sharded.
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
@@ -69,6 +73,7 @@ pub fn run() -> ExitCode {
         Command::Family(args) => family::run(&args),
         Command::Continue(args) => continue_cmd::run(&args),
         Command::Hunt(args) => hunt::run(&args),
+        Command::Map(args) => map::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
         #[cfg(feature = "tui")]

@@ -456,3 +456,108 @@ pub fn hunt_family_csv(
         Ok(())
     })
 }
+
+/// One row per cell of a map: `PARAMETER, omega, frequency_hz, stable,
+/// largest_amplitude_stretch, largest_type, hidden, subharmonic, collision_share,
+/// non_periodic_share`.
+pub fn map_csv(
+    parameter: &str,
+    omegas: &[f64],
+    rows: &[crate::analysis::map::MapRow],
+    path: &Path,
+) -> anyhow::Result<()> {
+    write_atomic(path, |w| {
+        w.write_record([
+            parameter,
+            "omega",
+            "frequency_hz",
+            "stable",
+            "largest_amplitude_stretch",
+            "largest_type",
+            "hidden",
+            "subharmonic",
+            "collision_share",
+            "non_periodic_share",
+        ])?;
+        for row in rows {
+            for (cell, omega) in row.cells.iter().zip(omegas) {
+                w.write_record([
+                    row.value.to_string(),
+                    format!("{omega:.6}"),
+                    format!("{:.4}", Device::silicone().hz(*omega)),
+                    cell.stable.to_string(),
+                    cell.largest_amplitude
+                        .map_or(String::new(), |a| format!("{a:.9}")),
+                    cell.largest_type.clone().unwrap_or_default(),
+                    cell.hidden.to_string(),
+                    cell.subharmonic.to_string(),
+                    format!("{:.6}", cell.collision_share),
+                    format!("{:.6}", cell.non_periodic_share),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Where a map's curves live beside its cells: `A.curves.csv`.
+pub fn curves_path(map_csv: &Path) -> PathBuf {
+    map_csv.with_extension("curves.csv")
+}
+
+/// One row per point of each two-parameter curve (`kind` `fold` or `period-doubling`,
+/// `at` = `point`) and per located turning point (`at` = `minimum` or `maximum` of the
+/// parameter named in `of`): `curve, kind, period, at, of, FIRST, SECOND, amplitude_stretch`.
+pub fn curves_csv(
+    curves: &[crate::analysis::bifurcation_curve::BifurcationCurve],
+    path: &Path,
+) -> anyhow::Result<()> {
+    use crate::analysis::bifurcation_curve::Turning;
+    let (first, second) = curves.first().map_or(("omega", "parameter"), |c| {
+        (c.first.name(), c.second.name())
+    });
+    write_atomic(path, |w| {
+        w.write_record([
+            "curve",
+            "kind",
+            "period",
+            "at",
+            "of",
+            first,
+            second,
+            "amplitude_stretch",
+        ])?;
+        for (id, c) in curves.iter().enumerate() {
+            let kind = c.kind.as_str();
+            for p in &c.points {
+                w.write_record([
+                    id.to_string(),
+                    kind.into(),
+                    c.period.to_string(),
+                    "point".into(),
+                    String::new(),
+                    format!("{:.10}", p.first),
+                    format!("{:.10}", p.second),
+                    format!("{:.10}", p.amplitude),
+                ])?;
+            }
+            for e in &c.extrema {
+                let of = match e.of {
+                    Turning::First => first,
+                    Turning::Second => second,
+                };
+                w.write_record([
+                    id.to_string(),
+                    kind.into(),
+                    c.period.to_string(),
+                    if e.minimum { "minimum" } else { "maximum" }.into(),
+                    of.into(),
+                    format!("{:.10}", e.point.first),
+                    format!("{:.10}", e.point.second),
+                    format!("{:.10}", e.point.amplitude),
+                ])?;
+            }
+        }
+        Ok(())
+    })
+}

@@ -18,6 +18,7 @@ use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::family::FamilyMember;
 use crate::analysis::frequency_response::{Branch, Response};
 use crate::analysis::hunt::HuntSpec;
+use crate::analysis::map::{MapCell, MapRow};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -219,6 +220,28 @@ pub struct HuntView {
     pub continued: Vec<ContinuedView>,
 }
 
+/// A two-parameter curve read back: (ω_e, value) in order, and its turning points.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CurveView {
+    /// `fold` or `period-doubling`.
+    pub kind: String,
+    pub period: usize,
+    pub points: Vec<[f64; 2]>,
+    /// (`minimum`/`maximum`, of which parameter, [ω_e, value]).
+    pub extrema: Vec<(String, String, [f64; 2])>,
+}
+
+/// A map over ω_e (x) and a model parameter (y): its cells by row (`cells[row][column]`,
+/// `None` for rows not computed yet) and the curves over it.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MapView {
+    pub parameter: String,
+    pub omegas: Vec<f64>,
+    pub values: Vec<f64>,
+    pub rows: Vec<Option<Vec<MapCell>>>,
+    pub curves: Vec<CurveView>,
+}
+
 /// Plot-ready data of one analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ResultView {
@@ -231,6 +254,7 @@ pub enum ResultView {
     Family(FamilyView),
     Continuation(ContinuationView),
     Hunt(HuntView),
+    Map(MapView),
 }
 
 /// Where an analysis' stored result stands.
@@ -272,6 +296,7 @@ enum Partial {
     },
     Response(Vec<Vec<ResponsePoint>>),
     Family(Vec<Option<(f64, Vec<ResponsePoint>)>>),
+    Map(Vec<Option<Vec<MapCell>>>),
 }
 
 fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
@@ -437,6 +462,16 @@ impl ResultReader {
                     .collect();
                 *members.get_mut(i)? = Some((member.value, points));
             }
+            Settings::Map(spec) => {
+                let row: MapRow = parse(bytes)?;
+                if !matches!(self.partial, Partial::Map(_)) {
+                    self.partial = Partial::Map(vec![None; spec.values.points]);
+                }
+                let Partial::Map(rows) = &mut self.partial else {
+                    unreachable!()
+                };
+                *rows.get_mut(i)? = Some(row.cells);
+            }
             _ => return None,
         }
         Some(())
@@ -471,6 +506,13 @@ impl ResultReader {
             (Partial::Response(per_omega), _) => {
                 ResultView::Response(per_omega.iter().flatten().cloned().collect())
             }
+            (Partial::Map(rows), Settings::Map(spec)) => ResultView::Map(MapView {
+                parameter: spec.parameter.name().into(),
+                omegas: spec.response.omega.values(),
+                values: spec.values.values(),
+                rows: rows.clone(),
+                curves: Vec::new(),
+            }),
             (Partial::Family(members), Settings::Family(spec)) => ResultView::Family(FamilyView {
                 parameter: spec.parameter.name().into(),
                 members: members.iter().flatten().cloned().collect(),
@@ -614,6 +656,34 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
             })
         }
         Settings::Continuation(_) => ResultView::Continuation(read_continued(&paths.csv)?),
+        Settings::Map(spec) => {
+            let parameter = spec.parameter.name();
+            let (omegas, values) = (spec.response.omega.values(), spec.values.values());
+            let mut rows_out: Vec<Option<Vec<MapCell>>> = vec![None; values.len()];
+            for (k, r) in rows.iter().enumerate() {
+                let row = k / omegas.len().max(1);
+                let cell = MapCell {
+                    stable: c.f64(r, "stable")? as usize,
+                    largest_amplitude: c.opt(r, "largest_amplitude_stretch"),
+                    largest_type: Some(c.str(r, "largest_type")?.to_string())
+                        .filter(|t| !t.is_empty()),
+                    hidden: c.str(r, "hidden")? == "true",
+                    subharmonic: c.str(r, "subharmonic")? == "true",
+                    collision_share: c.f64(r, "collision_share")?,
+                    non_periodic_share: c.f64(r, "non_periodic_share")?,
+                };
+                if let Some(slot) = rows_out.get_mut(row) {
+                    slot.get_or_insert_with(Vec::new).push(cell);
+                }
+            }
+            ResultView::Map(MapView {
+                parameter: parameter.into(),
+                omegas,
+                values,
+                rows: rows_out,
+                curves: read_curves(&super::export::curves_path(&paths.csv))?,
+            })
+        }
         Settings::Basin(spec) => {
             let labels = rows
                 .iter()
@@ -704,4 +774,33 @@ fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
         parameter,
         branches,
     })
+}
+
+/// Reads a curves file (see [`super::export::curves_csv`]).
+fn read_curves(path: &Path) -> anyhow::Result<Vec<CurveView>> {
+    let mut reader = csv::Reader::from_path(path)?;
+    let headers = reader.headers()?.clone();
+    let (Some(first), Some(second)) = (headers.get(5), headers.get(6)) else {
+        anyhow::bail!("no parameter columns");
+    };
+    let (first, second) = (first.to_string(), second.to_string());
+    let (c, rows) = rows(path)?;
+    let mut curves: Vec<CurveView> = Vec::new();
+    for r in &rows {
+        let id = c.f64(r, "curve")? as usize;
+        if curves.len() <= id {
+            curves.resize(id + 1, CurveView::default());
+        }
+        let curve = &mut curves[id];
+        curve.kind = c.str(r, "kind")?.to_string();
+        curve.period = c.f64(r, "period")? as usize;
+        let at = [c.f64(r, &first)?, c.f64(r, &second)?];
+        match c.str(r, "at")? {
+            "point" => curve.points.push(at),
+            turning => curve
+                .extrema
+                .push((turning.into(), c.str(r, "of")?.into(), at)),
+        }
+    }
+    Ok(curves)
 }

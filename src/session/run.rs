@@ -25,6 +25,7 @@ use crate::analysis::family::{FamilyMember, family_member};
 use crate::analysis::force_curve::force_curves;
 use crate::analysis::frequency_response::{Response, ResponsePlan};
 use crate::analysis::hunt::{HuntSpec, hunt_in};
+use crate::analysis::map::{MapRow, map_curves, map_row};
 use crate::analysis::stepped_sweep::stepped_sweep;
 use crate::analysis::time_history::time_history;
 use crate::analysis::{AnalysisError, Progress};
@@ -207,6 +208,34 @@ pub fn run_analysis(
                 None => (computed, missing_count(&paths, n)),
             }
         }
+        Settings::Map(spec) => {
+            let n = spec.values.points;
+            manifest.chunks_total = n;
+            save_manifest(&manifest)?;
+            spec.validate(&params)?;
+            // each row announces its own work as it starts; rows run side by side
+            let computed = compute_chunks(
+                &paths,
+                n,
+                shard,
+                |_| {},
+                |i| map_row(&params, spec, i, progress).ok(),
+            )?;
+            match load_chunks::<MapRow>(&paths, n) {
+                Some(rows) => {
+                    let curves = if spec.curves {
+                        map_curves(&params, spec, &rows, progress).map_err(cancelled)?
+                    } else {
+                        Vec::new()
+                    };
+                    export::curves_csv(&curves, &export::curves_path(&paths.csv))?;
+                    let omegas = spec.response.omega.values();
+                    export::map_csv(spec.parameter.name(), &omegas, &rows, &paths.csv)?;
+                    (computed, 0)
+                }
+                None => (computed, missing_count(&paths, n)),
+            }
+        }
         Settings::Family(spec) => {
             let n = spec.values.len();
             manifest.chunks_total = n;
@@ -309,6 +338,7 @@ fn run_single(
         Settings::Basin(_)
         | Settings::FrequencyResponse(_)
         | Settings::Family(_)
+        | Settings::Map(_)
         | Settings::Hunt(_) => {
             unreachable!("chunked kinds are run chunk by chunk")
         }

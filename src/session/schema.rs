@@ -26,6 +26,7 @@ use crate::analysis::force_curve::ForceCurveSpec;
 use crate::analysis::frequency_response::FrequencyResponseSpec;
 use crate::analysis::grid::Axis;
 use crate::analysis::hunt::HuntSpec;
+use crate::analysis::map::MapSpec;
 use crate::analysis::time_history::TimeHistorySpec;
 use crate::model::{Device, ParamSpec, Params};
 
@@ -103,10 +104,11 @@ pub enum Settings {
     Family(FamilySpec),
     Continuation(BranchFromState),
     Hunt(HuntSpec),
+    Map(MapSpec),
 }
 
 /// The kinds a session may name.
-pub const KINDS: [&str; 9] = [
+pub const KINDS: [&str; 10] = [
     "force_curve",
     "time_history",
     "chirp_sweep",
@@ -116,6 +118,7 @@ pub const KINDS: [&str; 9] = [
     "family",
     "continuation",
     "hunt",
+    "map",
 ];
 
 impl Settings {
@@ -140,6 +143,14 @@ impl Settings {
             "basin" => Settings::Basin(get(table)?),
             "continuation" => Settings::Continuation(get(table)?),
             "hunt" => Settings::Hunt(get(table)?),
+            "map" => {
+                let t = table.ok_or("a map needs settings: parameter and values")?;
+                Settings::Map(
+                    toml::Value::Table(t)
+                        .try_into()
+                        .map_err(|e: toml::de::Error| e.message().to_string())?,
+                )
+            }
             "family" => {
                 let t = table.ok_or("a family needs settings: parameter and values")?;
                 Settings::Family(
@@ -169,6 +180,7 @@ impl Settings {
             Settings::Family(s) => toml::Table::try_from(s),
             Settings::Continuation(s) => toml::Table::try_from(s),
             Settings::Hunt(s) => toml::Table::try_from(s),
+            Settings::Map(s) => toml::Table::try_from(s),
         }
     }
 
@@ -183,6 +195,7 @@ impl Settings {
             Settings::Family(_) => "family",
             Settings::Continuation(_) => "continuation",
             Settings::Hunt(_) => "hunt",
+            Settings::Map(_) => "map",
         }
     }
 }
@@ -519,6 +532,7 @@ fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::mod
             s.continuation.validate(params)
         }
         Settings::Hunt(s) => s.validate(params),
+        Settings::Map(s) => s.validate(params),
     }
 }
 

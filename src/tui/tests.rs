@@ -298,15 +298,27 @@ dx0 = 0.3
 parameter = "adr"
 min = 0.1
 max = 1.5
+
+[[analysis]]
+name = "map"
+kind = "map"
+[analysis.settings]
+parameter = "adr"
+values = { min = 0.55, max = 0.7, points = 4 }
+[analysis.settings.response]
+omega = { min = 3.0, max = 6.0, points = 31 }
+dx = { min = -0.8, max = 0.8, points = 5 }
+v = { min = -1.0, max = 1.0, points = 5 }
 "#;
 
 /// A hunt draws its continued isola over the brute-force points (folds marked, the verdict
-/// in the footer); a continuation in ADR draws alone, and its cursor picks an orbit.
+/// in the footer); a continuation in ADR draws alone, and its cursor picks an orbit; a map
+/// draws its cells, hidden marks and curves, in colour and without.
 #[test]
 fn continued_branches_draw_over_the_brute_force() {
     let path = fixture("hunt", HUNT);
     let mut app = app(&path, ColorMode::Truecolor);
-    for i in 0..2 {
+    for i in 0..3 {
         app.selected = i;
         app.run_selected();
     }
@@ -341,6 +353,26 @@ fn continued_branches_draw_over_the_brute_force() {
     key(&mut app, KeyCode::Enter);
     settle(&mut app);
     assert!(app.picked.as_ref().is_some_and(|p| p.view.is_some()));
+    key(&mut app, KeyCode::Esc);
+    app.focus = Focus::Analyses;
+    key(&mut app, KeyCode::Down);
+    let Some(ResultView::Map(m)) = app.view() else {
+        panic!("no map view");
+    };
+    assert_eq!(m.rows.len(), 4);
+    assert!(m.rows.iter().all(Option::is_some));
+    assert!(!m.curves.is_empty());
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("◇ hidden"), "{screen}");
+    snapshot!("map_80x24", screen);
+    let mono = {
+        let mut app = super::tests::app(&path, ColorMode::None);
+        app.selected = 2;
+        app.tick();
+        app.sync_results();
+        draw(&app, 80, 24)
+    };
+    assert!(mono.contains("▒") || mono.contains("░"), "{mono}");
 }
 
 #[test]

@@ -151,6 +151,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
                 .render(inner, buf);
         }
         ResultView::Continuation(c) => plots::continued::plot(c, &ctx).render(inner, buf),
+        ResultView::Map(m) => plots::map::draw(m, &ctx, inner, buf),
         ResultView::Stepped(points) => {
             let (lo, hi) = points
                 .iter()

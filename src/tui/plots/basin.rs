@@ -124,6 +124,7 @@ pub fn draw(
         ny: nv,
         paint,
         cursor: Some((cx, cy)),
+        marks: Vec::new(),
         axis_style: theme.muted(),
         cursor_style: theme.cursor(),
         footer,

@@ -26,6 +26,8 @@ pub struct HeatMap<'a> {
     pub paint: Paint<'a>,
     /// A grid cell to mark.
     pub cursor: Option<(usize, usize)>,
+    /// Glyphs drawn over the map at data coordinates (x, y), over the cell's colours.
+    pub marks: Vec<(f64, f64, &'static str, Style)>,
     pub axis_style: Style,
     pub cursor_style: Style,
     pub footer: Vec<Line<'static>>,
@@ -88,6 +90,19 @@ impl Widget for HeatMap<'_> {
                     }
                 }
             }
+        }
+        let (xr, yr) = (self.x.max - self.x.min, self.y.max - self.y.min);
+        for &(x, y, glyph, style) in &self.marks {
+            let (fx, fy) = ((x - self.x.min) / xr, (y - self.y.min) / yr);
+            if !(0.0..=1.0).contains(&fx) || !(0.0..=1.0).contains(&fy) {
+                continue;
+            }
+            let c = ((fx * canvas.width as f64) as u16).min(canvas.width - 1);
+            let r = (((1.0 - fy) * canvas.height as f64) as u16).min(canvas.height - 1);
+            let cell = &mut buf[(canvas.x + c, canvas.y + r)];
+            // keep the lower half's colour as the background under the glyph
+            let under = cell.bg;
+            cell.set_symbol(glyph).set_style(style.bg(under));
         }
         if let Some((ix, iy)) = self.cursor {
             if ix < self.nx && iy < self.ny {

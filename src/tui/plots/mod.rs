@@ -8,6 +8,7 @@ pub mod force;
 pub mod frame;
 pub mod heatmap;
 pub mod history;
+pub mod map;
 pub mod response;
 pub mod sweep;
 
@@ -135,6 +136,10 @@ pub fn move_cursor(
             step(cursor.0, dx, b.dx.len()),
             step(cursor.1, dy, b.v.len()),
         ),
+        ResultView::Map(m) => (
+            step(cursor.0, dx, m.omegas.len()),
+            step(cursor.1, dy, m.values.len()),
+        ),
         ResultView::History(h) => (step(cursor.0, dx * fine(h.tau.len()), h.tau.len()), 0),
         ResultView::Chirp(c) => (
             step(cursor.0, dx * fine(c.envelope.len()), c.envelope.len()),
@@ -204,6 +209,7 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
 pub fn initial_cursor(view: &ResultView) -> (usize, usize) {
     match view {
         ResultView::Basin(b) => (b.dx.len() / 2, b.v.len() / 2),
+        ResultView::Map(m) => (m.omegas.len() / 2, m.values.len() / 2),
         ResultView::Response(points)
         | ResultView::Stepped(points)
         | ResultView::Hunt(HuntView {

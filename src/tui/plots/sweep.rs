@@ -158,6 +158,7 @@ pub fn scalogram(
         ny: s.frequencies.len(),
         paint,
         cursor: Some((ix, ridge_iy)),
+        marks: Vec::new(),
         axis_style: theme.muted(),
         cursor_style: theme.cursor(),
         footer,

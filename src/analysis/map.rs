@@ -1,0 +1,281 @@
+//! Two-parameter maps: over ω_e × one model parameter, how many stable responses coexist,
+//! the largest amplitude and its type, and whether a hidden response exists there, each row a
+//! frequency response from many initial states; with the fold and period-doubling curves of
+//! the subharmonic branches continued in both parameters drawn over it.
+
+use serde::{Deserialize, Serialize};
+
+use super::AnalysisError;
+use super::bifurcation_curve::{BifurcationCurve, CurveSpec, continue_bifurcation};
+use super::continuation::{
+    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch, continue_branch,
+};
+use super::family::FamilyParameter;
+use super::frequency_response::{FrequencyResponse, FrequencyResponseSpec, frequency_response};
+use super::grid::Axis;
+use super::progress::Progress;
+use super::steady_state::Class;
+use crate::model::Params;
+use crate::model::error::ParamError;
+
+/// Points a curve may take each way in a map (they are drawn, not studied).
+const MAP_CURVE_POINTS: usize = 400;
+
+/// A map over the response's ω_e grid (x) and `values` of `parameter` (y).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSpec {
+    pub parameter: FamilyParameter,
+    pub values: Axis,
+    #[serde(default)]
+    pub response: FrequencyResponseSpec,
+    /// Continue the folds and period doublings of the subharmonic branches in both
+    /// parameters (from the row with the most subharmonic branches).
+    #[serde(default = "yes")]
+    pub curves: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl MapSpec {
+    /// Checks the values (each a valid model with `base`, 1 to 1000 rows) and the response.
+    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+        self.values.validate("values", 1000)?;
+        for v in self.values.values() {
+            self.parameter.apply(base, v)?;
+        }
+        self.response.validate()
+    }
+}
+
+/// One cell: the responses at one (ω_e, value).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapCell {
+    /// Distinct periodic responses (attractors, so stable).
+    pub stable: usize,
+    pub largest_amplitude: Option<f64>,
+    /// e.g. `1:2` of the largest.
+    pub largest_type: Option<String>,
+    /// A periodic response there that neither stepped sweep reaches.
+    pub hidden: bool,
+    /// A response of period ≥ 2 there.
+    pub subharmonic: bool,
+    /// Share of the sampled initial states that collide.
+    pub collision_share: f64,
+    /// Share that end non-periodic.
+    pub non_periodic_share: f64,
+}
+
+/// Where a subharmonic branch of a row can be continued from: its largest response.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BranchSeed {
+    pub period: usize,
+    pub omega: f64,
+    pub x: [f64; 2],
+}
+
+/// A row of the map: one value of the parameter.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapRow {
+    pub value: f64,
+    /// One per ω_e of the response's grid.
+    pub cells: Vec<MapCell>,
+    pub seeds: Vec<BranchSeed>,
+}
+
+/// The cells of a frequency response, one per ω_e, and its subharmonic seeds.
+pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
+    let cells = (0..fr.omegas.len())
+        .map(|i| {
+            let here: Vec<_> = fr.at(i).collect();
+            let periodic: Vec<_> = here
+                .iter()
+                .filter(|r| r.steady.class == Class::Periodic)
+                .collect();
+            let share = |class: Class| {
+                here.iter()
+                    .filter(|r| r.steady.class == class)
+                    .map(|r| r.share)
+                    .sum()
+            };
+            let largest = periodic
+                .iter()
+                .filter(|r| r.steady.amplitude.is_some())
+                .max_by(|a, b| amplitude(a).total_cmp(&amplitude(b)));
+            MapCell {
+                stable: periodic.len(),
+                largest_amplitude: largest.and_then(|r| r.steady.amplitude),
+                largest_type: largest.map(|r| {
+                    let t = r.steady.response_type();
+                    t.split_whitespace().next().unwrap_or(&t).to_string()
+                }),
+                hidden: periodic.iter().any(|r| r.hidden == Some(true)),
+                subharmonic: periodic.iter().any(|r| r.steady.period.unwrap_or(1) >= 2),
+                collision_share: share(Class::Collision),
+                non_periodic_share: share(Class::NonPeriodic),
+            }
+        })
+        .collect();
+    let seeds = fr
+        .branches
+        .iter()
+        .filter(|b| b.is_subharmonic())
+        .filter_map(|b| {
+            let peak = fr
+                .responses
+                .iter()
+                .filter(|r| r.branch == Some(b.id))
+                .max_by(|x, y| amplitude(x).total_cmp(&amplitude(y)))?;
+            Some(BranchSeed {
+                period: b.period,
+                omega: peak.omega,
+                x: *peak.steady.poincare.first()?,
+            })
+        })
+        .collect();
+    MapRow {
+        value,
+        cells,
+        seeds,
+    }
+}
+
+/// Row `i` of the map (on the whole pool).
+pub fn map_row(
+    params: &Params,
+    spec: &MapSpec,
+    i: usize,
+    progress: &Progress,
+) -> Result<MapRow, AnalysisError> {
+    let value = spec.values.at(i);
+    let p = spec.parameter.apply(params, value)?;
+    let fr = frequency_response(&p, &spec.response, progress)?;
+    Ok(summarise(value, &fr))
+}
+
+/// The fold and period-doubling curves of the subharmonic branches of the row with the most
+/// of them, continued over the map's ω_e and parameter ranges. Branches that cannot be
+/// continued are skipped (a map is drawn even if a curve is missing).
+pub fn map_curves(
+    params: &Params,
+    spec: &MapSpec,
+    rows: &[MapRow],
+    progress: &Progress,
+) -> Result<Vec<BifurcationCurve>, AnalysisError> {
+    let Some(row) = rows.iter().rev().max_by_key(|r| r.seeds.len()) else {
+        return Ok(Vec::new());
+    };
+    let (w_lo, w_hi) = (
+        spec.response.omega.min.min(spec.response.omega.max),
+        spec.response.omega.min.max(spec.response.omega.max),
+    );
+    let (v_lo, v_hi) = (
+        spec.values.min.min(spec.values.max),
+        spec.values.min.max(spec.values.max),
+    );
+    let base = spec.parameter.apply(params, row.value)?;
+    let in_omega = ContinuationSpec {
+        min: w_lo,
+        max: w_hi,
+        ..ContinuationSpec::default()
+    };
+    let curve_spec = CurveSpec {
+        second: ContinuationParameter::Model(spec.parameter),
+        min: v_lo,
+        max: v_hi,
+        first_min: w_lo,
+        first_max: w_hi,
+        max_points: MAP_CURVE_POINTS,
+        ..CurveSpec::default()
+    };
+    let mut branches: Vec<ContinuedBranch> = Vec::new();
+    for seed in &row.seeds {
+        let on_known = branches.iter().any(|b| {
+            b.period == seed.period
+                && b.orbits_at(seed.omega, &in_omega.shooting)
+                    .unwrap_or_default()
+                    .iter()
+                    .any(|o| o.poincare.iter().any(|q| near(*q, seed.x, 1e-4)))
+        });
+        if on_known {
+            continue;
+        }
+        let p = base.with_omega(seed.omega)?;
+        if let Ok(b) = continue_branch(&p, seed.period, seed.x, &in_omega, progress) {
+            branches.push(b);
+        }
+    }
+    let mut curves: Vec<BifurcationCurve> = Vec::new();
+    for b in &branches {
+        for bif in b.bifurcations.iter().filter(|f| {
+            matches!(
+                f.kind,
+                BifurcationKind::Fold
+                    | BifurcationKind::PeriodDoubling
+                    | BifurcationKind::ParentPeriodDoubling
+            )
+        }) {
+            let kind_of = |k: BifurcationKind| match k {
+                BifurcationKind::Fold => BifurcationKind::Fold,
+                _ => BifurcationKind::PeriodDoubling,
+            };
+            // already drawn: a curve of the same kind and period through this point
+            let drawn = curves.iter().any(|c| {
+                c.kind == kind_of(bif.kind)
+                    && c.period == bif.period
+                    && c.points.windows(2).any(|w| {
+                        let (a, z) = (&w[0], &w[1]);
+                        (a.second - row.value) * (z.second - row.value) <= 0.0
+                            && (a.first.min(z.first) - 1e-6..=a.first.max(z.first) + 1e-6)
+                                .contains(&bif.omega)
+                    })
+            });
+            if drawn {
+                continue;
+            }
+            match continue_bifurcation(
+                &base,
+                ContinuationParameter::Omega,
+                bif,
+                &curve_spec,
+                progress,
+            ) {
+                Ok(c) => curves.push(c),
+                Err(super::continuation::ContinuationError::Cancelled) => {
+                    return Err(AnalysisError::Cancelled);
+                }
+                Err(e) => tracing::warn!(omega = bif.omega, "no curve from this bifurcation: {e}"),
+            }
+        }
+    }
+    Ok(curves)
+}
+
+/// A response's amplitude, −∞ for none (collision, non-periodic).
+fn amplitude(r: &super::frequency_response::Response) -> f64 {
+    r.steady.amplitude.unwrap_or(f64::NEG_INFINITY)
+}
+
+fn near(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
+    (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) < tol
+}
+
+/// The whole map: rows in order, then the curves.
+pub fn map(
+    params: &Params,
+    spec: &MapSpec,
+    progress: &Progress,
+) -> Result<(Vec<MapRow>, Vec<BifurcationCurve>), AnalysisError> {
+    spec.validate(params)?;
+    let rows = (0..spec.values.points)
+        .map(|i| map_row(params, spec, i, progress))
+        .collect::<Result<Vec<_>, _>>()?;
+    let curves = if spec.curves {
+        map_curves(params, spec, &rows, progress)?
+    } else {
+        Vec::new()
+    };
+    Ok((rows, curves))
+}

@@ -1,0 +1,127 @@
+//! `isola map`: how many stable responses coexist over ω_e × one model parameter, where
+//! hidden responses are, and the fold and period-doubling curves over it.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use isola::analysis::Progress;
+use isola::analysis::bifurcation_curve::Turning;
+use isola::analysis::family::FamilyParameter;
+use isola::analysis::frequency_response::FrequencyResponseSpec;
+use isola::analysis::map::{MapSpec, map};
+use isola::jobs::JobContext;
+
+use super::model_args::ModelArgs;
+use super::parse;
+use super::start_ranges::StartRanges;
+
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// The parameter of the map's rows: adr, e_a, c_tilde, lambda_p or j.
+    #[arg(long, value_parser = |s: &str| FamilyParameter::parse(s).ok_or_else(|| format!("'{s}': one of adr, e_a, c_tilde, lambda_p, j")))]
+    vary: FamilyParameter,
+    /// Its values START:END:STEP.
+    #[arg(long)]
+    values: String,
+    /// Grid of initial states NΔλ x Nv per cell.
+    #[arg(long, default_value = "7x7", value_parser = parse::grid)]
+    ics: (usize, usize),
+    #[command(flatten)]
+    starts: StartRanges,
+    /// Skip the fold and period-doubling curves.
+    #[arg(long = "no-curves")]
+    no_curves: bool,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write one row per cell to this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Write the curves (one row per point and per turning point) to this CSV file.
+    #[arg(long = "curves-csv")]
+    curves_csv: Option<PathBuf>,
+}
+
+pub fn run(args: &MapArgs) -> anyhow::Result<()> {
+    let omega = parse::range(args.model.omega_text("1.0:6.0:0.1"))
+        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+    let values = parse::range(&args.values).map_err(|e| anyhow::anyhow!("--values: {e}"))?;
+    let params = args.model.params_at(omega.min)?;
+    let (dx, v) = args.starts.axes(args.ics);
+    let spec = MapSpec {
+        parameter: args.vary,
+        values,
+        response: FrequencyResponseSpec {
+            omega,
+            dx,
+            v,
+            ..FrequencyResponseSpec::default()
+        },
+        curves: !args.no_curves,
+    };
+    let progress = std::sync::Arc::new(Progress::new(0));
+    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let started = Instant::now();
+    let (rows, curves) = ctx.run(|| map(&params, &spec, &progress))??;
+    let name = args.vary.name();
+    let cells: Vec<_> = rows
+        .iter()
+        .flat_map(|r| r.cells.iter().map(move |c| (r.value, c)))
+        .collect();
+    let coexisting = cells.iter().filter(|(_, c)| c.stable >= 2).count();
+    let most = cells.iter().map(|(_, c)| c.stable).max().unwrap_or(0);
+    println!(
+        "map: {} {name} values × {} ω values, {} initial states per cell, in {:.2} s ({} threads)",
+        rows.len(),
+        spec.response.omega.points,
+        args.ics.0 * args.ics.1,
+        started.elapsed().as_secs_f64(),
+        ctx.pool.current_num_threads()
+    );
+    println!(
+        "  {coexisting} of {} cells with two or more stable responses (at most {most})",
+        cells.len()
+    );
+    let hidden: Vec<f64> = cells
+        .iter()
+        .filter(|(_, c)| c.hidden && c.subharmonic)
+        .map(|(v, _)| *v)
+        .collect();
+    if let (Some(lo), Some(hi)) = (
+        hidden.iter().copied().reduce(f64::min),
+        hidden.iter().copied().reduce(f64::max),
+    ) {
+        println!("  hidden subharmonic responses from {name} {lo:.4} to {hi:.4}");
+    }
+    for c in &curves {
+        println!(
+            "  1:{} {} curve: {} points, ends {} / {}",
+            c.period,
+            c.kind.as_str(),
+            c.points.len(),
+            c.ends[0],
+            c.ends[1]
+        );
+        for e in c.extrema_of(Turning::Second) {
+            println!(
+                "    {} of {name}: {:.9} (±{:.0e}) at ω {:.6}",
+                if e.minimum { "minimum" } else { "maximum" },
+                e.point.second,
+                e.precision.max(1e-9),
+                e.point.first
+            );
+        }
+    }
+    if let Some(path) = &args.csv {
+        isola::session::export::map_csv(name, &spec.response.omega.values(), &rows, path)?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &args.curves_csv {
+        isola::session::export::curves_csv(&curves, path)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

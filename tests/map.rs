@@ -1,0 +1,54 @@
+//! Two-parameter maps (issue 6): each row is the frequency response at that value; the
+//! curves drawn over the map turn where the hunt's independent bisection puts the merging.
+
+use isola::analysis::Progress;
+use isola::analysis::bifurcation_curve::Turning;
+use isola::analysis::family::FamilyParameter;
+use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::grid::Axis;
+use isola::analysis::map::{MapSpec, map, summarise};
+use isola::model::Params;
+
+#[test]
+fn a_map_over_adr_and_omega_around_the_merging() {
+    let p = Params::paper(0.6, 3.0).unwrap();
+    let spec = MapSpec {
+        parameter: FamilyParameter::Adr,
+        values: Axis::new(0.55, 0.7, 4),
+        response: FrequencyResponseSpec {
+            omega: Axis::new(3.0, 6.0, 31),
+            dx: Axis::new(-0.8, 0.8, 5),
+            v: Axis::new(-1.0, 1.0, 5),
+            ..FrequencyResponseSpec::default()
+        },
+        curves: true,
+    };
+    let (rows, curves) = map(&p, &spec, &Progress::new(0)).unwrap();
+    assert_eq!(rows.len(), 4);
+    // the ADR 0.6 row is the frequency response at ADR 0.6, cell for cell
+    let at_06 = Params::paper(0.6, 3.0).unwrap();
+    let fr = frequency_response(&at_06, &spec.response, &Progress::new(0)).unwrap();
+    assert_eq!(rows[1], summarise(0.6, &fr));
+    // at (ADR 0.6, ω 3.7): the 1:1 and the hidden 1:2 of Fig 4
+    let cell = &rows[1].cells[7];
+    assert!(
+        cell.stable >= 2 && cell.hidden && cell.subharmonic,
+        "{cell:?}"
+    );
+    assert_eq!(cell.largest_type.as_deref(), Some("1:2"));
+    let a = cell.largest_amplitude.unwrap();
+    assert!((a - 0.4156).abs() < 1e-3, "{a}");
+    // a fold curve turns at the merging: the bisection of tests/bifurcation_curves.rs puts
+    // it at ADR 0.645264 ± 5e-5
+    let turning: Vec<f64> = curves
+        .iter()
+        .filter(|c| c.period == 2)
+        .flat_map(|c| c.extrema_of(Turning::Second).filter(|e| e.minimum))
+        .map(|e| e.point.second)
+        .collect();
+    eprintln!("minima of ADR on the 1:2 fold curves: {turning:?}");
+    assert!(
+        turning.iter().any(|v| (v - 0.645264).abs() < 1e-4),
+        "{turning:?}"
+    );
+}
