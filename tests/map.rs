@@ -3,6 +3,7 @@
 
 use isola::analysis::Progress;
 use isola::analysis::bifurcation_curve::Turning;
+use isola::analysis::continuation::ContinuationParameter;
 use isola::analysis::family::FamilyParameter;
 use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
 use isola::analysis::grid::Axis;
@@ -13,6 +14,7 @@ use isola::model::Params;
 fn a_map_over_adr_and_omega_around_the_merging() {
     let p = Params::paper(0.6, 3.0).unwrap();
     let spec = MapSpec {
+        x: ContinuationParameter::Omega,
         parameter: FamilyParameter::Adr,
         values: Axis::new(0.55, 0.7, 4),
         response: FrequencyResponseSpec {
@@ -51,4 +53,48 @@ fn a_map_over_adr_and_omega_around_the_merging() {
         turning.iter().any(|v| (v - 0.645264).abs() < 1e-4),
         "{turning:?}"
     );
+}
+
+/// A map along c̃ (x) at ω 3.7 over ADR (y): its cell at (c̃ 0.04, ADR 0.6) finds the same
+/// responses as the ω map's cell at (ω 3.7, ADR 0.6) — the same model reached by the other
+/// parameter — and a bad pair of axes is refused by name.
+#[test]
+fn a_map_along_a_model_parameter() {
+    let p = Params::paper(0.6, 3.7).unwrap();
+    let grid = FrequencyResponseSpec {
+        omega: Axis::new(0.03, 0.05, 3),
+        dx: Axis::new(-0.8, 0.8, 5),
+        v: Axis::new(-1.0, 1.0, 5),
+        ..FrequencyResponseSpec::default()
+    };
+    let spec = MapSpec {
+        x: ContinuationParameter::Model(FamilyParameter::CTilde),
+        parameter: FamilyParameter::Adr,
+        values: Axis::new(0.6, 0.6, 1),
+        response: grid.clone(),
+        curves: false,
+    };
+    let (rows, _) = map(&p, &spec, &Progress::new(0)).unwrap();
+    let along_c = &rows[0].cells[1];
+    let in_omega = FrequencyResponseSpec {
+        omega: Axis::new(3.7, 3.7, 1),
+        ..grid
+    };
+    let fr = frequency_response(&p, &in_omega, &Progress::new(0)).unwrap();
+    let at = &summarise(0.6, &fr).cells[0];
+    assert_eq!(along_c.stable, at.stable);
+    assert_eq!(along_c.largest_type, at.largest_type);
+    let (a, b) = (
+        along_c.largest_amplitude.unwrap(),
+        at.largest_amplitude.unwrap(),
+    );
+    assert!((a - b).abs() < 1e-7, "{a} vs {b}");
+    let same_axes = MapSpec {
+        x: ContinuationParameter::Model(FamilyParameter::Adr),
+        ..spec
+    };
+    let err = map(&p, &same_axes, &Progress::new(0))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("x"), "{err}");
 }

@@ -11,10 +11,11 @@ use super::AnalysisError;
 use super::Ratio;
 use super::attractor::{SAME_POINT_TOL, same_attractor};
 use super::batch::{KnownAttractors, steady_states};
+use super::continuation::ContinuationParameter;
 use super::grid::{Axis, starts};
 use super::progress::Progress;
 use super::steady_state::{Class, SteadyState, SteadyStateSpec};
-use super::stepped_sweep::{SweepStep, stepped_sweep};
+use super::stepped_sweep::{SweepStep, stepped_sweep_over};
 use crate::model::Params;
 use crate::model::error::check;
 
@@ -182,7 +183,29 @@ pub fn frequency_response_live(
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
 ) -> Result<FrequencyResponse, AnalysisError> {
-    let plan = ResponsePlan::new(params, spec)?;
+    run_plan(&ResponsePlan::new(params, spec)?, progress, on_omega)
+}
+
+/// The response against `parameter` (its values on the spec's `omega` grid) at the model's
+/// ω_e: see [`ResponsePlan::over`].
+pub fn frequency_response_over(
+    params: &Params,
+    spec: &FrequencyResponseSpec,
+    parameter: ContinuationParameter,
+    progress: &Progress,
+) -> Result<FrequencyResponse, AnalysisError> {
+    run_plan(
+        &ResponsePlan::over(params, spec, parameter)?,
+        progress,
+        &|_| {},
+    )
+}
+
+fn run_plan(
+    plan: &ResponsePlan,
+    progress: &Progress,
+    on_omega: &(dyn Fn(&[Response]) + Sync),
+) -> Result<FrequencyResponse, AnalysisError> {
     progress.grow_total(plan.work());
     let per_omega: Vec<Option<Vec<Response>>> = (0..plan.chunks())
         .into_par_iter()
@@ -211,11 +234,22 @@ pub struct ResponsePlan<'a> {
 
 impl<'a> ResponsePlan<'a> {
     pub fn new(params: &'a Params, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
+        Self::over(params, spec, ContinuationParameter::Omega)
+    }
+
+    /// The same with the grid's values taken as values of `parameter` (a response against a
+    /// model parameter at the model's ω_e; its sweeps step that parameter quasi-statically,
+    /// and each response's `omega` holds the value).
+    pub fn over(
+        params: &'a Params,
+        spec: &'a FrequencyResponseSpec,
+        parameter: ContinuationParameter,
+    ) -> Result<Self, AnalysisError> {
         spec.validate()?;
         let omegas = spec.omega.values();
         let at_omega = omegas
             .iter()
-            .map(|&w| params.with_omega(w))
+            .map(|&w| parameter.apply(params, w))
             .collect::<Result<_, _>>()?;
         let ics = starts(params.lambda_p(), &spec.dx, &spec.v);
         Ok(ResponsePlan {
@@ -294,7 +328,8 @@ impl<'a> ResponsePlan<'a> {
                 for (order, from) in [(up, -1isize), (down, 1)] {
                     for i in order {
                         let j = (i as isize + from) as usize;
-                        new += seed_from(&mut per_omega, i, j, &self.at_omega[i], spec, cancel)?;
+                        let at = (omegas[i], &self.at_omega[i]);
+                        new += seed_from(&mut per_omega, i, j, at, spec, cancel)?;
                     }
                 }
                 if new == 0 {
@@ -304,18 +339,12 @@ impl<'a> ResponsePlan<'a> {
         }
         let (forward, backward) = if spec.sweeps {
             let rest = [params.lambda_p(), 0.0];
-            let down: Vec<f64> = omegas.iter().rev().copied().collect();
+            let up: Vec<(f64, Params)> =
+                omegas.iter().copied().zip(self.at_omega.clone()).collect();
+            let down: Vec<(f64, Params)> = up.iter().rev().cloned().collect();
             let (fw, bw) = rayon::join(
-                || {
-                    stepped_sweep(params, omegas, rest, &spec.steady, cancel, |_| {
-                        progress.add(1)
-                    })
-                },
-                || {
-                    stepped_sweep(params, &down, rest, &spec.steady, cancel, |_| {
-                        progress.add(1)
-                    })
-                },
+                || stepped_sweep_over(&up, rest, &spec.steady, cancel, |_| progress.add(1)),
+                || stepped_sweep_over(&down, rest, &spec.steady, cancel, |_| progress.add(1)),
             );
             let (fw, mut bw) = (fw?, bw?);
             bw.reverse();
@@ -362,7 +391,7 @@ fn seed_from(
     per_omega: &mut [Vec<Response>],
     i: usize,
     from: usize,
-    params: &Params,
+    (omega, params): (f64, &Params),
     spec: &FrequencyResponseSpec,
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<usize, AnalysisError> {
@@ -393,7 +422,7 @@ fn seed_from(
         {
             per_omega[i].push(Response {
                 omega_index: i,
-                omega: params.omega(),
+                omega,
                 steady: s,
                 count: 0,
                 share: 0.0,

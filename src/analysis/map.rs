@@ -1,7 +1,9 @@
-//! Two-parameter maps: over ω_e × one model parameter, how many stable responses coexist,
-//! the largest amplitude and its type, and whether a hidden response exists there, each row a
-//! frequency response from many initial states; with the fold and period-doubling curves of
-//! the subharmonic branches continued in both parameters drawn over it.
+//! Two-parameter maps: over x (ω_e or a model parameter) × y (a model parameter), how many
+//! stable responses coexist, the largest amplitude and its type, and whether a hidden
+//! response exists there (one that neither a forward nor a backward quasi-static sweep of x
+//! reaches: with x = ω_e the paper's definition), each row a response from many initial
+//! states; with the fold and period-doubling curves of the subharmonic branches continued in
+//! both parameters drawn over it.
 
 use serde::{Deserialize, Serialize};
 
@@ -11,7 +13,9 @@ use super::continuation::{
     BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch, continue_branch,
 };
 use super::family::FamilyParameter;
-use super::frequency_response::{FrequencyResponse, FrequencyResponseSpec, frequency_response};
+use super::frequency_response::{
+    FrequencyResponse, FrequencyResponseSpec, frequency_response_over,
+};
 use super::grid::Axis;
 use super::progress::Progress;
 use super::steady_state::Class;
@@ -21,10 +25,14 @@ use crate::model::error::ParamError;
 /// Points a curve may take each way in a map (they are drawn, not studied).
 const MAP_CURVE_POINTS: usize = 400;
 
-/// A map over the response's ω_e grid (x) and `values` of `parameter` (y).
+/// A map over the response's grid of `x` (its `omega` axis holds x's values) and `values`
+/// of `parameter` (y).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MapSpec {
+    /// The parameter along each row (ω_e unless given).
+    #[serde(default = "omega")]
+    pub x: ContinuationParameter,
     pub parameter: FamilyParameter,
     pub values: Axis,
     #[serde(default)]
@@ -39,12 +47,31 @@ fn yes() -> bool {
     true
 }
 
+fn omega() -> ContinuationParameter {
+    ContinuationParameter::Omega
+}
+
 impl MapSpec {
     /// Checks the values (each a valid model with `base`, 1 to 1000 rows) and the response.
     pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+        if self.x == ContinuationParameter::Model(self.parameter) {
+            return Err(ParamError {
+                field: "x",
+                value: f64::NAN,
+                allowed: format!(
+                    "a parameter other than the rows' ({})",
+                    self.parameter.name()
+                ),
+            });
+        }
         self.values.validate("values", 1000)?;
         for v in self.values.values() {
             self.parameter.apply(base, v)?;
+        }
+        if self.x != ContinuationParameter::Omega {
+            for v in [self.response.omega.min, self.response.omega.max] {
+                self.x.apply(base, v)?;
+            }
         }
         self.response.validate()
     }
@@ -72,7 +99,8 @@ pub struct MapCell {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BranchSeed {
     pub period: usize,
-    pub omega: f64,
+    /// The value of x there.
+    pub at: f64,
     pub x: [f64; 2],
 }
 
@@ -80,12 +108,13 @@ pub struct BranchSeed {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MapRow {
     pub value: f64,
-    /// One per ω_e of the response's grid.
+    /// One per value of x.
     pub cells: Vec<MapCell>,
     pub seeds: Vec<BranchSeed>,
 }
 
-/// The cells of a frequency response, one per ω_e, and its subharmonic seeds.
+/// The cells of a response (against ω_e or another x), one per value, and its subharmonic
+/// seeds.
 pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
     let cells = (0..fr.omegas.len())
         .map(|i| {
@@ -98,7 +127,7 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
                 here.iter()
                     .filter(|r| r.steady.class == class)
                     .map(|r| r.share)
-                    .sum()
+                    .fold(0.0, |a, b| a + b)
             };
             let largest = periodic
                 .iter()
@@ -130,7 +159,7 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
                 .max_by(|x, y| amplitude(x).total_cmp(&amplitude(y)))?;
             Some(BranchSeed {
                 period: b.period,
-                omega: peak.omega,
+                at: peak.omega,
                 x: *peak.steady.poincare.first()?,
             })
         })
@@ -151,7 +180,7 @@ pub fn map_row(
 ) -> Result<MapRow, AnalysisError> {
     let value = spec.values.at(i);
     let p = spec.parameter.apply(params, value)?;
-    let fr = frequency_response(&p, &spec.response, progress)?;
+    let fr = frequency_response_over(&p, &spec.response, spec.x, progress)?;
     Ok(summarise(value, &fr))
 }
 
@@ -176,7 +205,8 @@ pub fn map_curves(
         spec.values.min.max(spec.values.max),
     );
     let base = spec.parameter.apply(params, row.value)?;
-    let in_omega = ContinuationSpec {
+    let in_x = ContinuationSpec {
+        parameter: spec.x,
         min: w_lo,
         max: w_hi,
         ..ContinuationSpec::default()
@@ -194,7 +224,7 @@ pub fn map_curves(
     for seed in &row.seeds {
         let on_known = branches.iter().any(|b| {
             b.period == seed.period
-                && b.orbits_at(seed.omega, &in_omega.shooting)
+                && b.orbits_at(seed.at, &in_x.shooting)
                     .unwrap_or_default()
                     .iter()
                     .any(|o| o.poincare.iter().any(|q| near(*q, seed.x, 1e-4)))
@@ -202,8 +232,8 @@ pub fn map_curves(
         if on_known {
             continue;
         }
-        let p = base.with_omega(seed.omega)?;
-        if let Ok(b) = continue_branch(&p, seed.period, seed.x, &in_omega, progress) {
+        let p = spec.x.apply(&base, seed.at)?;
+        if let Ok(b) = continue_branch(&p, seed.period, seed.x, &in_x, progress) {
             branches.push(b);
         }
     }
@@ -229,24 +259,20 @@ pub fn map_curves(
                         let (a, z) = (&w[0], &w[1]);
                         (a.second - row.value) * (z.second - row.value) <= 0.0
                             && (a.first.min(z.first) - 1e-6..=a.first.max(z.first) + 1e-6)
-                                .contains(&bif.omega)
+                                .contains(&bif.parameter)
                     })
             });
             if drawn {
                 continue;
             }
-            match continue_bifurcation(
-                &base,
-                ContinuationParameter::Omega,
-                bif,
-                &curve_spec,
-                progress,
-            ) {
+            match continue_bifurcation(&base, spec.x, bif, &curve_spec, progress) {
                 Ok(c) => curves.push(c),
                 Err(super::continuation::ContinuationError::Cancelled) => {
                     return Err(AnalysisError::Cancelled);
                 }
-                Err(e) => tracing::warn!(omega = bif.omega, "no curve from this bifurcation: {e}"),
+                Err(e) => {
+                    tracing::warn!(at = bif.parameter, "no curve from this bifurcation: {e}")
+                }
             }
         }
     }

@@ -24,20 +24,35 @@ pub fn stepped_sweep(
     start: [f64; 2],
     spec: &SteadyStateSpec,
     cancel: &AtomicBool,
+    on_step: impl FnMut(&SweepStep),
+) -> Result<Vec<SweepStep>, AnalysisError> {
+    let steps = omegas
+        .iter()
+        .map(|&w| Ok((w, params.with_omega(w)?)))
+        .collect::<Result<Vec<_>, crate::model::ParamError>>()?;
+    stepped_sweep_over(&steps, start, spec, cancel, on_step)
+}
+
+/// The same through any sequence of (value, model): a quasi-static sweep of whichever
+/// parameter the values are of (the step's `omega` field then holds the value).
+pub fn stepped_sweep_over(
+    steps: &[(f64, Params)],
+    start: [f64; 2],
+    spec: &SteadyStateSpec,
+    cancel: &AtomicBool,
     mut on_step: impl FnMut(&SweepStep),
 ) -> Result<Vec<SweepStep>, AnalysisError> {
     spec.validate()?;
     let mut state = start;
     let mut restarted = false;
-    let mut steps = Vec::with_capacity(omegas.len());
-    for &omega in omegas {
+    let mut out = Vec::with_capacity(steps.len());
+    for (value, p) in steps {
         if cancel.load(Ordering::Relaxed) {
             return Err(AnalysisError::Cancelled);
         }
-        let p = params.with_omega(omega)?;
-        let steady = steady_state(&p, state[0], state[1], spec);
+        let steady = steady_state(p, state[0], state[1], spec);
         let step = SweepStep {
-            omega,
+            omega: *value,
             steady,
             restarted,
         };
@@ -48,11 +63,11 @@ pub fn stepped_sweep(
             .poincare
             .last()
             .copied()
-            .unwrap_or([params.lambda_p(), 0.0]);
+            .unwrap_or([p.lambda_p(), 0.0]);
         on_step(&step);
-        steps.push(step);
+        out.push(step);
     }
-    Ok(steps)
+    Ok(out)
 }
 
 #[cfg(test)]

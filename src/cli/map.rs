@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::bifurcation_curve::Turning;
+use isola::analysis::continuation::ContinuationParameter;
 use isola::analysis::family::FamilyParameter;
 use isola::analysis::frequency_response::FrequencyResponseSpec;
 use isola::analysis::map::{MapSpec, map};
@@ -20,6 +21,13 @@ use super::start_ranges::StartRanges;
 pub struct MapArgs {
     #[command(flatten)]
     model: ModelArgs,
+    /// The parameter along each row: omega (default; its values by --omega START:END:STEP)
+    /// or a model parameter (its values by --x-values, at the single --omega).
+    #[arg(long, default_value = "omega", value_parser = |s: &str| ContinuationParameter::parse(s).ok_or_else(|| format!("'{s}': one of omega, adr, e_a, c_tilde, lambda_p, j")))]
+    x: ContinuationParameter,
+    /// Values START:END:STEP of --x when it is not omega.
+    #[arg(long = "x-values")]
+    x_values: Option<String>,
     /// The parameter of the map's rows: adr, e_a, c_tilde, lambda_p or j.
     #[arg(long, value_parser = |s: &str| FamilyParameter::parse(s).ok_or_else(|| format!("'{s}': one of adr, e_a, c_tilde, lambda_p, j")))]
     vary: FamilyParameter,
@@ -46,16 +54,26 @@ pub struct MapArgs {
 }
 
 pub fn run(args: &MapArgs) -> anyhow::Result<()> {
-    let omega = parse::range(args.model.omega_text("1.0:6.0:0.1"))
-        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
     let values = parse::range(&args.values).map_err(|e| anyhow::anyhow!("--values: {e}"))?;
-    let params = args.model.params_at(omega.min)?;
+    let (x_axis, params) = if args.x == ContinuationParameter::Omega {
+        let omega = parse::range(args.model.omega_text("1.0:6.0:0.1"))
+            .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+        let params = args.model.params_at(omega.min)?;
+        (omega, params)
+    } else {
+        let text = args.x_values.as_deref().ok_or_else(|| {
+            anyhow::anyhow!("--x {} needs --x-values START:END:STEP", args.x.name())
+        })?;
+        let x_axis = parse::range(text).map_err(|e| anyhow::anyhow!("--x-values: {e}"))?;
+        (x_axis, args.model.params()?)
+    };
     let (dx, v) = args.starts.axes(args.ics);
     let spec = MapSpec {
+        x: args.x,
         parameter: args.vary,
         values,
         response: FrequencyResponseSpec {
-            omega,
+            omega: x_axis,
             dx,
             v,
             ..FrequencyResponseSpec::default()
@@ -74,9 +92,10 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let coexisting = cells.iter().filter(|(_, c)| c.stable >= 2).count();
     let most = cells.iter().map(|(_, c)| c.stable).max().unwrap_or(0);
     println!(
-        "map: {} {name} values × {} ω values, {} initial states per cell, in {:.2} s ({} threads)",
+        "map: {} {name} values × {} {} values, {} initial states per cell, in {:.2} s ({} threads)",
         rows.len(),
         spec.response.omega.points,
+        args.x.name(),
         args.ics.0 * args.ics.1,
         started.elapsed().as_secs_f64(),
         ctx.pool.current_num_threads()
@@ -107,16 +126,22 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         );
         for e in c.extrema_of(Turning::Second) {
             println!(
-                "    {} of {name}: {:.9} (±{:.0e}) at ω {:.6}",
+                "    {} of {name}: {:.9} (±{:.0e}) at {} {:.6}",
                 if e.minimum { "minimum" } else { "maximum" },
                 e.point.second,
                 e.precision.max(1e-9),
+                args.x.name(),
                 e.point.first
             );
         }
     }
     if let Some(path) = &args.csv {
-        isola::session::export::map_csv(name, &spec.response.omega.values(), &rows, path)?;
+        isola::session::export::map_csv(
+            (args.x.name(), name),
+            &spec.response.omega.values(),
+            &rows,
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.curves_csv {

@@ -457,19 +457,20 @@ pub fn hunt_family_csv(
     })
 }
 
-/// One row per cell of a map: `PARAMETER, omega, frequency_hz, stable,
-/// largest_amplitude_stretch, largest_type, hidden, subharmonic, collision_share,
-/// non_periodic_share`.
+/// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e; empty otherwise)`,
+/// stable, largest_amplitude_stretch, largest_type, hidden, subharmonic, collision_share,
+/// non_periodic_share`, the parameters named in the header.
 pub fn map_csv(
-    parameter: &str,
-    omegas: &[f64],
+    (x, parameter): (&str, &str),
+    xs: &[f64],
     rows: &[crate::analysis::map::MapRow],
     path: &Path,
 ) -> anyhow::Result<()> {
+    let is_omega = x == "omega";
     write_atomic(path, |w| {
         w.write_record([
             parameter,
-            "omega",
+            x,
             "frequency_hz",
             "stable",
             "largest_amplitude_stretch",
@@ -480,11 +481,15 @@ pub fn map_csv(
             "non_periodic_share",
         ])?;
         for row in rows {
-            for (cell, omega) in row.cells.iter().zip(omegas) {
+            for (cell, at) in row.cells.iter().zip(xs) {
                 w.write_record([
                     row.value.to_string(),
-                    format!("{omega:.6}"),
-                    format!("{:.4}", Device::silicone().hz(*omega)),
+                    format!("{at:.6}"),
+                    if is_omega {
+                        format!("{:.4}", Device::silicone().hz(*at))
+                    } else {
+                        String::new()
+                    },
                     cell.stable.to_string(),
                     cell.largest_amplitude
                         .map_or(String::new(), |a| format!("{a:.9}")),

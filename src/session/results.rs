@@ -231,11 +231,14 @@ pub struct CurveView {
     pub extrema: Vec<(String, String, [f64; 2])>,
 }
 
-/// A map over ω_e (x) and a model parameter (y): its cells by row (`cells[row][column]`,
-/// `None` for rows not computed yet) and the curves over it.
+/// A map over x (ω_e or a model parameter) and a model parameter (y): its cells by row
+/// (`rows[row][column]`, `None` for rows not computed yet) and the curves over it.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MapView {
+    /// Names of x (`omega`, ...) and y.
+    pub x: String,
     pub parameter: String,
+    /// The values of x.
     pub omegas: Vec<f64>,
     pub values: Vec<f64>,
     pub rows: Vec<Option<Vec<MapCell>>>,
@@ -507,6 +510,7 @@ impl ResultReader {
                 ResultView::Response(per_omega.iter().flatten().cloned().collect())
             }
             (Partial::Map(rows), Settings::Map(spec)) => ResultView::Map(MapView {
+                x: spec.x.name().into(),
                 parameter: spec.parameter.name().into(),
                 omegas: spec.response.omega.values(),
                 values: spec.values.values(),
@@ -677,6 +681,7 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 }
             }
             ResultView::Map(MapView {
+                x: spec.x.name().into(),
                 parameter: parameter.into(),
                 omegas,
                 values,

@@ -230,7 +230,8 @@ pub fn run_analysis(
                     };
                     export::curves_csv(&curves, &export::curves_path(&paths.csv))?;
                     let omegas = spec.response.omega.values();
-                    export::map_csv(spec.parameter.name(), &omegas, &rows, &paths.csv)?;
+                    let names = (spec.x.name(), spec.parameter.name());
+                    export::map_csv(names, &omegas, &rows, &paths.csv)?;
                     (computed, 0)
                 }
                 None => (computed, missing_count(&paths, n)),

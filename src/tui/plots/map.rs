@@ -92,13 +92,14 @@ pub fn draw(
             ),
             None => "not computed".into(),
         };
+        let at = if m.x == "omega" {
+            format!("ω {w:.3} ({:.1} Hz)", ctx.device.hz(*w))
+        } else {
+            format!("{} {w:.4}", m.x)
+        };
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
-            Span::raw(format!(
-                "ω {w:.3} ({:.1} Hz)  {} {v:.4}: {reading}",
-                ctx.device.hz(*w),
-                m.parameter
-            )),
+            Span::raw(format!("{at}  {} {v:.4}: {reading}", m.parameter)),
         ]));
     }
     let mut legend: Vec<Span> = Vec::new();
@@ -124,6 +125,7 @@ pub fn draw(
         legend.push(Span::raw(" period doubling"));
     }
     footer.push(Line::from(legend));
+    let x_name = if m.x == "omega" { "ω" } else { m.x.as_str() };
     let turning: Vec<String> = m
         .curves
         .iter()
@@ -133,8 +135,8 @@ pub fn draw(
                 .filter(|e| e.1 == m.parameter)
                 .map(move |e| {
                     format!(
-                        "1:{} {} {} {} {:.4} at ω {:.3}",
-                        c.period, c.kind, e.0, m.parameter, e.2[1], e.2[0]
+                        "1:{} {} {} {} {:.4} at {} {:.3}",
+                        c.period, c.kind, e.0, m.parameter, e.2[1], x_name, e.2[0]
                     )
                 })
         })
@@ -150,7 +152,7 @@ pub fn draw(
         ));
     }
     let map = HeatMap {
-        x: Axis::new("ω_e", x0, x1),
+        x: Axis::new(if m.x == "omega" { "ω_e" } else { m.x.as_str() }, x0, x1),
         y: Axis::new(m.parameter.as_str(), y0, y1),
         nx,
         ny,
