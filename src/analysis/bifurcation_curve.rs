@@ -15,7 +15,7 @@ use nalgebra::{Matrix2, Matrix4, RowVector4, Vector4};
 use serde::{Deserialize, Serialize};
 
 use super::continuation::{
-    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, ContinuationParameter,
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, ContinuationParameter, check_steps,
 };
 use super::floquet::{Multipliers, TestFunctions};
 use super::progress::Progress;
@@ -98,28 +98,7 @@ impl CurveSpec {
         for v in [self.first_min, self.first_max] {
             first.apply(base, v)?;
         }
-        check("step_max", self.step_max, |s| s > 0.0 && s <= 1.0, "(0, 1]")?;
-        check(
-            "step_min",
-            self.step_min,
-            |s| s > 0.0 && s < self.step_max,
-            format!("(0, step_max = {})", self.step_max),
-        )?;
-        check(
-            "step",
-            self.step,
-            |s| s >= self.step_min && s <= self.step_max,
-            format!(
-                "[step_min, step_max] = [{}, {}]",
-                self.step_min, self.step_max
-            ),
-        )?;
-        check(
-            "max_points",
-            self.max_points as f64,
-            |n| (2.0..=1e6).contains(&n),
-            "[2, 1000000]",
-        )?;
+        check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
         self.shooting.validate()
     }
 }

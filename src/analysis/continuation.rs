@@ -128,30 +128,36 @@ impl ContinuationSpec {
         )?;
         self.parameter.apply(base, self.min)?;
         self.parameter.apply(base, self.max)?;
-        check("step_max", self.step_max, |s| s > 0.0 && s <= 1.0, "(0, 1]")?;
-        check(
-            "step_min",
-            self.step_min,
-            |s| s > 0.0 && s < self.step_max,
-            format!("(0, step_max = {})", self.step_max),
-        )?;
-        check(
-            "step",
-            self.step,
-            |s| s >= self.step_min && s <= self.step_max,
-            format!(
-                "[step_min, step_max] = [{}, {}]",
-                self.step_min, self.step_max
-            ),
-        )?;
-        check(
-            "max_points",
-            self.max_points as f64,
-            |n| (2.0..=1e6).contains(&n),
-            "[2, 1000000]",
-        )?;
+        check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
         self.shooting.validate()
     }
+}
+
+/// Checks a continuation's arclength steps [step, step_min, step_max] and its point limit.
+pub(crate) fn check_steps(
+    [step, step_min, step_max]: [f64; 3],
+    max_points: usize,
+) -> Result<(), ParamError> {
+    check("step_max", step_max, |s| s > 0.0 && s <= 1.0, "(0, 1]")?;
+    check(
+        "step_min",
+        step_min,
+        |s| s > 0.0 && s < step_max,
+        format!("(0, step_max = {step_max})"),
+    )?;
+    check(
+        "step",
+        step,
+        |s| s >= step_min && s <= step_max,
+        format!("[step_min, step_max] = [{step_min}, {step_max}]"),
+    )?;
+    check(
+        "max_points",
+        max_points as f64,
+        |n| (2.0..=1e6).contains(&n),
+        "[2, 1000000]",
+    )?;
+    Ok(())
 }
 
 /// One point of a continued branch: what a plot needs.
