@@ -320,6 +320,22 @@ impl ContinuedBranch {
         Ok(out)
     }
 
+    /// True if one of the branch's orbits at parameter `value` has every point of `points`
+    /// among its Poincaré points, within `tol` (max-norm on [λ_I, v]).
+    pub fn passes_through(
+        &self,
+        value: f64,
+        points: &[[f64; 2]],
+        tol: f64,
+        shooting: &ShootingSpec,
+    ) -> bool {
+        let near = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < tol;
+        self.orbits_at(value, shooting)
+            .unwrap_or_default()
+            .iter()
+            .any(|o| points.iter().all(|p| o.poincare.iter().any(|q| near(p, q))))
+    }
+
     /// Maximal runs of points of equal stability, as (first, last, stable) index ranges.
     pub fn arcs(&self) -> Vec<(usize, usize, bool)> {
         let mut arcs: Vec<(usize, usize, bool)> = Vec::new();
@@ -596,19 +612,8 @@ impl Problem<'_> {
             .map(|(j, _)| j)
     }
 
-    /// If the Poincaré points of a divisor period j merged between `a` and `b` (the gap
-    /// P^j(x) − x reversed), the period doubling of the parent period-j response there.
-    fn collapse(&self, a: &Solved, b: &Solved) -> Option<Bifurcation> {
-        self.reversed_gap(a, b)
-            .map(|j| self.parent_period_doubling(j, a, b))
-    }
-
-    /// True if some divisor period's gap P^j(x) − x reversed between `a` and `b`.
-    fn collapse_gap(&self, a: &Solved, b: &Solved) -> bool {
-        self.reversed_gap(a, b).is_some()
-    }
-
-    /// The divisor period j whose gap P^j(x) − x reversed between `a` and `b`.
+    /// The divisor period j whose gap P^j(x) − x reversed between `a` and `b`: its Poincaré
+    /// points merged in between, at the parent's period doubling.
     fn reversed_gap(&self, a: &Solved, b: &Solved) -> Option<usize> {
         let (ga, gb) = (self.divisor_gaps(a), self.divisor_gaps(b));
         ga.into_iter().zip(gb).find_map(|((j, da), (_, db))| {
@@ -730,24 +735,19 @@ impl Problem<'_> {
                 points.push(self.point(&at));
                 return Ok((points, bifs, BranchEnd::Bound { value: bound }));
             }
-            // the branch seems to reach a parent: confirm with a short step, since a long
-            // one can jump across a hairpin near a fold onto the other side or the parent
-            let at_parent = self.on_parent(&next).is_some() || self.collapse_gap(&prev, &next);
-            if at_parent && h > PARENT_CONFIRM_STEP.max(spec.step_min) {
-                h = (h * 0.25).max(spec.step_min);
-                continue;
-            }
-            // a corrected point on the parent itself (its Poincaré points coincide): the
-            // branch walked through the period doubling onto the doubled parent
-            if let Some(j) = self.on_parent(&next) {
-                let b = self.parent_period_doubling(j, &prev, &next);
-                bifs.push(b);
+            // the branch reaches a parent of period j: `next` sits on it (its Poincaré
+            // points coincide) or the gap P^j(x) − x reversed since `prev`. Confirm with a
+            // short step first: a long one can jump across a hairpin near a fold.
+            if let Some(j) = self
+                .on_parent(&next)
+                .or_else(|| self.reversed_gap(&prev, &next))
+            {
+                if h > PARENT_CONFIRM_STEP.max(spec.step_min) {
+                    h = (h * 0.25).max(spec.step_min);
+                    continue;
+                }
+                bifs.push(self.parent_period_doubling(j, &prev, &next));
                 return Ok((points, bifs, BranchEnd::Parent { period: j }));
-            }
-            if let Some(b) = self.collapse(&prev, &next) {
-                let period = b.period;
-                bifs.push(b);
-                return Ok((points, bifs, BranchEnd::Parent { period }));
             }
             bifs.extend(self.crossings(&prev, &next, &t, h));
             // back at the seed (or at one of its shifts, for a subharmonic)

@@ -164,6 +164,15 @@ impl FrequencyResponse {
     pub fn at(&self, i: usize) -> impl Iterator<Item = &Response> {
         self.responses.iter().filter(move |r| r.omega_index == i)
     }
+
+    /// The largest response of branch `id`.
+    pub fn peak(&self, id: usize) -> Option<&Response> {
+        let amplitude = |r: &Response| r.steady.amplitude.unwrap_or(f64::NEG_INFINITY);
+        self.responses
+            .iter()
+            .filter(|r| r.branch == Some(id))
+            .max_by(|a, b| amplitude(a).total_cmp(&amplitude(b)))
+    }
 }
 
 /// Computes the frequency response of `params` (its ω_e is replaced by the spec's grid).

@@ -232,15 +232,7 @@ pub fn hunt_in(
             h.hidden &= seed.hidden;
             continue;
         }
-        let peak = response
-            .responses
-            .iter()
-            .filter(|r| r.branch == Some(seed.id))
-            .max_by(|a, b| {
-                let amp = |r: &super::frequency_response::Response| r.steady.amplitude;
-                amp(a).partial_cmp(&amp(b)).expect("amplitudes are finite")
-            })
-            .expect("a branch has responses");
+        let peak = response.peak(seed.id).expect("a branch has responses");
         let at = params.with_omega(peak.omega)?;
         match continue_branch(&at, seed.period, peak.steady.poincare[0], spec, progress) {
             Ok(b) => branches.push(HuntedBranch::new(seed, seed.hidden, b)),
@@ -258,33 +250,19 @@ pub fn hunt_in(
     })
 }
 
-/// True when every response of brute-force branch `seed` (of the same period) matches one of
-/// `continued`'s orbits at its ω_e.
+/// True when every response of brute-force branch `seed` lies on `continued` at its ω_e.
 fn lies_on(
     response: &FrequencyResponse,
     seed: &Branch,
     continued: &ContinuedBranch,
     spec: &ContinuationSpec,
 ) -> bool {
-    if continued.period != seed.period {
-        return false;
-    }
-    response
-        .responses
-        .iter()
-        .filter(|r| r.branch == Some(seed.id))
-        .all(|r| {
-            continued
-                .orbits_at(r.omega, &spec.shooting)
-                .unwrap_or_default()
-                .iter()
-                .any(|orbit| {
-                    r.steady.poincare.iter().all(|p| {
-                        orbit
-                            .poincare
-                            .iter()
-                            .any(|q| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < ON_BRANCH_TOL)
-                    })
-                })
-        })
+    continued.period == seed.period
+        && response
+            .responses
+            .iter()
+            .filter(|r| r.branch == Some(seed.id))
+            .all(|r| {
+                continued.passes_through(r.omega, &r.steady.poincare, ON_BRANCH_TOL, &spec.shooting)
+            })
 }

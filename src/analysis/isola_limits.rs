@@ -124,25 +124,24 @@ pub fn isola_merge(
         Ok(Some((Verdict::of(&branch), branch)))
     };
     let attached = |v: Verdict| matches!(v, Verdict::Attached | Verdict::HalfAttached);
-    match verdict_at(towards)? {
-        Some((v, _)) if attached(v) => {}
+    // the branches at both ends of the bracket, kept as it narrows
+    let mut after = match verdict_at(towards)? {
+        Some((v, b)) if attached(v) => b,
         _ => return Ok(None),
-    }
+    };
+    let mut before = isola.clone();
     let (mut closed, mut merged) = (from, towards);
     while (merged - closed).abs() > tolerance {
         let mid = 0.5 * (closed + merged);
         match verdict_at(mid)? {
-            Some((Verdict::Isola, _)) => closed = mid,
-            Some((v, _)) if attached(v) => merged = mid,
+            Some((Verdict::Isola, b)) => (closed, before) = (mid, b),
+            Some((v, b)) if attached(v) => (merged, after) = (mid, b),
             // no orbit there, or a branch that ends elsewhere: the picture is not simple
             _ => return Ok(None),
         }
     }
     // where the two touch: the isola's fold (just before) nearest a parent doubling of the
     // attached branch (just after)
-    let (Some((_, before)), Some((_, after))) = (verdict_at(closed)?, verdict_at(merged)?) else {
-        return Ok(None);
-    };
     let doublings: Vec<f64> = after
         .of_kind(BifurcationKind::ParentPeriodDoubling)
         .map(|b| b.omega)
@@ -197,12 +196,12 @@ pub fn locate_limits(
                 match isola_at(at, t.period) {
                     Some(h) => {
                         let p = model.apply(params, at)?.with_omega(h.peak_omega)?;
-                        // room below the bracket for the curve to turn
-                        let width = (t.to - t.from).abs();
+                        // a birth bracketed by these values turns above the lower one, a
+                        // valid model of the family
                         let curve = CurveSpec {
                             first_min: c.min,
                             first_max: c.max,
-                            min: (t.from.min(t.to) - width).max(model_min(spec.parameter)),
+                            min: t.from.min(t.to),
                             max: hi,
                             ..CurveSpec::default()
                         };
@@ -227,13 +226,4 @@ pub fn locate_limits(
         out.push((t, limit));
     }
     Ok(out)
-}
-
-/// The smallest value a fold curve may reach in `parameter` (the model's own bound).
-fn model_min(parameter: FamilyParameter) -> f64 {
-    match parameter {
-        FamilyParameter::Adr | FamilyParameter::EA | FamilyParameter::CTilde => 1e-6,
-        FamilyParameter::LambdaP => 1.0 + 1e-6,
-        FamilyParameter::J => 1.0 + 1e-6,
-    }
 }

@@ -152,11 +152,7 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
         .iter()
         .filter(|b| b.is_subharmonic())
         .filter_map(|b| {
-            let peak = fr
-                .responses
-                .iter()
-                .filter(|r| r.branch == Some(b.id))
-                .max_by(|x, y| amplitude(x).total_cmp(&amplitude(y)))?;
+            let peak = fr.peak(b.id)?;
             Some(BranchSeed {
                 period: b.period,
                 at: peak.omega,
@@ -223,11 +219,7 @@ pub fn map_curves(
     let mut branches: Vec<ContinuedBranch> = Vec::new();
     for seed in &row.seeds {
         let on_known = branches.iter().any(|b| {
-            b.period == seed.period
-                && b.orbits_at(seed.at, &in_x.shooting)
-                    .unwrap_or_default()
-                    .iter()
-                    .any(|o| o.poincare.iter().any(|q| near(*q, seed.x, 1e-4)))
+            b.period == seed.period && b.passes_through(seed.at, &[seed.x], 1e-4, &in_x.shooting)
         });
         if on_known {
             continue;
@@ -282,10 +274,6 @@ pub fn map_curves(
 /// A response's amplitude, −∞ for none (collision, non-periodic).
 fn amplitude(r: &super::frequency_response::Response) -> f64 {
     r.steady.amplitude.unwrap_or(f64::NEG_INFINITY)
-}
-
-fn near(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
-    (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) < tol
 }
 
 /// The whole map: rows in order, then the curves.

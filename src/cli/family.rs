@@ -40,9 +40,7 @@ pub struct FamilyArgs {
 }
 
 pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
-    let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
-        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
-    let params = args.model.params_at(omega.min)?;
+    let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let spec = FamilySpec {
         parameter: args.vary,
         values: args.values.clone(),

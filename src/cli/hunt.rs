@@ -55,9 +55,7 @@ pub struct HuntArgs {
 }
 
 pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
-    let omega = parse::range(args.model.omega_text("0.2:6.0:0.05"))
-        .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
-    let params = args.model.params_at(omega.min)?;
+    let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
     let (min, max) = args
         .range

@@ -56,10 +56,7 @@ pub struct MapArgs {
 pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let values = parse::range(&args.values).map_err(|e| anyhow::anyhow!("--values: {e}"))?;
     let (x_axis, params) = if args.x == ContinuationParameter::Omega {
-        let omega = parse::range(args.model.omega_text("1.0:6.0:0.1"))
-            .map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
-        let params = args.model.params_at(omega.min)?;
-        (omega, params)
+        args.model.omega_range("1.0:6.0:0.1")?
     } else {
         let text = args.x_values.as_deref().ok_or_else(|| {
             anyhow::anyhow!("--x {} needs --x-values START:END:STEP", args.x.name())

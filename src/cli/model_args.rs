@@ -1,8 +1,11 @@
 //! The model flags every analysis command shares; defaults are the paper's baseline.
 
 use clap::Args;
+use isola::analysis::grid::Axis;
 use isola::model::{Device, Params};
 use isola::session::model_section::ModelSection;
+
+use super::parse;
 
 /// Model parameters. The drive is (--ea, --adr) or (--phi-dc, --phi-ac).
 #[derive(Debug, Clone, Args)]
@@ -76,6 +79,14 @@ impl ModelArgs {
     /// The text of --omega, or `default` when it was not given.
     pub fn omega_text<'a>(&'a self, default: &'a str) -> &'a str {
         self.omega.as_deref().unwrap_or(default)
+    }
+
+    /// The --omega range (or `default`) and the validated parameters at its first ω.
+    pub fn omega_range(&self, default: &str) -> anyhow::Result<(Axis, Params)> {
+        let omega =
+            parse::range(self.omega_text(default)).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+        let params = self.params_at(omega.min)?;
+        Ok((omega, params))
     }
 
     /// The validated parameters at forcing frequency `omega`, or an error naming the bad field;

@@ -541,6 +541,15 @@ impl Columns {
         ))
     }
 
+    /// The name of column `i` (files whose columns are named after a parameter).
+    fn name_at(&self, i: usize) -> anyhow::Result<String> {
+        self.0
+            .iter()
+            .find(|(_, j)| **j == i)
+            .map(|(name, _)| name.clone())
+            .ok_or_else(|| anyhow::anyhow!("no column {i}"))
+    }
+
     fn str<'r>(&self, row: &'r csv::StringRecord, name: &str) -> anyhow::Result<&'r str> {
         let i = self
             .0
@@ -738,13 +747,8 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
 
 /// Reads a continued-branch file (see [`super::export::continued_csv`]).
 fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
-    let mut reader = csv::Reader::from_path(path)?;
-    let parameter = reader
-        .headers()?
-        .get(4)
-        .ok_or_else(|| anyhow::anyhow!("no parameter column"))?
-        .to_string();
     let (c, rows) = rows(path)?;
+    let parameter = c.name_at(4)?;
     let mut branches: Vec<ContinuedView> = Vec::new();
     for r in &rows {
         let id = c.f64(r, "branch")? as usize;
@@ -783,13 +787,8 @@ fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
 
 /// Reads a curves file (see [`super::export::curves_csv`]).
 fn read_curves(path: &Path) -> anyhow::Result<Vec<CurveView>> {
-    let mut reader = csv::Reader::from_path(path)?;
-    let headers = reader.headers()?.clone();
-    let (Some(first), Some(second)) = (headers.get(5), headers.get(6)) else {
-        anyhow::bail!("no parameter columns");
-    };
-    let (first, second) = (first.to_string(), second.to_string());
     let (c, rows) = rows(path)?;
+    let (first, second) = (c.name_at(5)?, c.name_at(6)?);
     let mut curves: Vec<CurveView> = Vec::new();
     for r in &rows {
         let id = c.f64(r, "curve")? as usize;

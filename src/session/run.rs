@@ -167,15 +167,14 @@ pub fn run_analysis(
             save_manifest(&manifest)?;
             progress.grow_total(plan.cells());
             let done = |i: usize| progress.add(plan.chunk_cells(i).len());
-            let computed = compute_chunks(&paths, n, shard, done, |i| plan.chunk(i, progress))?;
-            let chunks: Option<Vec<Vec<crate::analysis::SteadyState>>> = load_chunks(&paths, n);
-            match chunks {
-                Some(chunks) => {
-                    export::basin_csv(&plan.assemble(chunks), &params, &paths.csv)?;
-                    (computed, 0)
-                }
-                None => (computed, missing_count(&paths, n)),
-            }
+            run_chunks(
+                &paths,
+                n,
+                shard,
+                done,
+                |i| plan.chunk(i, progress),
+                |chunks| export::basin_csv(&plan.assemble(chunks), &params, &paths.csv),
+            )?
         }
         Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
             let plan = ResponsePlan::new(&params, spec).map_err(cancelled)?;
@@ -184,29 +183,25 @@ pub fn run_analysis(
             save_manifest(&manifest)?;
             progress.grow_total(plan.work());
             let per_chunk = spec.dx.points * spec.v.points;
-            let computed = compute_chunks(
+            run_chunks(
                 &paths,
                 n,
                 shard,
                 |_| progress.add(per_chunk),
                 |i| plan.grid_at(i, progress),
-            )?;
-            match load_chunks::<Vec<Response>>(&paths, n) {
-                Some(per_omega) => {
+                |per_omega: Vec<Vec<Response>>| {
                     let fr = plan.finish(per_omega, progress).map_err(cancelled)?;
                     if let Settings::Hunt(hunt) = &entry.settings {
                         let found = hunt_in(&params, fr, &hunt.continuation, progress)
                             .map_err(cancelled)?;
                         let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
                         export::continued_csv(&branches, &export::branches_path(&paths.csv))?;
-                        export::response_csv(&found.response, &paths.csv)?;
+                        export::response_csv(&found.response, &paths.csv)
                     } else {
-                        export::response_csv(&fr, &paths.csv)?;
+                        export::response_csv(&fr, &paths.csv)
                     }
-                    (computed, 0)
-                }
-                None => (computed, missing_count(&paths, n)),
-            }
+                },
+            )?
         }
         Settings::Map(spec) => {
             let n = spec.values.points;
@@ -214,15 +209,13 @@ pub fn run_analysis(
             save_manifest(&manifest)?;
             spec.validate(&params)?;
             // each row announces its own work as it starts; rows run side by side
-            let computed = compute_chunks(
+            run_chunks(
                 &paths,
                 n,
                 shard,
                 |_| {},
                 |i| map_row(&params, spec, i, progress).ok(),
-            )?;
-            match load_chunks::<MapRow>(&paths, n) {
-                Some(rows) => {
+                |rows: Vec<MapRow>| {
                     let curves = if spec.curves {
                         map_curves(&params, spec, &rows, progress).map_err(cancelled)?
                     } else {
@@ -231,11 +224,9 @@ pub fn run_analysis(
                     export::curves_csv(&curves, &export::curves_path(&paths.csv))?;
                     let omegas = spec.response.omega.values();
                     let names = (spec.x.name(), spec.parameter.name());
-                    export::map_csv(names, &omegas, &rows, &paths.csv)?;
-                    (computed, 0)
-                }
-                None => (computed, missing_count(&paths, n)),
-            }
+                    export::map_csv(names, &omegas, &rows, &paths.csv)
+                },
+            )?
         }
         Settings::Family(spec) => {
             let n = spec.values.len();
@@ -243,25 +234,21 @@ pub fn run_analysis(
             save_manifest(&manifest)?;
             spec.validate(&params)?;
             // each member announces its own work as it starts; members run side by side
-            let computed = compute_chunks(
+            run_chunks(
                 &paths,
                 n,
                 shard,
                 |_| {},
                 |i| family_member(&params, spec, i, progress).ok(),
-            )?;
-            match load_chunks::<FamilyMember>(&paths, n) {
-                Some(members) => {
+                |members: Vec<FamilyMember>| {
                     export::family_csv(spec.parameter.name(), &members, &paths.csv)?;
                     export::family_responses_csv(
                         spec.parameter.name(),
                         &members,
                         &export::family_responses_path(&paths.csv),
-                    )?;
-                    (computed, 0)
-                }
-                None => (computed, missing_count(&paths, n)),
-            }
+                    )
+                },
+            )?
         }
         single => {
             save_manifest(&manifest)?;
@@ -343,6 +330,26 @@ fn run_single(
         | Settings::Hunt(_) => {
             unreachable!("chunked kinds are run chunk by chunk")
         }
+    }
+}
+
+/// Computes the chunks this shard owns, then, if every chunk exists, `finish`es with all of
+/// them in index order. Returns (chunks computed now, chunks still missing).
+fn run_chunks<T: Serialize + serde::de::DeserializeOwned + Send>(
+    paths: &ResultPaths,
+    n: usize,
+    shard: Shard,
+    on_existing: impl Fn(usize) + Sync,
+    compute: impl Fn(usize) -> Option<T> + Sync,
+    finish: impl FnOnce(Vec<T>) -> anyhow::Result<()>,
+) -> anyhow::Result<(usize, usize)> {
+    let computed = compute_chunks(paths, n, shard, on_existing, compute)?;
+    match load_chunks(paths, n) {
+        Some(chunks) => {
+            finish(chunks)?;
+            Ok((computed, 0))
+        }
+        None => Ok((computed, missing_count(paths, n))),
     }
 }
 

@@ -22,12 +22,31 @@ fn type_of(b: &ContinuedView) -> String {
     format!("1:{}", b.period)
 }
 
-/// Adds `branches` to `plot` against x = `x_of(point)`, with the legend and one line per
-/// branch in the footer.
+/// What the x axis of continued branches is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum XAxis {
+    /// The drive's frequency ω_e (a hunt: over the brute-force responses).
+    Omega,
+    /// The continuation's parameter.
+    Parameter,
+}
+
+impl XAxis {
+    /// The x of a point with this `parameter` and `omega`.
+    fn of(self, parameter: f64, omega: f64) -> f64 {
+        match self {
+            XAxis::Omega => omega,
+            XAxis::Parameter => parameter,
+        }
+    }
+}
+
+/// Adds `branches` to `plot` against `x`, with the legend and one line per branch in the
+/// footer.
 pub fn overlay(
     plot: &mut XyPlot,
     branches: &[ContinuedView],
-    x_of: fn(&ContinuedPoint) -> f64,
+    x: XAxis,
     x_name: &str,
     ctx: &PlotContext,
 ) {
@@ -38,7 +57,7 @@ pub fn overlay(
         let xy: Vec<(f64, f64, bool)> = b
             .points
             .iter()
-            .map(|p| (x_of(p), p.amplitude, p.stable))
+            .map(|p| (x.of(p.parameter, p.omega), p.amplitude, p.stable))
             .collect();
         let mut stable = Vec::new();
         let mut unstable_runs: Vec<Vec<(f64, f64)>> = Vec::new();
@@ -75,7 +94,7 @@ pub fn overlay(
                 .bifurcations
                 .iter()
                 .filter(|f| f.kind.ends_with(kind))
-                .map(|f| (bifurcation_x(f, x_of), f.amplitude))
+                .map(|f| (x.of(f.parameter, f.omega), f.amplitude))
                 .collect();
             if !at.is_empty() {
                 plot.layers.push(Layer::Glyphs {
@@ -99,37 +118,17 @@ pub fn overlay(
     legend.extend(legend_item(PERIOD_DOUBLING, theme.key(), "period doubling"));
     plot.footer.push(Line::from(legend));
     for b in branches {
-        plot.footer.push(describe(b, x_of, x_name, ctx));
+        plot.footer.push(describe(b, x, x_name, ctx));
     }
 }
 
-/// The x of a bifurcation: its parameter, or its ω_e when the plot is against ω_e.
-fn bifurcation_x(
-    f: &isola::session::results::BifurcationPoint,
-    x_of: fn(&ContinuedPoint) -> f64,
-) -> f64 {
-    let probe = ContinuedPoint {
-        parameter: f.parameter,
-        omega: f.omega,
-        amplitude: f.amplitude,
-        stable: false,
-        start: [0.0; 2],
-    };
-    x_of(&probe)
-}
-
 /// `1:2 isola  ω 3.5896–5.4439  ✕ 3.58964, 5.44387`.
-fn describe(
-    b: &ContinuedView,
-    x_of: fn(&ContinuedPoint) -> f64,
-    x_name: &str,
-    ctx: &PlotContext,
-) -> Line<'static> {
+fn describe(b: &ContinuedView, x: XAxis, x_name: &str, ctx: &PlotContext) -> Line<'static> {
     let (lo, hi) = b
         .points
         .iter()
-        .map(x_of)
-        .chain(b.bifurcations.iter().map(|f| bifurcation_x(f, x_of)))
+        .map(|p| x.of(p.parameter, p.omega))
+        .chain(b.bifurcations.iter().map(|f| x.of(f.parameter, f.omega)))
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
             (lo.min(x), hi.max(x))
         });
@@ -143,7 +142,7 @@ fn describe(
             .bifurcations
             .iter()
             .filter(|f| f.kind.ends_with(kind))
-            .map(|f| format!("{:.5}", bifurcation_x(f, x_of)))
+            .map(|f| format!("{:.5}", x.of(f.parameter, f.omega)))
             .collect();
         if !at.is_empty() {
             spans.push(Span::styled(format!("  {glyph} "), ctx.theme.key()));
@@ -199,7 +198,7 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
     overlay(
         &mut plot,
         &view.branches,
-        |p| p.parameter,
+        XAxis::Parameter,
         &view.parameter,
         ctx,
     );

@@ -157,7 +157,13 @@ pub fn plot(
     }
     plot.footer.push(Line::from(legend));
     if !continued.is_empty() {
-        super::continued::overlay(&mut plot, continued, |p| p.omega, "ω", ctx);
+        super::continued::overlay(
+            &mut plot,
+            continued,
+            super::continued::XAxis::Omega,
+            "ω",
+            ctx,
+        );
     }
     for b in annotated.into_iter().filter(|_| continued.is_empty()) {
         plot.footer.push(Line::from(Span::styled(
