@@ -85,7 +85,6 @@ mod tests {
             lambda_max: Some(1.2),
             lambda_mean: Some(1.0),
             collision: None,
-            contraction: Some(0.5),
         }
     }
 

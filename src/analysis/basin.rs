@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::AnalysisError;
 use super::attractor::{AttractorTable, SAME_POINT_TOL};
-use super::batch::{KnownAttractors, steady_states};
+use super::batch::{KnownAttractors, LANES, steady_states};
 use super::grid::{Axis, starts};
 use super::progress::Progress;
 use super::steady_state::{SteadyState, SteadyStateSpec};
@@ -26,9 +26,10 @@ pub struct BasinSpec {
     /// Initial velocities.
     pub v: Axis,
     pub steady: SteadyStateSpec,
-    /// Stop trajectories that shadow an attractor already found (same classes, much faster).
+    /// Stop trajectories that enter a verified capture region of an attractor already found
+    /// (same classes, much faster).
     pub early_stop: bool,
-    /// Shadowing distance for the early stop (max-norm on [λ_I, v]).
+    /// Largest capture-region radius for the early stop (Euclidean on [λ_I, v]).
     pub capture: f64,
 }
 
@@ -40,7 +41,7 @@ impl Default for BasinSpec {
             v: Axis::new(-1.0, 1.0, 251),
             steady: SteadyStateSpec::default(),
             early_stop: true,
-            capture: 1e-3,
+            capture: 0.1,
         }
     }
 }
@@ -58,7 +59,7 @@ impl BasinSpec {
             |c| c <= MAX_CELLS as f64,
             format!("<= {MAX_CELLS}"),
         )?;
-        check("capture", self.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        check("capture", self.capture, |c| c > 0.0 && c <= 1.0, "(0, 1]")?;
         self.steady.validate()
     }
 }
@@ -192,8 +193,12 @@ impl<'a> BasinPlan<'a> {
     }
 }
 
-/// Attractors found from a fixed 7 × 7 sub-grid, integrated in full: the starting knowledge of
-/// every chunk, so results do not depend on which chunk runs first.
+/// Side of the sub-grid whose cells are integrated in full before the chunks run.
+const SEED_SIDE: usize = 12;
+
+/// Attractors found from a fixed [`SEED_SIDE`]² sub-grid, integrated in full (in parallel):
+/// the starting knowledge of every chunk, so results do not depend on which chunk runs first.
+/// The more attractors known up front, the fewer regions each chunk verifies on its own.
 fn seed_attractors(
     params: &Params,
     spec: &BasinSpec,
@@ -201,23 +206,33 @@ fn seed_attractors(
     progress: &Progress,
 ) -> Result<KnownAttractors, AnalysisError> {
     let (nx, nv) = (spec.dx.points, spec.v.points);
-    let pick = |n: usize, j: usize| if n <= 1 { 0 } else { j * (n - 1) / 6 };
-    let mut sample: Vec<[f64; 2]> = (0..49)
-        .map(|j| ics[pick(nx, j / 7) * nv + pick(nv, j % 7)])
+    let last = SEED_SIDE - 1;
+    let pick = |n: usize, j: usize| if n <= 1 { 0 } else { j * (n - 1) / last };
+    let mut sample: Vec<[f64; 2]> = (0..SEED_SIDE * SEED_SIDE)
+        .map(|j| ics[pick(nx, j / SEED_SIDE) * nv + pick(nv, j % SEED_SIDE)])
         .collect();
     sample.dedup();
-    let outcomes = steady_states(
-        params,
-        &sample,
-        &spec.steady,
-        None,
-        progress.cancel_flag(),
-        |_| {},
-    )
-    .ok_or(AnalysisError::Cancelled)?;
-    let mut known = KnownAttractors::new(spec.capture);
-    for s in &outcomes {
-        known.learn(s, SAME_POINT_TOL);
-    }
+    let outcomes: Vec<Option<Vec<SteadyState>>> = sample
+        .par_chunks(LANES)
+        .map(|part| {
+            steady_states(
+                params,
+                part,
+                &spec.steady,
+                None,
+                progress.cancel_flag(),
+                |_| {},
+            )
+        })
+        .collect();
+    let outcomes: Vec<SteadyState> = outcomes
+        .into_iter()
+        .collect::<Option<Vec<_>>>()
+        .ok_or(AnalysisError::Cancelled)?
+        .into_iter()
+        .flatten()
+        .collect();
+    let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
+    known.learn_all(&outcomes, SAME_POINT_TOL);
     Ok(known)
 }

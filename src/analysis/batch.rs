@@ -2,103 +2,122 @@
 //! period test of [`super::steady_state`] on its own and taking the next initial state as soon
 //! as it is done.
 //!
-//! Optional early stop (the recurrence idea behind Attractors.jl's basins): once a lane's
-//! stroboscopic point has stayed within `capture` of a point of an attractor already found,
-//! with the attractor's own phase order, for `CAPTURE_PERIODS` periods in a row, the lane is
-//! given that attractor's result without converging to 1e-9 itself.
+//! Optional early stop (the recurrence idea behind Attractors.jl's basins, made safe): once a
+//! lane's stroboscopic point lies inside a verified capture region of a known periodic
+//! response ([`super::capture`]) in two consecutive forcing periods, the lane is given that
+//! response's result without converging to 1e-9 itself.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use rayon::prelude::*;
+
+use super::capture::{CaptureRegion, capture_regions};
 use super::period_detector::PeriodDetector;
 use super::period_map::OrbitRecord;
 use super::steady_state::{Class, SteadyState, SteadyStateSpec, collided, from_record};
 use crate::model::Params;
-use crate::solver::Rk4;
+use crate::solver::{Resolution, Rk4};
 
 /// Trajectories integrated side by side.
 pub const LANES: usize = 16;
-/// Response periods (of k forcing periods each), plus one forcing period, that a trajectory
-/// must shadow a known attractor in its phase order before it takes its result. A transient
-/// spiralling into one attractor can pass near another's points for a period or two (a 1:1
-/// focus with multipliers near e^{±2πi/3} mimics the period-3 orbit born beside it), but not
-/// for several rounds inside a ball much smaller than the attractors' separation.
-const CAPTURE_CYCLES: usize = 3;
-/// An attractor's capture ball is at most this fraction of its distance to the nearest point
-/// of another known attractor (or between its own points).
-const CAPTURE_SEPARATION_FRACTION: f64 = 0.25;
-/// ... and at most this times (1 − its contraction per response period): an attractor that
-/// draws trajectories in slowly (near a fold, where a saddle and its basin boundary are close)
-/// gets a small ball, one that contracts fast a large one.
-const CAPTURE_CONTRACTION_SCALE: f64 = 0.15;
+/// A capture region's radius is at most this fraction of its point's distance to the nearest
+/// point of another known response (or to its own response's other points), so regions of
+/// different responses never overlap.
+const CAPTURE_SEPARATION_FRACTION: f64 = 0.5;
 
-/// Attractors found so far, for the early stop.
-#[derive(Debug, Clone, Default)]
+/// Periodic responses found so far and their capture regions, for the early stop.
+#[derive(Debug, Clone)]
 pub struct KnownAttractors {
-    /// Periodic steady states whose Poincaré points a trajectory may shadow.
+    /// Periodic steady states a trajectory may be captured by.
     pub responses: Vec<SteadyState>,
-    /// Largest distance (max-norm on [λ_I, v]) within which a point shadows an attractor's
-    /// point.
+    /// Largest capture-region radius (regions are ellipses inside a ball of that radius).
     pub capture: f64,
-    /// Each attractor's own capture radius: `capture`, or less when other points are near.
-    radius: Vec<f64>,
+    /// The integrator the regions are verified with: the one the trajectories run on.
+    rk: Rk4,
+    /// Each response's regions, one per Poincaré point.
+    regions: Vec<Vec<CaptureRegion>>,
 }
 
 impl KnownAttractors {
-    pub fn new(capture: f64) -> Self {
+    /// No responses yet; regions will be verified for `params` integrated at `resolution`
+    /// (the trajectories' own), at most `capture` in radius.
+    pub fn new(params: &Params, resolution: &Resolution, capture: f64) -> Self {
         KnownAttractors {
             responses: Vec::new(),
             capture,
-            radius: Vec::new(),
+            rk: Rk4::new(params, resolution),
+            regions: Vec::new(),
         }
     }
 
-    /// Adds a periodic response unless one with the same period and points is there already.
+    /// Adds a periodic response unless one with the same period and points is there already,
+    /// and verifies its capture regions (and those of the others whose cap it lowers).
     pub fn learn(&mut self, s: &SteadyState, tol: f64) {
-        if s.class == Class::Periodic
-            && !self
+        self.learn_all(std::slice::from_ref(s), tol);
+    }
+
+    /// [`Self::learn`] for each of `states` in turn, the regions verified side by side.
+    pub fn learn_all(&mut self, states: &[SteadyState], tol: f64) {
+        let before = self.responses.len();
+        for s in states {
+            let known = self
                 .responses
                 .iter()
-                .any(|r| super::attractor::same_attractor(r, s, tol))
-        {
-            self.responses.push(s.clone());
-            self.update_radii();
+                .any(|r| super::attractor::same_attractor(r, s, tol));
+            if s.class == Class::Periodic && !known {
+                self.responses.push(s.clone());
+                self.regions.push(Vec::new());
+            }
+        }
+        if self.responses.len() == before {
+            return;
+        }
+        // a region verified under a higher cap stays if it is within the new one
+        let stale: Vec<(usize, Vec<f64>)> = (0..self.responses.len())
+            .map(|a| (a, self.caps_of(a)))
+            .filter(|(a, caps)| {
+                let regions = &self.regions[*a];
+                regions.is_empty() || regions.iter().zip(caps).any(|(r, &c)| r.radius() > c)
+            })
+            .collect();
+        let verified: Vec<(usize, Vec<CaptureRegion>)> = stale
+            .into_par_iter()
+            .map(|(a, caps)| {
+                let regions = capture_regions(&self.rk, &self.responses[a].poincare, &caps);
+                (a, regions)
+            })
+            .collect();
+        for (a, regions) in verified {
+            self.regions[a] = regions;
         }
     }
 
-    /// Shrinks each attractor's capture ball below its separation from every other point.
-    fn update_radii(&mut self) {
-        let points: Vec<(usize, [f64; 2])> = self
-            .responses
-            .iter()
+    /// The radius cap of each of response `a`'s regions.
+    fn caps_of(&self, a: usize) -> Vec<f64> {
+        let own = &self.responses[a].poincare;
+        own.iter()
             .enumerate()
-            .flat_map(|(a, r)| r.poincare.iter().map(move |&p| (a, p)))
-            .collect();
-        self.radius = (0..self.responses.len())
-            .map(|a| {
-                let mut nearest = f64::INFINITY;
-                for (i, &(ai, p)) in points.iter().enumerate() {
-                    for (j, &(_, q)) in points.iter().enumerate() {
-                        if ai == a && i != j {
-                            nearest = nearest.min((p[0] - q[0]).abs().max((p[1] - q[1]).abs()));
-                        }
-                    }
-                }
-                let contraction = self.responses[a].contraction.unwrap_or(1.0);
-                self.capture
-                    .min(CAPTURE_SEPARATION_FRACTION * nearest)
-                    .min(CAPTURE_CONTRACTION_SCALE * (1.0 - contraction))
+            .map(|(j, p)| {
+                let others = self.responses.iter().enumerate().flat_map(|(b, r)| {
+                    r.poincare
+                        .iter()
+                        .enumerate()
+                        .filter(move |&(i, _)| b != a || i != j)
+                        .map(|(_, q)| q)
+                });
+                let nearest = others
+                    .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+                    .fold(f64::INFINITY, f64::min);
+                self.capture.min(CAPTURE_SEPARATION_FRACTION * nearest)
             })
-            .collect();
+            .collect()
     }
 
-    /// (attractor index, phase j) with `p` within the attractor's radius of its point j.
-    fn nearest(&self, p: [f64; 2]) -> Option<(usize, usize)> {
-        self.responses.iter().enumerate().find_map(|(a, r)| {
-            r.poincare
-                .iter()
-                .position(|q| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < self.radius[a])
-                .map(|j| (a, j))
-        })
+    /// The response with a capture region holding `p`.
+    fn capturing(&self, p: [f64; 2]) -> Option<usize> {
+        self.regions
+            .iter()
+            .position(|regions| regions.iter().any(|r| r.contains(p)))
     }
 }
 
@@ -109,11 +128,11 @@ enum LaneState {
     Transient {
         ic: usize,
         detector: PeriodDetector,
-        shadow: Option<Shadow>,
+        /// The response whose capture region held the last stroboscopic point.
+        inside: Option<usize>,
     },
     Recording {
         ic: usize,
-        contraction: Option<f64>,
         class: Class,
         k: usize,
         transient: usize,
@@ -123,11 +142,28 @@ enum LaneState {
 }
 
 /// Steady states from every initial state [λ_I, v] in `ics` (at τ = 0), in order. With
-/// `known`, trajectories that shadow a known attractor stop early, and attractors reached in
+/// `known`, trajectories captured by a known response stop early, and attractors reached in
 /// full are learnt; without it the result is exactly what [`super::steady_state`] gives for
 /// each state. Stops early (returning `None`) when `cancel` is set; `on_done` is called after
 /// each result.
 pub fn steady_states(
+    params: &Params,
+    ics: &[[f64; 2]],
+    spec: &SteadyStateSpec,
+    known: Option<&mut KnownAttractors>,
+    cancel: &AtomicBool,
+    on_done: impl FnMut(usize),
+) -> Option<Vec<SteadyState>> {
+    // a handful of states (a frequency response's seeds) runs in narrower lanes
+    match ics.len() {
+        0..=4 => in_lanes::<4>(params, ics, spec, known, cancel, on_done),
+        5..=8 => in_lanes::<8>(params, ics, spec, known, cancel, on_done),
+        _ => in_lanes::<LANES>(params, ics, spec, known, cancel, on_done),
+    }
+}
+
+/// [`steady_states`] with `L` trajectories side by side.
+fn in_lanes<const L: usize>(
     params: &Params,
     ics: &[[f64; 2]],
     spec: &SteadyStateSpec,
@@ -138,10 +174,10 @@ pub fn steady_states(
     let rk = Rk4::new(params, &spec.resolution);
     let h = rk.step();
     let mut results: Vec<Option<SteadyState>> = vec![None; ics.len()];
-    let mut lanes = rk.start([params.lambda_p(); LANES], [0.0; LANES]);
-    let mut state: Vec<LaneState> = vec![LaneState::Idle; LANES];
+    let mut lanes = rk.start([params.lambda_p(); L], [0.0; L]);
+    let mut state: Vec<LaneState> = vec![LaneState::Idle; L];
     let mut next_ic = 0;
-    let fill = |i: usize, lanes: &mut crate::solver::Lanes<LANES>, next_ic: &mut usize| {
+    let fill = |i: usize, lanes: &mut crate::solver::Lanes<L>, next_ic: &mut usize| {
         if *next_ic < ics.len() {
             let ic = *next_ic;
             *next_ic += 1;
@@ -149,7 +185,7 @@ pub fn steady_states(
             LaneState::Transient {
                 ic,
                 detector: PeriodDetector::new(spec),
-                shadow: None,
+                inside: None,
             }
         } else {
             rk.park_lane(lanes, i);
@@ -179,39 +215,36 @@ pub fn steady_states(
         }
         // lanes, their states and the results are updated together by index
         #[allow(clippy::needless_range_loop)]
-        for i in 0..LANES {
+        for i in 0..L {
             let point = [lanes.x[i], lanes.v[i]];
             let finished: Option<(usize, SteadyState)> = match &mut state[i] {
                 LaneState::Idle => None,
                 LaneState::Transient {
                     ic,
                     detector,
-                    shadow,
+                    inside,
                 } => {
                     if let Some(c) = lanes.collision[i] {
                         Some((*ic, collided(c, detector.periods() + 1)))
                     } else if let Some(k) = detector.push(point) {
                         let n = detector.periods();
-                        let contraction = detector.contraction(k);
                         state[i] = recording_state(*ic, Class::Periodic, k, n, &rk);
-                        if let LaneState::Recording { contraction: c, .. } = &mut state[i] {
-                            *c = contraction;
-                        }
                         None
                     } else if detector.periods() >= spec.max_forcing_periods {
                         let (k, n) = (spec.max_period, detector.periods());
                         state[i] = recording_state(*ic, Class::NonPeriodic, k, n, &rk);
                         None
                     } else if let Some(known) = known.as_deref() {
-                        shadow_step(known, point, shadow)
-                            .map(|a| (*ic, adopt(&known.responses[a], detector.periods())))
+                        let now = known.capturing(point);
+                        let captured = now.filter(|&a| *inside == Some(a));
+                        *inside = now;
+                        captured.map(|a| (*ic, adopt(&known.responses[a], detector.periods())))
                     } else {
                         None
                     }
                 }
                 LaneState::Recording {
                     ic,
-                    contraction,
                     class,
                     k,
                     transient,
@@ -224,9 +257,7 @@ pub fn steady_states(
                         poincare.push(point);
                         (poincare.len() == *k).then(|| {
                             let p = std::mem::take(poincare);
-                            let mut s = from_record(rec, p, *k, *transient, *class);
-                            s.contraction = *contraction;
-                            (*ic, s)
+                            (*ic, from_record(rec, p, *k, *transient, *class))
                         })
                     }
                 }
@@ -252,63 +283,12 @@ pub fn steady_states(
 fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4) -> LaneState {
     LaneState::Recording {
         ic,
-        contraction: None,
         class,
         k,
         transient,
         rec: OrbitRecord::new(rk.steps_per_period()),
         poincare: Vec::with_capacity(k),
     }
-}
-
-/// A trajectory following a known attractor's points.
-#[derive(Debug, Clone)]
-struct Shadow {
-    attractor: usize,
-    /// The attractor's point the next stroboscopic point should be near.
-    next: usize,
-    /// Consecutive periods shadowed.
-    periods: usize,
-    /// Distance at the last visit of each of the attractor's points.
-    last_distance: Vec<f64>,
-}
-
-/// Advances the shadowing; returns the attractor once it has been shadowed for
-/// `CAPTURE_CYCLES` response periods.
-fn shadow_step(
-    known: &KnownAttractors,
-    point: [f64; 2],
-    shadow: &mut Option<Shadow>,
-) -> Option<usize> {
-    let distance = |a: usize, j: usize| {
-        let q = known.responses[a].poincare[j];
-        (point[0] - q[0]).abs().max((point[1] - q[1]).abs())
-    };
-    let continued = shadow.as_mut().and_then(|s| {
-        let d = distance(s.attractor, s.next);
-        (d < known.radius[s.attractor]).then(|| {
-            s.last_distance[s.next] = d;
-            s.next = (s.next + 1) % s.last_distance.len();
-            s.periods += 1;
-        })
-    });
-    if continued.is_none() {
-        *shadow = known.nearest(point).map(|(a, j)| {
-            let k = known.responses[a].poincare.len();
-            let mut last_distance = vec![f64::NAN; k];
-            last_distance[j] = distance(a, j);
-            Shadow {
-                attractor: a,
-                next: (j + 1) % k,
-                periods: 1,
-                last_distance,
-            }
-        });
-    }
-    shadow.as_ref().and_then(|s| {
-        let needed = CAPTURE_CYCLES * s.last_distance.len() + 1;
-        (s.periods >= needed).then_some(s.attractor)
-    })
 }
 
 /// A known attractor's result for a trajectory that reached it after `periods`.
@@ -360,7 +340,7 @@ mod tests {
         let ics = grid(8, p.lambda_p());
         let never = AtomicBool::new(false);
         let plain = steady_states(&p, &ics, &spec, None, &never, |_| {}).unwrap();
-        let mut known = KnownAttractors::new(1e-4);
+        let mut known = KnownAttractors::new(&p, &spec.resolution, 0.1);
         for s in &plain {
             known.learn(s, 1e-6);
         }

@@ -42,9 +42,10 @@ pub struct FrequencyResponseSpec {
     pub seed_neighbours: bool,
     /// Run stepped sweeps up and down to mark hidden responses.
     pub sweeps: bool,
-    /// Stop trajectories that shadow an attractor already found at the same ω_e.
+    /// Stop trajectories that enter a verified capture region of an attractor already found
+    /// at the same ω_e.
     pub early_stop: bool,
-    /// Shadowing distance for the early stop.
+    /// Largest capture-region radius for the early stop (Euclidean on [λ_I, v]).
     pub capture: f64,
 }
 
@@ -59,7 +60,7 @@ impl Default for FrequencyResponseSpec {
             seed_neighbours: true,
             sweeps: true,
             early_stop: true,
-            capture: 1e-3,
+            capture: 0.1,
         }
     }
 }
@@ -78,7 +79,7 @@ impl FrequencyResponseSpec {
         self.dx.validate("dx", 4096)?;
         self.v.validate("v", 4096)?;
         self.steady.validate()?;
-        check("capture", self.capture, |c| c > 0.0 && c < 0.1, "(0, 0.1)")?;
+        check("capture", self.capture, |c| c > 0.0 && c <= 1.0, "(0, 1]")?;
         let total = self.dx.points * self.v.points * self.omega.points;
         check(
             "trajectories",
@@ -289,7 +290,10 @@ impl<'a> ResponsePlan<'a> {
     /// cancelled.
     pub fn grid_at(&self, i: usize, progress: &Progress) -> Option<Vec<Response>> {
         let spec = self.spec;
-        let mut known = spec.early_stop.then(|| KnownAttractors::new(spec.capture));
+        let at_omega = &self.at_omega[i];
+        let mut known = spec
+            .early_stop
+            .then(|| KnownAttractors::new(at_omega, &spec.steady.resolution, spec.capture));
         let outcomes = steady_states(
             &self.at_omega[i],
             &self.ics,
@@ -412,19 +416,9 @@ fn seed_from(
     if seeds.is_empty() {
         return Ok(0);
     }
-    let mut known = KnownAttractors::new(spec.capture);
-    for r in &per_omega[i] {
-        known.learn(&r.steady, SAME_POINT_TOL);
-    }
-    let outcomes = steady_states(
-        params,
-        &seeds,
-        &spec.steady,
-        Some(&mut known),
-        cancel,
-        |_| {},
-    )
-    .ok_or(AnalysisError::Cancelled)?;
+    // a few trajectories: verifying capture regions for them would cost more than it saves
+    let outcomes = steady_states(params, &seeds, &spec.steady, None, cancel, |_| {})
+        .ok_or(AnalysisError::Cancelled)?;
     let mut new = 0;
     for s in outcomes {
         if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))

@@ -5,6 +5,7 @@ pub mod basin;
 pub mod batch;
 pub mod bifurcation_curve;
 pub mod branch_from_state;
+pub mod capture;
 pub mod chirp_sweep;
 pub mod continuation;
 pub mod family;

@@ -81,15 +81,4 @@ impl PeriodDetector {
             })
             .fold(0.0, f64::max)
     }
-
-    /// How much the approach to a period-k response shrank over its last response period
-    /// (≈ the largest Floquet multiplier's modulus), once converged; `None` when the history
-    /// is too short to tell.
-    pub fn contraction(&self, k: usize) -> Option<f64> {
-        if self.history.len() < 3 * k {
-            return None;
-        }
-        let (now, before) = (self.mismatch(k), self.mismatch_back(k, k));
-        (before > 0.0).then(|| (now / before).min(1.0))
-    }
 }

@@ -113,11 +113,6 @@ pub struct SteadyState {
     pub lambda_mean: Option<f64>,
     /// Where the mass left the model, for a collision.
     pub collision: Option<Collision>,
-    /// How fast trajectories close in on a periodic response: the factor by which the
-    /// distance shrank over the last response period before convergence (≈ the modulus of
-    /// the leading Floquet multiplier; near 1 close to a fold or a period doubling).
-    #[serde(default)]
-    pub contraction: Option<f64>,
 }
 
 impl SteadyState {
@@ -159,11 +154,7 @@ pub fn steady_state_with(map: &mut impl PeriodMap, spec: &SteadyStateSpec) -> St
             Err(c) => return collided(c, detector.periods() + 1),
         };
         if let Some(k) = detector.push(point) {
-            let mut s = record(map, k, detector.periods(), Class::Periodic);
-            if s.class == Class::Periodic {
-                s.contraction = detector.contraction(k);
-            }
-            return s;
+            return record(map, k, detector.periods(), Class::Periodic);
         }
     }
     record(
@@ -208,7 +199,6 @@ pub(crate) fn from_record(
         lambda_max: Some(rec.lambda_max),
         lambda_mean: Some(rec.lambda_mean()),
         collision: None,
-        contraction: None,
     }
 }
 
@@ -224,7 +214,6 @@ pub(crate) fn collided(c: Collision, n: usize) -> SteadyState {
         lambda_max: None,
         lambda_mean: None,
         collision: Some(c),
-        contraction: None,
     }
 }
 

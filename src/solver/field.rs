@@ -114,13 +114,33 @@ impl Field {
     }
 
     /// Acceleration on one smooth piece: taut membranes pull with p even where p < 0. This
-    /// smooth extension keeps an integrator's order up to a located switch.
+    /// smooth extension keeps an integrator's order up to a located switch. Below a lower
+    /// Gent pole a taut membrane pulls with p = −1, as [`Self::tension_of`] says.
     #[inline]
     pub fn accel_in_mode(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64, mode: Mode) -> f64 {
-        let (p_i, p_ii) = self.tensions(x, v, phi_sq_i, phi_sq_ii);
-        let f_i = if mode.taut_i { p_i } else { 0.0 };
-        let f_ii = if mode.taut_ii { p_ii } else { 0.0 };
-        f_ii - f_i
+        let mut t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
+        if t.den_i <= 0.0 {
+            (t.big_p_i, t.den_i) = (-1.0, 1.0);
+        }
+        if t.den_ii <= 0.0 {
+            (t.big_p_ii, t.den_ii) = (-1.0, 1.0);
+        }
+        t.net_force(mode)
+    }
+
+    /// Both membranes' tensions as P = p·den and den, without a division.
+    #[inline(always)]
+    fn scaled_tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> ScaledTensions {
+        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
+        let x_ii = self.two_lambda_p - x;
+        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
+        let cv = self.c_tilde * v;
+        ScaledTensions {
+            big_p_i: (-phi_sq_i.mul_add(x, -cv)).mul_add(den_i, num_i),
+            big_p_ii: (-phi_sq_ii.mul_add(x_ii, cv)).mul_add(den_ii, num_ii),
+            den_i,
+            den_ii,
+        }
     }
 
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
@@ -163,6 +183,27 @@ impl Field {
     /// 2 λ_p, so that λ_II = 2 λ_p − λ_I.
     pub fn two_lambda_p(&self) -> f64 {
         self.two_lambda_p
+    }
+}
+
+/// Tensions p = P/den of both membranes, kept as the pair (P, den).
+#[derive(Debug, Clone, Copy)]
+struct ScaledTensions {
+    big_p_i: f64,
+    big_p_ii: f64,
+    den_i: f64,
+    den_ii: f64,
+}
+
+impl ScaledTensions {
+    /// f_II − f_I with the membranes `mode` says are taut pulling, in one division.
+    #[inline(always)]
+    fn net_force(&self, mode: Mode) -> f64 {
+        let d_i = if mode.taut_i { self.den_i } else { 1.0 };
+        let d_ii = if mode.taut_ii { self.den_ii } else { 1.0 };
+        let q_i = if mode.taut_i { self.big_p_i } else { 0.0 };
+        let q_ii = if mode.taut_ii { self.big_p_ii } else { 0.0 };
+        q_ii.mul_add(d_i, -q_i * d_ii) / (d_i * d_ii)
     }
 }
 
@@ -215,5 +256,32 @@ mod tests {
             let b = f.accel_in_mode(x, 0.2, 0.04, 0.0, mode);
             assert!((a - b).abs() < 1e-12 * (1.0 + a.abs()));
         }
+    }
+
+    /// In every mode, the one-division smooth extension equals the difference of the two
+    /// switching functions it pulls with, below the lower Gent pole too (p = −1 there).
+    #[test]
+    fn smooth_extension_is_the_pull_of_the_taut_membranes() {
+        let p = Params::baseline();
+        let f = Field::new(&p);
+        let mut below_pole = 0;
+        for i in 0..=200 {
+            let x = 0.01 + 2.0 * i as f64 / 200.0;
+            for &v in &[-1.0, 0.0, 0.7] {
+                let (p_i, p_ii) = f.tensions(x, v, 0.05, 0.01);
+                below_pole += usize::from(p_i == -1.0 || p_ii == -1.0);
+                for code in [0.0, 1.0, 2.0, 3.0] {
+                    let mode = Mode::from_code(code);
+                    let expected =
+                        if mode.taut_ii { p_ii } else { 0.0 } - if mode.taut_i { p_i } else { 0.0 };
+                    let a = f.accel_in_mode(x, v, 0.05, 0.01, mode);
+                    assert!(
+                        (a - expected).abs() <= 1e-12 * (1.0 + expected.abs()),
+                        "x {x} v {v} {mode:?}: {a} vs {expected}"
+                    );
+                }
+            }
+        }
+        assert!(below_pole > 0, "the range reaches below a lower pole");
     }
 }

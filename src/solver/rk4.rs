@@ -184,13 +184,11 @@ impl Rk4 {
                         continue;
                     }
                     if switched[i] {
-                        let start_mode = Mode::from_code(mode0[i]);
+                        let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
                         let unsplit = ([lanes.x[i], lanes.v[i]], lanes.a[i]);
-                        let drive = self.table.step_start(k);
-                        let [x, v] = self.split_step([x0[i], v0[i]], drive, h, start_mode, unsplit);
-                        lanes.x[i] = x;
-                        lanes.v[i] = v;
-                        (lanes.a[i], lanes.mode[i]) = f.accel_coded(x, v, phi_i_end, phi_ii_end);
+                        let (end, a_end, mode_end) = self.split_step(k, start, unsplit);
+                        [lanes.x[i], lanes.v[i]] = end;
+                        (lanes.a[i], lanes.mode[i]) = (a_end, Mode::code(mode_end));
                     }
                     if !(f.inside(lanes.x[i]) && lanes.v[i].is_finite()) {
                         let periods = (lanes.period - lanes.start_period[i]) as f64;
@@ -239,64 +237,64 @@ impl Rk4 {
         lanes.a[i] = 0.0;
     }
 
-    /// One RK4 step of length `h` from τ₀ + `t` on the smooth piece `mode`.
+    /// One RK4 step of length `h` on the smooth piece `mode` from `y`, where the acceleration
+    /// is `a`; `phi_mid` and `phi_end` are (φ_I², φ_II²) half-way and at the end.
     fn step_in_mode(
         &self,
-        drive: &LocalDrive,
-        y: [f64; 2],
-        t: f64,
+        (y, a): ([f64; 2], f64),
         h: f64,
+        phi_mid: (f64, f64),
+        phi_end: (f64, f64),
         mode: Mode,
     ) -> [f64; 2] {
         let f = &self.field;
         let [x, v] = y;
-        let (pi0, pii0) = drive.phi_sq(t);
-        let (pim, piim) = drive.phi_sq(t + 0.5 * h);
-        let (pi1, pii1) = drive.phi_sq(t + h);
-        let a1 = f.accel_in_mode(x, v, pi0, pii0, mode);
-        let (x2, v2) = (x + 0.5 * h * v, v + 0.5 * h * a1);
-        let a2 = f.accel_in_mode(x2, v2, pim, piim, mode);
+        let (x2, v2) = (x + 0.5 * h * v, v + 0.5 * h * a);
+        let a2 = f.accel_in_mode(x2, v2, phi_mid.0, phi_mid.1, mode);
         let (x3, v3) = (x + 0.5 * h * v2, v + 0.5 * h * a2);
-        let a3 = f.accel_in_mode(x3, v3, pim, piim, mode);
+        let a3 = f.accel_in_mode(x3, v3, phi_mid.0, phi_mid.1, mode);
         let (x4, v4) = (x + h * v3, v + h * a3);
-        let a4 = f.accel_in_mode(x4, v4, pi1, pii1, mode);
+        let a4 = f.accel_in_mode(x4, v4, phi_end.0, phi_end.1, mode);
         [
             x + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
-            v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+            v + h / 6.0 * (a + 2.0 * a2 + 2.0 * a3 + a4),
         ]
     }
 
-    /// A step of length `h` from τ₀ (where `drive` is anchored) split where a membrane switches between taut and
-    /// slack, each side integrated on its own smooth piece. `unsplit` is the same step taken
-    /// through the kink (its end state and true acceleration there): its cubic Hermite
-    /// interpolant places the switch to O(h³), and a switch misplaced by δ costs only O(δ²),
-    /// so two sub-steps finish the job. Anything less simple (no sign change on that
-    /// interpolant, or another switch after the first) goes to [`Self::split_from`].
-    pub fn split_step(
+    /// RK4 step `k` of the period split where a membrane switches between taut and slack,
+    /// each side integrated on its own smooth piece. `start` is the step's start (state,
+    /// acceleration, mode); `unsplit` is the same step taken through the kink (its end state
+    /// and true acceleration there): its cubic Hermite interpolant places the switch to O(h³),
+    /// and a switch misplaced by δ costs only O(δ²), so two sub-steps finish the job. Anything
+    /// less simple (no sign change on that interpolant, or another switch after the first)
+    /// goes to [`Self::split_from`]. Returns the end state, its acceleration and mode.
+    fn split_step(
         &self,
-        start: [f64; 2],
-        drive: &LocalDrive,
-        h: f64,
-        mode0: Mode,
+        k: usize,
+        (start, a0, mode0): ([f64; 2], f64, Mode),
         unsplit: ([f64; 2], f64),
-    ) -> [f64; 2] {
-        let f = &self.field;
-        let a0 = {
-            let (pi, pii) = drive.phi_sq(0.0);
-            f.accel_in_mode(start[0], start[1], pi, pii, mode0)
+    ) -> ([f64; 2], f64, Mode) {
+        let (f, h) = (&self.field, self.h);
+        let drive = self.table.step_start(k);
+        let phi_end = self.table.at(2 * k + 2);
+        let end_of = |end: [f64; 2]| {
+            let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
+            (end, a, mode)
         };
         let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0) else {
-            return self.split_from(drive, start, 0.0, h, mode0);
+            return end_of(self.split_from(drive, start, 0.0, h, mode0));
         };
         let s = switch.at;
-        let at_switch = self.step_in_mode(drive, start, 0.0, s, mode0);
+        let phi_s = drive.phi_sq(s);
+        let at_switch = self.step_in_mode((start, a0), s, drive.phi_sq(0.5 * s), phi_s, mode0);
         let mode1 = mode0.flipped(switch.membrane);
-        let end = self.step_in_mode(drive, at_switch, s, h - s, mode1);
-        let (pi, pii) = drive.phi_sq(h);
-        if f.mode_at(end[0], end[1], pi, pii) == mode1 {
+        let a_switch = f.accel_in_mode(at_switch[0], at_switch[1], phi_s.0, phi_s.1, mode1);
+        let phi_mid = drive.phi_sq(0.5 * (s + h));
+        let end = end_of(self.step_in_mode((at_switch, a_switch), h - s, phi_mid, phi_end, mode1));
+        if end.2 == mode1 {
             end
         } else {
-            self.split_from(drive, at_switch, s, h, mode1)
+            end_of(self.split_from(drive, at_switch, s, h, mode1))
         }
     }
 
@@ -309,17 +307,22 @@ impl Rk4 {
             let (pi, pii) = drive.phi_sq(t);
             f.accel_in_mode(y[0], y[1], pi, pii, mode)
         };
+        // RK4 from time t over hs on the piece `mode`
+        let step = |y: [f64; 2], t: f64, hs: f64, mode: Mode| {
+            let (mid, end) = (drive.phi_sq(t + 0.5 * hs), drive.phi_sq(t + hs));
+            self.step_in_mode((y, accel(t, y, mode)), hs, mid, end, mode)
+        };
         for _ in 0..MAX_SWITCHES_PER_STEP {
             let hs = h - t;
             if hs <= 0.0 {
                 return y;
             }
-            let y1 = self.step_in_mode(drive, y, t, hs, mode);
+            let y1 = step(y, t, hs, mode);
             let ends = ((y, accel(t, y, mode)), (y1, accel(t + hs, y1, mode)));
             match self.first_switch(drive, ends.0, ends.1, t, hs, mode) {
                 None => return y1,
                 Some(switch) => {
-                    y = self.step_in_mode(drive, y, t, switch.at, mode);
+                    y = step(y, t, switch.at, mode);
                     t += switch.at;
                     mode = mode.flipped(switch.membrane);
                 }
@@ -327,7 +330,7 @@ impl Rk4 {
         }
         let hs = h - t;
         if hs > 0.0 {
-            y = self.step_in_mode(drive, y, t, hs, mode);
+            y = step(y, t, hs, mode);
         }
         y
     }

@@ -1,0 +1,442 @@
+//! Capture regions for the early stop. Around each Poincaré point p of a stable periodic
+//! response (period k), an ellipse E = {x : |T⁻¹(x − p)|² < r²} adapted to the response's
+//! linearised return map M = DPᵏ(p): in the coordinates u = T⁻¹(x − p) of M's real Jordan
+//! form, V = |u|² shrinks under M by the factor c = |μ|² (a focus) or max μ² (a node). The
+//! radius r is the largest of cap, cap/2, cap/4, … for which sample points on that ring and on
+//! every smaller ring, integrated k forcing periods with the trajectories' own integrator, all
+//! end with V below (1 + c)/2 of where they started. V then decreases at every sampled point
+//! of E: the nonlinear map still contracts there, so E holds no other invariant set (no
+//! other attractor, no saddle whose stable manifold could bound p's basin) and every point of E
+//! goes to p. (A ring only checks that V shrinks, a smooth property, never which basin a point
+//! is in, so a thin foreign basin cannot slip between samples.) Where no ring passes, the
+//! region is empty.
+
+use super::batch::LANES;
+use crate::solver::Rk4;
+
+/// Sample points per ring.
+const RING_POINTS: usize = 32;
+/// Rings sampled, at radii cap, cap/2, cap/4, …
+const RINGS: usize = 6;
+/// Most anisotropic ellipse used (ratio of its axes).
+const MAX_CONDITION: f64 = 1e3;
+/// Relative step of the finite-difference Jacobian of the return map.
+const JACOBIAN_STEP: f64 = 1e-6;
+
+/// An ellipse around one Poincaré point of a response, inside that response's basin.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaptureRegion {
+    center: [f64; 2],
+    /// Q as (q₁₁, q₁₂, q₂₂).
+    q: [f64; 3],
+    /// r²; 0 for an empty region.
+    radius_sq: f64,
+}
+
+impl CaptureRegion {
+    /// A region that holds nothing.
+    fn empty(center: [f64; 2]) -> Self {
+        CaptureRegion {
+            center,
+            q: [1.0, 0.0, 1.0],
+            radius_sq: 0.0,
+        }
+    }
+
+    /// The ellipse {x : |T⁻¹(x − center)|² < radius_sq} of `shape`.
+    fn new(center: [f64; 2], shape: &Shape, radius_sq: f64) -> Self {
+        let ti = shape.t_inv;
+        CaptureRegion {
+            center,
+            // Q = T⁻ᵀ T⁻¹
+            q: [
+                ti[0][0] * ti[0][0] + ti[1][0] * ti[1][0],
+                ti[0][0] * ti[0][1] + ti[1][0] * ti[1][1],
+                ti[0][1] * ti[0][1] + ti[1][1] * ti[1][1],
+            ],
+            radius_sq,
+        }
+    }
+
+    /// V(x) = (x − p)ᵀ Q (x − p).
+    fn v(&self, x: [f64; 2]) -> f64 {
+        let (dx, dv) = (x[0] - self.center[0], x[1] - self.center[1]);
+        let [a, b, c] = self.q;
+        a * dx * dx + 2.0 * b * dx * dv + c * dv * dv
+    }
+
+    /// True if `x` lies inside the region.
+    pub fn contains(&self, x: [f64; 2]) -> bool {
+        self.v(x) < self.radius_sq
+    }
+
+    /// The region's radius r (0 when empty); Euclidean distances inside it are at most r.
+    pub fn radius(&self) -> f64 {
+        self.radius_sq.sqrt()
+    }
+}
+
+/// The capture region of each of a periodic response's Poincaré points `poincare` (period
+/// k = its length), each at most `caps[j]` in radius.
+pub fn capture_regions(rk: &Rk4, poincare: &[[f64; 2]], caps: &[f64]) -> Vec<CaptureRegion> {
+    let k = poincare.len();
+    let Some(jacobians) = one_period_jacobians(rk, poincare) else {
+        return poincare.iter().map(|&p| CaptureRegion::empty(p)).collect();
+    };
+    (0..k)
+        .map(|j| {
+            // the return map at p_j: J_{j+k−1} ⋯ J_{j+1} J_j
+            let m = (1..k).fold(jacobians[j], |m, i| mul(jacobians[(j + i) % k], m));
+            match Shape::of(m) {
+                Some(shape) => verified(rk, poincare[j], &shape, k, caps[j]),
+                None => CaptureRegion::empty(poincare[j]),
+            }
+        })
+        .collect()
+}
+
+/// An ellipse adapted to a stable linear map M: x − p = T u with |u| ≤ r, where |u|² shrinks
+/// under M by at least `shrink` per application. T's largest singular value is 1, so the
+/// ellipse lies inside the ball of radius r.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    t: [[f64; 2]; 2],
+    t_inv: [[f64; 2]; 2],
+    shrink: f64,
+}
+
+impl Shape {
+    /// The shape from M's real Jordan form (a focus: |u|² shrinks by |μ|² exactly; a node:
+    /// by the larger μ²), or from the Lyapunov equation where the eigenvectors are nearly
+    /// parallel; `None` unless both multipliers are inside the unit circle.
+    fn of(m: [[f64; 2]; 2]) -> Option<Shape> {
+        let half = 0.5 * (m[0][0] + m[1][1]);
+        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        let disc = half * half - det;
+        let (t, shrink) = if disc < 0.0 {
+            // columns Re w, Im w of an eigenvector w for μ = half + i·b
+            let b = (-disc).sqrt();
+            let t = if m[0][1].abs() >= m[1][0].abs() {
+                [[m[0][1], 0.0], [half - m[0][0], b]]
+            } else {
+                [[half - m[1][1], b], [m[1][0], 0.0]]
+            };
+            (t, det)
+        } else {
+            let (mu_1, mu_2) = (half + disc.sqrt(), half - disc.sqrt());
+            let (w_1, w_2) = (eigenvector(m, mu_1, 0), eigenvector(m, mu_2, 1));
+            (
+                [[w_1[0], w_2[0]], [w_1[1], w_2[1]]],
+                (mu_1 * mu_1).max(mu_2 * mu_2),
+            )
+        };
+        if shrink.is_nan() || shrink >= 1.0 {
+            return None;
+        }
+        Shape::normalised(t, shrink).or_else(|| {
+            let q = lyapunov(m)?;
+            // V = xᵀQx = |Lᵀx|² for Q = L Lᵀ, so T = L⁻ᵀ
+            let l11 = q[0][0].sqrt();
+            let l21 = q[0][1] / l11;
+            let l22 = (q[1][1] - l21 * l21).sqrt();
+            let l_inv_t = [[1.0 / l11, -l21 / (l11 * l22)], [0.0, 1.0 / l22]];
+            let lambda_max = 0.5 * (q[0][0] + q[1][1])
+                + (0.25 * (q[0][0] - q[1][1]).powi(2) + q[0][1] * q[0][1]).sqrt();
+            Shape::normalised(l_inv_t, 1.0 - 1.0 / lambda_max)
+        })
+    }
+
+    /// T scaled to a largest singular value of 1; `None` if T is singular or its condition
+    /// number exceeds [`MAX_CONDITION`].
+    fn normalised(t: [[f64; 2]; 2], shrink: f64) -> Option<Shape> {
+        let (sigma_max, sigma_min) = singular_values(t);
+        if !(sigma_min > 0.0 && sigma_max / sigma_min < MAX_CONDITION) {
+            return None;
+        }
+        let t = t.map(|row| row.map(|x| x / sigma_max));
+        let det = t[0][0] * t[1][1] - t[0][1] * t[1][0];
+        let t_inv = [
+            [t[1][1] / det, -t[0][1] / det],
+            [-t[1][0] / det, t[0][0] / det],
+        ];
+        Some(Shape { t, t_inv, shrink })
+    }
+}
+
+/// A unit eigenvector of M for the real eigenvalue `mu` (the `fallback` axis when M = μI).
+fn eigenvector(m: [[f64; 2]; 2], mu: f64, fallback: usize) -> [f64; 2] {
+    let by_row_1 = [m[0][1], mu - m[0][0]];
+    let by_row_2 = [mu - m[1][1], m[1][0]];
+    let norm = |w: [f64; 2]| w[0].hypot(w[1]);
+    let w = if norm(by_row_1) >= norm(by_row_2) {
+        by_row_1
+    } else {
+        by_row_2
+    };
+    let n = norm(w);
+    if n > 1e-14 {
+        [w[0] / n, w[1] / n]
+    } else {
+        let mut axis = [0.0; 2];
+        axis[fallback] = 1.0;
+        axis
+    }
+}
+
+/// Largest and smallest singular values of a 2 × 2 matrix.
+fn singular_values(t: [[f64; 2]; 2]) -> (f64, f64) {
+    let ata = mul(transpose(t), t);
+    let mean = 0.5 * (ata[0][0] + ata[1][1]);
+    let gap = (0.25 * (ata[0][0] - ata[1][1]).powi(2) + ata[0][1] * ata[0][1]).sqrt();
+    ((mean + gap).sqrt(), (mean - gap).max(0.0).sqrt())
+}
+
+/// The ellipse of `shape` around `center` with the largest radius, of `cap`, cap/2, cap/4, …,
+/// whose ring of samples passes the test of the module's description together with every
+/// smaller ring: all rings are integrated at once, one pass.
+fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> CaptureRegion {
+    let mut region = CaptureRegion::new(center, shape, 0.0);
+    // V must shrink at least half as fast as under the linearised map
+    let required = 0.5 * (1.0 + shape.shrink);
+    let t = shape.t;
+    let radii: Vec<f64> = (0..RINGS).map(|n| cap * 0.5f64.powi(n as i32)).collect();
+    let samples: Vec<[f64; 2]> = radii
+        .iter()
+        .enumerate()
+        .flat_map(|(n, &r)| {
+            (0..RING_POINTS).map(move |i| {
+                // rings staggered so that no two samples share a direction
+                let turn = (i as f64 + n as f64 / RINGS as f64) / RING_POINTS as f64;
+                let (sin, cos) = (std::f64::consts::TAU * turn).sin_cos();
+                let d = [t[0][0] * cos + t[0][1] * sin, t[1][0] * cos + t[1][1] * sin];
+                [center[0] + r * d[0], center[1] + r * d[1]]
+            })
+        })
+        .collect();
+    let images = iterate(rk, &samples, k);
+    let ring_passes: Vec<bool> = samples
+        .chunks(RING_POINTS)
+        .zip(images.chunks(RING_POINTS))
+        .map(|(from, to)| {
+            from.iter()
+                .zip(to)
+                .all(|(&x, y)| y.is_some_and(|y| region.v(y) <= required * region.v(x)))
+        })
+        .collect();
+    // the largest ring inside which every ring passes
+    let first_passing = (0..RINGS).rev().take_while(|&n| ring_passes[n]).last();
+    if let Some(n) = first_passing {
+        region.radius_sq = radii[n] * radii[n];
+    }
+    region
+}
+
+/// Q with Mᵀ Q M − Q = −I by Smith's doubling (Q = Σ (Mᵀ)ⁿ Mⁿ); `None` unless M's spectral
+/// radius is below 1.
+fn lyapunov(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
+    let mut q = [[1.0, 0.0], [0.0, 1.0]];
+    let mut a = m;
+    for _ in 0..64 {
+        let at_q_a = mul(transpose(a), mul(q, a));
+        q = add(q, at_q_a);
+        a = mul(a, a);
+        let size = a.iter().flatten().fold(0.0f64, |s, x| s.max(x.abs()));
+        if !size.is_finite() || size > 1e12 {
+            return None;
+        }
+        if size < 1e-17 {
+            return Some(q);
+        }
+    }
+    None
+}
+
+/// The Jacobian of the one-period map at each point, by central differences.
+fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<[[f64; 2]; 2]>> {
+    let steps: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| {
+            [
+                JACOBIAN_STEP * p[0].abs().max(1.0),
+                JACOBIAN_STEP * p[1].abs().max(1.0),
+            ]
+        })
+        .collect();
+    let starts: Vec<[f64; 2]> = points
+        .iter()
+        .zip(&steps)
+        .flat_map(|(p, e)| {
+            [
+                [p[0] + e[0], p[1]],
+                [p[0] - e[0], p[1]],
+                [p[0], p[1] + e[1]],
+                [p[0], p[1] - e[1]],
+            ]
+        })
+        .collect();
+    let ends: Vec<[f64; 2]> = iterate(rk, &starts, 1).into_iter().collect::<Option<_>>()?;
+    Some(
+        ends.chunks(4)
+            .zip(&steps)
+            .map(|(e, h)| {
+                let column = |plus: [f64; 2], minus: [f64; 2], h: f64| {
+                    [
+                        (plus[0] - minus[0]) / (2.0 * h),
+                        (plus[1] - minus[1]) / (2.0 * h),
+                    ]
+                };
+                let (dx, dv) = (column(e[0], e[1], h[0]), column(e[2], e[3], h[1]));
+                [[dx[0], dv[0]], [dx[1], dv[1]]]
+            })
+            .collect(),
+    )
+}
+
+/// Each start integrated `periods` forcing periods from phase 0; `None` where it collides.
+fn iterate(rk: &Rk4, starts: &[[f64; 2]], periods: usize) -> Vec<Option<[f64; 2]>> {
+    let mut out = Vec::with_capacity(starts.len());
+    for batch in starts.chunks(LANES) {
+        let mut x = [rk.params().lambda_p(); LANES];
+        let mut v = [0.0; LANES];
+        for (i, s) in batch.iter().enumerate() {
+            (x[i], v[i]) = (s[0], s[1]);
+        }
+        let mut lanes = rk.start(x, v);
+        for _ in 0..periods {
+            rk.advance_period(&mut lanes, |_, _, _| {});
+        }
+        out.extend((0..batch.len()).map(|i| {
+            lanes.collision[i]
+                .is_none()
+                .then_some([lanes.x[i], lanes.v[i]])
+        }));
+    }
+    out
+}
+
+fn mul(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let cell = |i: usize, j: usize| a[i][0] * b[0][j] + a[i][1] * b[1][j];
+    [[cell(0, 0), cell(0, 1)], [cell(1, 0), cell(1, 1)]]
+}
+
+fn add(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    [
+        [a[0][0] + b[0][0], a[0][1] + b[0][1]],
+        [a[1][0] + b[1][0], a[1][1] + b[1][1]],
+    ]
+}
+
+fn transpose(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    [[a[0][0], a[1][0]], [a[0][1], a[1][1]]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Q solves Mᵀ Q M − Q = −I for a stable focus and a stable node; none for an unstable M.
+    #[test]
+    fn lyapunov_solves_the_equation() {
+        for m in [[[0.6, -0.7], [0.7, 0.6]], [[0.9, 0.3], [0.0, -0.5]]] {
+            let q = lyapunov(m).expect("stable");
+            let r = add(
+                mul(transpose(m), mul(q, m)),
+                [[-q[0][0], -q[0][1]], [-q[1][0], -q[1][1]]],
+            );
+            for (i, row) in r.iter().enumerate() {
+                for (j, &x) in row.iter().enumerate() {
+                    let expected = if i == j { -1.0 } else { 0.0 };
+                    assert!((x - expected).abs() < 1e-12, "{m:?}: {r:?}");
+                }
+            }
+        }
+        assert!(lyapunov([[1.1, 0.0], [0.0, 0.5]]).is_none());
+    }
+
+    /// The Jordan-form shape shrinks |u|² by |μ|² for a focus and by max μ² for a node, and
+    /// its ellipse lies in the unit ball with V = 1 on its boundary.
+    #[test]
+    fn shape_follows_the_linear_map() {
+        for (m, shrink) in [
+            ([[0.6, -1.4], [0.35, 0.6]], 0.36 + 0.49),
+            ([[0.9, 0.3], [0.0, -0.5]], 0.81),
+        ] {
+            let shape = Shape::of(m).expect("stable");
+            assert!((shape.shrink - shrink).abs() < 1e-12, "{m:?}");
+            let region = CaptureRegion::new([0.0, 0.0], &shape, 1.0);
+            for i in 0..12 {
+                let (sin, cos) = (i as f64).sin_cos();
+                let t = shape.t;
+                let d = [t[0][0] * cos + t[0][1] * sin, t[1][0] * cos + t[1][1] * sin];
+                assert!((region.v(d) - 1.0).abs() < 1e-12);
+                assert!(d[0].hypot(d[1]) <= 1.0 + 1e-12);
+                // |T⁻¹ M d|² = shrink · |T⁻¹ d|² for a focus, at most that for a node
+                let md = [
+                    m[0][0] * d[0] + m[0][1] * d[1],
+                    m[1][0] * d[0] + m[1][1] * d[1],
+                ];
+                assert!(region.v(md) <= shrink + 1e-12, "{m:?}");
+            }
+        }
+        assert!(Shape::of([[1.1, 0.0], [0.0, 0.5]]).is_none());
+    }
+
+    /// On Fig 6B's model (a 1:3 response born beside the 1:1 focus), every region is
+    /// non-empty, no region of one response holds a point of another, and starts spread over
+    /// each region, integrated to full convergence on their own, all reach the region's
+    /// response.
+    #[test]
+    fn points_of_a_region_reach_its_response() {
+        use crate::analysis::attractor::same_attractor;
+        use crate::analysis::steady_state::{SteadyStateSpec, steady_state};
+        use crate::model::Params;
+        use crate::solver::Resolution;
+        let p = Params::paper(1.0, 3.6).unwrap();
+        let spec = SteadyStateSpec::default();
+        let rk = Rk4::new(&p, &Resolution::default());
+        // the 1:1, 1:2 and 1:3 responses, from near their points (`isola basin --adr 1 --omega 3.6`)
+        let responses: Vec<_> = [[1.017, 0.001], [1.1208, 0.4402], [1.02594, 0.06897]]
+            .iter()
+            .map(|s| steady_state(&p, s[0], s[1], &spec))
+            .collect();
+        let periods: Vec<usize> = responses.iter().map(|r| r.poincare.len()).collect();
+        assert_eq!(periods, [1, 2, 3]);
+        for r in &responses {
+            // as the early stop caps them: at most half-way to another response's point
+            let caps: Vec<f64> = r
+                .poincare
+                .iter()
+                .map(|p| {
+                    let others = responses.iter().filter(|o| *o != r);
+                    let nearest = others
+                        .flat_map(|o| o.poincare.iter())
+                        .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+                        .fold(f64::INFINITY, f64::min);
+                    (0.5 * nearest).min(0.1)
+                })
+                .collect();
+            for (region, cap) in capture_regions(&rk, &r.poincare, &caps).iter().zip(&caps) {
+                assert!(region.radius() >= cap / 32.0, "{region:?} under {cap}");
+                for other in responses.iter().filter(|o| *o != r) {
+                    assert!(other.poincare.iter().all(|&q| !region.contains(q)));
+                }
+                // 24 starts on rings at 0.95, 0.6 and 0.3 of the radius, along the ellipse
+                for i in 0..24 {
+                    let (sin, cos) = (i as f64 * 0.7).sin_cos();
+                    let fraction = [0.95, 0.6, 0.3][i % 3];
+                    let d = region.radius() * fraction;
+                    // step out along (cos, sin) until just inside the ellipse's boundary
+                    let mut x = [region.center[0] + d * cos, region.center[1] + d * sin];
+                    while !region.contains(x) {
+                        x = [
+                            0.5 * (x[0] + region.center[0]),
+                            0.5 * (x[1] + region.center[1]),
+                        ];
+                    }
+                    let end = steady_state(&p, x[0], x[1], &spec);
+                    assert!(same_attractor(&end, r, 1e-6), "from {x:?}: {end:?}");
+                }
+            }
+        }
+    }
+}
