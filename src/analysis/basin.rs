@@ -212,7 +212,7 @@ fn seed_attractors(
         .map(|j| ics[pick(nx, j / SEED_SIDE) * nv + pick(nv, j % SEED_SIDE)])
         .collect();
     sample.dedup();
-    let outcomes: Vec<Option<Vec<SteadyState>>> = sample
+    let outcomes: Vec<SteadyState> = sample
         .par_chunks(LANES)
         .map(|part| {
             steady_states(
@@ -224,14 +224,9 @@ fn seed_attractors(
                 |_| {},
             )
         })
-        .collect();
-    let outcomes: Vec<SteadyState> = outcomes
-        .into_iter()
-        .collect::<Option<Vec<_>>>()
+        .collect::<Option<Vec<Vec<_>>>>()
         .ok_or(AnalysisError::Cancelled)?
-        .into_iter()
-        .flatten()
-        .collect();
+        .concat();
     let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
     known.learn_all(&outcomes, SAME_POINT_TOL);
     Ok(known)

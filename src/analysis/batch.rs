@@ -29,9 +29,9 @@ const CAPTURE_SEPARATION_FRACTION: f64 = 0.5;
 #[derive(Debug, Clone)]
 pub struct KnownAttractors {
     /// Periodic steady states a trajectory may be captured by.
-    pub responses: Vec<SteadyState>,
+    responses: Vec<SteadyState>,
     /// Largest capture-region radius (regions are ellipses inside a ball of that radius).
-    pub capture: f64,
+    capture: f64,
     /// The integrator the regions are verified with: the one the trajectories run on.
     rk: Rk4,
     /// Each response's regions, one per Poincaré point.

@@ -11,7 +11,10 @@
 //! is in, so a thin foreign basin cannot slip between samples.) Where no ring passes, the
 //! region is empty.
 
+use nalgebra::{Matrix2, Vector2};
+
 use super::batch::LANES;
+use super::floquet::Multipliers;
 use crate::solver::Rk4;
 
 /// Sample points per ring.
@@ -45,15 +48,10 @@ impl CaptureRegion {
 
     /// The ellipse {x : |T⁻¹(x − center)|² < radius_sq} of `shape`.
     fn new(center: [f64; 2], shape: &Shape, radius_sq: f64) -> Self {
-        let ti = shape.t_inv;
+        let q = shape.t_inv.transpose() * shape.t_inv;
         CaptureRegion {
             center,
-            // Q = T⁻ᵀ T⁻¹
-            q: [
-                ti[0][0] * ti[0][0] + ti[1][0] * ti[1][0],
-                ti[0][0] * ti[0][1] + ti[1][0] * ti[1][1],
-                ti[0][1] * ti[0][1] + ti[1][1] * ti[1][1],
-            ],
+            q: [q[(0, 0)], q[(0, 1)], q[(1, 1)]],
             radius_sq,
         }
     }
@@ -86,8 +84,8 @@ pub fn capture_regions(rk: &Rk4, poincare: &[[f64; 2]], caps: &[f64]) -> Vec<Cap
     (0..k)
         .map(|j| {
             // the return map at p_j: J_{j+k−1} ⋯ J_{j+1} J_j
-            let m = (1..k).fold(jacobians[j], |m, i| mul(jacobians[(j + i) % k], m));
-            match Shape::of(m) {
+            let m = (1..k).fold(jacobians[j], |m, i| jacobians[(j + i) % k] * m);
+            match Shape::of(&m) {
                 Some(shape) => verified(rk, poincare[j], &shape, k, caps[j]),
                 None => CaptureRegion::empty(poincare[j]),
             }
@@ -100,8 +98,8 @@ pub fn capture_regions(rk: &Rk4, poincare: &[[f64; 2]], caps: &[f64]) -> Vec<Cap
 /// ellipse lies inside the ball of radius r.
 #[derive(Debug, Clone, Copy)]
 struct Shape {
-    t: [[f64; 2]; 2],
-    t_inv: [[f64; 2]; 2],
+    t: Matrix2<f64>,
+    t_inv: Matrix2<f64>,
     shrink: f64,
 }
 
@@ -109,86 +107,59 @@ impl Shape {
     /// The shape from M's real Jordan form (a focus: |u|² shrinks by |μ|² exactly; a node:
     /// by the larger μ²), or from the Lyapunov equation where the eigenvectors are nearly
     /// parallel; `None` unless both multipliers are inside the unit circle.
-    fn of(m: [[f64; 2]; 2]) -> Option<Shape> {
-        let half = 0.5 * (m[0][0] + m[1][1]);
-        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-        let disc = half * half - det;
-        let (t, shrink) = if disc < 0.0 {
-            // columns Re w, Im w of an eigenvector w for μ = half + i·b
-            let b = (-disc).sqrt();
-            let t = if m[0][1].abs() >= m[1][0].abs() {
-                [[m[0][1], 0.0], [half - m[0][0], b]]
-            } else {
-                [[half - m[1][1], b], [m[1][0], 0.0]]
-            };
-            (t, det)
-        } else {
-            let (mu_1, mu_2) = (half + disc.sqrt(), half - disc.sqrt());
-            let (w_1, w_2) = (eigenvector(m, mu_1, 0), eigenvector(m, mu_2, 1));
-            (
-                [[w_1[0], w_2[0]], [w_1[1], w_2[1]]],
-                (mu_1 * mu_1).max(mu_2 * mu_2),
-            )
-        };
-        if shrink.is_nan() || shrink >= 1.0 {
+    fn of(m: &Matrix2<f64>) -> Option<Shape> {
+        let mu = Multipliers::of(m);
+        if !mu.stable() {
             return None;
         }
+        let t = if mu.complex() {
+            // columns Re w, Im w of an eigenvector w for μ = re + i·im
+            let [re, im] = [mu.0[0].re, mu.0[0].im];
+            if m[(0, 1)].abs() >= m[(1, 0)].abs() {
+                Matrix2::new(m[(0, 1)], 0.0, re - m[(0, 0)], im)
+            } else {
+                Matrix2::new(re - m[(1, 1)], im, m[(1, 0)], 0.0)
+            }
+        } else {
+            let w_1 = eigenvector(m, mu.0[0].re, 0);
+            let w_2 = eigenvector(m, mu.0[1].re, 1);
+            Matrix2::from_columns(&[w_1, w_2])
+        };
+        let shrink = mu.spectral_radius().powi(2);
         Shape::normalised(t, shrink).or_else(|| {
-            let q = lyapunov(m)?;
             // V = xᵀQx = |Lᵀx|² for Q = L Lᵀ, so T = L⁻ᵀ
-            let l11 = q[0][0].sqrt();
-            let l21 = q[0][1] / l11;
-            let l22 = (q[1][1] - l21 * l21).sqrt();
-            let l_inv_t = [[1.0 / l11, -l21 / (l11 * l22)], [0.0, 1.0 / l22]];
-            let lambda_max = 0.5 * (q[0][0] + q[1][1])
-                + (0.25 * (q[0][0] - q[1][1]).powi(2) + q[0][1] * q[0][1]).sqrt();
+            let q = lyapunov(m)?;
+            let l_inv_t = q.cholesky()?.l().transpose().try_inverse()?;
+            let lambda_max = q.symmetric_eigenvalues().max();
             Shape::normalised(l_inv_t, 1.0 - 1.0 / lambda_max)
         })
     }
 
     /// T scaled to a largest singular value of 1; `None` if T is singular or its condition
     /// number exceeds [`MAX_CONDITION`].
-    fn normalised(t: [[f64; 2]; 2], shrink: f64) -> Option<Shape> {
-        let (sigma_max, sigma_min) = singular_values(t);
+    fn normalised(t: Matrix2<f64>, shrink: f64) -> Option<Shape> {
+        let sigma = t.singular_values();
+        let (sigma_max, sigma_min) = (sigma.max(), sigma.min());
         if !(sigma_min > 0.0 && sigma_max / sigma_min < MAX_CONDITION) {
             return None;
         }
-        let t = t.map(|row| row.map(|x| x / sigma_max));
-        let det = t[0][0] * t[1][1] - t[0][1] * t[1][0];
-        let t_inv = [
-            [t[1][1] / det, -t[0][1] / det],
-            [-t[1][0] / det, t[0][0] / det],
-        ];
+        let t = t / sigma_max;
+        let t_inv = t.try_inverse()?;
         Some(Shape { t, t_inv, shrink })
     }
 }
 
 /// A unit eigenvector of M for the real eigenvalue `mu` (the `fallback` axis when M = μI).
-fn eigenvector(m: [[f64; 2]; 2], mu: f64, fallback: usize) -> [f64; 2] {
-    let by_row_1 = [m[0][1], mu - m[0][0]];
-    let by_row_2 = [mu - m[1][1], m[1][0]];
-    let norm = |w: [f64; 2]| w[0].hypot(w[1]);
-    let w = if norm(by_row_1) >= norm(by_row_2) {
+fn eigenvector(m: &Matrix2<f64>, mu: f64, fallback: usize) -> Vector2<f64> {
+    let by_row_1 = Vector2::new(m[(0, 1)], mu - m[(0, 0)]);
+    let by_row_2 = Vector2::new(mu - m[(1, 1)], m[(1, 0)]);
+    let w = if by_row_1.norm() >= by_row_2.norm() {
         by_row_1
     } else {
         by_row_2
     };
-    let n = norm(w);
-    if n > 1e-14 {
-        [w[0] / n, w[1] / n]
-    } else {
-        let mut axis = [0.0; 2];
-        axis[fallback] = 1.0;
-        axis
-    }
-}
-
-/// Largest and smallest singular values of a 2 × 2 matrix.
-fn singular_values(t: [[f64; 2]; 2]) -> (f64, f64) {
-    let ata = mul(transpose(t), t);
-    let mean = 0.5 * (ata[0][0] + ata[1][1]);
-    let gap = (0.25 * (ata[0][0] - ata[1][1]).powi(2) + ata[0][1] * ata[0][1]).sqrt();
-    ((mean + gap).sqrt(), (mean - gap).max(0.0).sqrt())
+    w.try_normalize(1e-14)
+        .unwrap_or_else(|| Vector2::ith(fallback, 1.0))
 }
 
 /// The ellipse of `shape` around `center` with the largest radius, of `cap`, cap/2, cap/4, …,
@@ -208,7 +179,7 @@ fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> Ca
                 // rings staggered so that no two samples share a direction
                 let turn = (i as f64 + n as f64 / RINGS as f64) / RING_POINTS as f64;
                 let (sin, cos) = (std::f64::consts::TAU * turn).sin_cos();
-                let d = [t[0][0] * cos + t[0][1] * sin, t[1][0] * cos + t[1][1] * sin];
+                let d = t * Vector2::new(cos, sin);
                 [center[0] + r * d[0], center[1] + r * d[1]]
             })
         })
@@ -233,14 +204,12 @@ fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> Ca
 
 /// Q with Mᵀ Q M − Q = −I by Smith's doubling (Q = Σ (Mᵀ)ⁿ Mⁿ); `None` unless M's spectral
 /// radius is below 1.
-fn lyapunov(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
-    let mut q = [[1.0, 0.0], [0.0, 1.0]];
-    let mut a = m;
+fn lyapunov(m: &Matrix2<f64>) -> Option<Matrix2<f64>> {
+    let (mut q, mut a) = (Matrix2::identity(), *m);
     for _ in 0..64 {
-        let at_q_a = mul(transpose(a), mul(q, a));
-        q = add(q, at_q_a);
-        a = mul(a, a);
-        let size = a.iter().flatten().fold(0.0f64, |s, x| s.max(x.abs()));
+        q += a.transpose() * q * a;
+        a *= a;
+        let size = a.amax();
         if !size.is_finite() || size > 1e12 {
             return None;
         }
@@ -252,7 +221,7 @@ fn lyapunov(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 }
 
 /// The Jacobian of the one-period map at each point, by central differences.
-fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<[[f64; 2]; 2]>> {
+fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64>>> {
     let steps: Vec<[f64; 2]> = points
         .iter()
         .map(|p| {
@@ -280,13 +249,9 @@ fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<[[f64; 2]; 
             .zip(&steps)
             .map(|(e, h)| {
                 let column = |plus: [f64; 2], minus: [f64; 2], h: f64| {
-                    [
-                        (plus[0] - minus[0]) / (2.0 * h),
-                        (plus[1] - minus[1]) / (2.0 * h),
-                    ]
+                    (Vector2::from(plus) - Vector2::from(minus)) / (2.0 * h)
                 };
-                let (dx, dv) = (column(e[0], e[1], h[0]), column(e[2], e[3], h[1]));
-                [[dx[0], dv[0]], [dx[1], dv[1]]]
+                Matrix2::from_columns(&[column(e[0], e[1], h[0]), column(e[2], e[3], h[1])])
             })
             .collect(),
     )
@@ -314,22 +279,6 @@ fn iterate(rk: &Rk4, starts: &[[f64; 2]], periods: usize) -> Vec<Option<[f64; 2]
     out
 }
 
-fn mul(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
-    let cell = |i: usize, j: usize| a[i][0] * b[0][j] + a[i][1] * b[1][j];
-    [[cell(0, 0), cell(0, 1)], [cell(1, 0), cell(1, 1)]]
-}
-
-fn add(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
-    [
-        [a[0][0] + b[0][0], a[0][1] + b[0][1]],
-        [a[1][0] + b[1][0], a[1][1] + b[1][1]],
-    ]
-}
-
-fn transpose(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
-    [[a[0][0], a[1][0]], [a[0][1], a[1][1]]]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -337,20 +286,20 @@ mod tests {
     /// Q solves Mᵀ Q M − Q = −I for a stable focus and a stable node; none for an unstable M.
     #[test]
     fn lyapunov_solves_the_equation() {
-        for m in [[[0.6, -0.7], [0.7, 0.6]], [[0.9, 0.3], [0.0, -0.5]]] {
-            let q = lyapunov(m).expect("stable");
-            let r = add(
-                mul(transpose(m), mul(q, m)),
-                [[-q[0][0], -q[0][1]], [-q[1][0], -q[1][1]]],
-            );
-            for (i, row) in r.iter().enumerate() {
-                for (j, &x) in row.iter().enumerate() {
+        for m in [
+            Matrix2::new(0.6, -0.7, 0.7, 0.6),
+            Matrix2::new(0.9, 0.3, 0.0, -0.5),
+        ] {
+            let q = lyapunov(&m).expect("stable");
+            let r = m.transpose() * q * m - q;
+            for i in 0..2 {
+                for j in 0..2 {
                     let expected = if i == j { -1.0 } else { 0.0 };
-                    assert!((x - expected).abs() < 1e-12, "{m:?}: {r:?}");
+                    assert!((r[(i, j)] - expected).abs() < 1e-12, "{m:?}: {r:?}");
                 }
             }
         }
-        assert!(lyapunov([[1.1, 0.0], [0.0, 0.5]]).is_none());
+        assert!(lyapunov(&Matrix2::new(1.1, 0.0, 0.0, 0.5)).is_none());
     }
 
     /// The Jordan-form shape shrinks |u|² by |μ|² for a focus and by max μ² for a node, and
@@ -358,27 +307,23 @@ mod tests {
     #[test]
     fn shape_follows_the_linear_map() {
         for (m, shrink) in [
-            ([[0.6, -1.4], [0.35, 0.6]], 0.36 + 0.49),
-            ([[0.9, 0.3], [0.0, -0.5]], 0.81),
+            (Matrix2::new(0.6, -1.4, 0.35, 0.6), 0.36 + 0.49),
+            (Matrix2::new(0.9, 0.3, 0.0, -0.5), 0.81),
         ] {
-            let shape = Shape::of(m).expect("stable");
+            let shape = Shape::of(&m).expect("stable");
             assert!((shape.shrink - shrink).abs() < 1e-12, "{m:?}");
             let region = CaptureRegion::new([0.0, 0.0], &shape, 1.0);
             for i in 0..12 {
                 let (sin, cos) = (i as f64).sin_cos();
-                let t = shape.t;
-                let d = [t[0][0] * cos + t[0][1] * sin, t[1][0] * cos + t[1][1] * sin];
-                assert!((region.v(d) - 1.0).abs() < 1e-12);
-                assert!(d[0].hypot(d[1]) <= 1.0 + 1e-12);
+                let d = shape.t * Vector2::new(cos, sin);
+                assert!((region.v(d.into()) - 1.0).abs() < 1e-12);
+                assert!(d.norm() <= 1.0 + 1e-12);
                 // |T⁻¹ M d|² = shrink · |T⁻¹ d|² for a focus, at most that for a node
-                let md = [
-                    m[0][0] * d[0] + m[0][1] * d[1],
-                    m[1][0] * d[0] + m[1][1] * d[1],
-                ];
-                assert!(region.v(md) <= shrink + 1e-12, "{m:?}");
+                let md = m * d;
+                assert!(region.v(md.into()) <= shrink + 1e-12, "{m:?}");
             }
         }
-        assert!(Shape::of([[1.1, 0.0], [0.0, 0.5]]).is_none());
+        assert!(Shape::of(&Matrix2::new(1.1, 0.0, 0.0, 0.5)).is_none());
     }
 
     /// On Fig 6B's model (a 1:3 response born beside the 1:1 focus), every region is

@@ -295,7 +295,7 @@ impl<'a> ResponsePlan<'a> {
             .early_stop
             .then(|| KnownAttractors::new(at_omega, &spec.steady.resolution, spec.capture));
         let outcomes = steady_states(
-            &self.at_omega[i],
+            at_omega,
             &self.ics,
             &spec.steady,
             known.as_mut(),

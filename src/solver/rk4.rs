@@ -307,22 +307,22 @@ impl Rk4 {
             let (pi, pii) = drive.phi_sq(t);
             f.accel_in_mode(y[0], y[1], pi, pii, mode)
         };
-        // RK4 from time t over hs on the piece `mode`
-        let step = |y: [f64; 2], t: f64, hs: f64, mode: Mode| {
+        // RK4 from time t over hs on the piece `mode`, from y with acceleration a
+        let step = |(y, a): ([f64; 2], f64), t: f64, hs: f64, mode: Mode| {
             let (mid, end) = (drive.phi_sq(t + 0.5 * hs), drive.phi_sq(t + hs));
-            self.step_in_mode((y, accel(t, y, mode)), hs, mid, end, mode)
+            self.step_in_mode((y, a), hs, mid, end, mode)
         };
         for _ in 0..MAX_SWITCHES_PER_STEP {
             let hs = h - t;
             if hs <= 0.0 {
                 return y;
             }
-            let y1 = step(y, t, hs, mode);
-            let ends = ((y, accel(t, y, mode)), (y1, accel(t + hs, y1, mode)));
-            match self.first_switch(drive, ends.0, ends.1, t, hs, mode) {
+            let start = (y, accel(t, y, mode));
+            let y1 = step(start, t, hs, mode);
+            match self.first_switch(drive, start, (y1, accel(t + hs, y1, mode)), t, hs, mode) {
                 None => return y1,
                 Some(switch) => {
-                    y = step(y, t, switch.at, mode);
+                    y = step(start, t, switch.at, mode);
                     t += switch.at;
                     mode = mode.flipped(switch.membrane);
                 }
@@ -330,7 +330,7 @@ impl Rk4 {
         }
         let hs = h - t;
         if hs > 0.0 {
-            y = step(y, t, hs, mode);
+            y = step((y, accel(t, y, mode)), t, hs, mode);
         }
         y
     }
