@@ -416,9 +416,18 @@ fn seed_from(
     if seeds.is_empty() {
         return Ok(0);
     }
-    // a few trajectories: verifying capture regions for them would cost more than it saves
-    let outcomes = steady_states(params, &seeds, &spec.steady, None, cancel, |_| {})
-        .ok_or(AnalysisError::Cancelled)?;
+    let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
+    let found: Vec<SteadyState> = per_omega[i].iter().map(|r| r.steady.clone()).collect();
+    known.learn_all(&found, SAME_POINT_TOL);
+    let outcomes = steady_states(
+        params,
+        &seeds,
+        &spec.steady,
+        Some(&mut known),
+        cancel,
+        |_| {},
+    )
+    .ok_or(AnalysisError::Cancelled)?;
     let mut new = 0;
     for s in outcomes {
         if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))
