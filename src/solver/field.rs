@@ -155,6 +155,30 @@ impl Field {
         }
     }
 
+    /// One membrane's switching function without a division: its tension p times its Gent
+    /// denominator (the sign of p between the poles), −1 below its lower pole as in
+    /// [`Self::tension_of`].
+    #[inline]
+    pub fn scaled_tension_of(
+        &self,
+        m: Membrane,
+        x: f64,
+        v: f64,
+        phi_sq_i: f64,
+        phi_sq_ii: f64,
+    ) -> f64 {
+        let (lambda, phi_sq, lambda_dot) = match m {
+            Membrane::I => (x, phi_sq_i, v),
+            Membrane::Ii => (self.two_lambda_p - x, phi_sq_ii, -v),
+        };
+        let (num, den) = gent_fraction(lambda, self.j, self.j_plus_2);
+        if den > 0.0 {
+            (-phi_sq.mul_add(lambda, -self.c_tilde * lambda_dot)).mul_add(den, num)
+        } else {
+            -1.0
+        }
+    }
+
     /// Tensions (p_I, p_II) a taut membrane would carry; below the lower Gent pole, where a
     /// membrane is slack whatever the formula says, −1. These are the switching functions.
     pub fn tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
@@ -252,6 +276,38 @@ mod tests {
             let (a, mode) = f.accel(x, 0.2, 0.04, 0.0);
             let b = f.accel_in_mode(x, 0.2, 0.04, 0.0, mode);
             assert!((a - b).abs() < 1e-12 * (1.0 + a.abs()));
+        }
+    }
+
+    /// The division-free switching function has the sign of the tension, and is the same
+    /// multiple of it for both membranes as `scaled_tensions` uses.
+    #[test]
+    fn scaled_tension_has_the_sign_of_the_tension() {
+        let p = Params::baseline();
+        let f = Field::new(&p);
+        for i in 0..=400 {
+            let x = 0.01 + 2.0 * i as f64 / 400.0;
+            for &v in &[-1.0, -0.01, 0.0, 0.02, 0.7] {
+                for m in [Membrane::I, Membrane::Ii] {
+                    let p = f.tension_of(m, x, v, 0.05, 0.01);
+                    let scaled = f.scaled_tension_of(m, x, v, 0.05, 0.01);
+                    assert_eq!(p > 0.0, scaled > 0.0, "x {x} v {v} {m:?}: {p} vs {scaled}");
+                    assert_eq!(p == -1.0, scaled == -1.0, "x {x} v {v} {m:?}");
+                }
+                let t = f.scaled_tensions(x, v, 0.05, 0.01);
+                if t.den_i > 0.0 {
+                    assert_eq!(
+                        t.big_p_i,
+                        f.scaled_tension_of(Membrane::I, x, v, 0.05, 0.01)
+                    );
+                }
+                if t.den_ii > 0.0 {
+                    assert_eq!(
+                        t.big_p_ii,
+                        f.scaled_tension_of(Membrane::Ii, x, v, 0.05, 0.01)
+                    );
+                }
+            }
         }
     }
 

@@ -17,6 +17,8 @@ use crate::model::Params;
 
 /// Most switches handled inside one step before the rest of it is taken as it is.
 const MAX_SWITCHES_PER_STEP: usize = 4;
+/// Agreement of successive switch estimates, as a fraction of the step, that ends the search.
+const SWITCH_TOLERANCE: f64 = 1e-6;
 /// Samples of the switching functions per step when looking for a sign change.
 const SWITCH_SCAN_POINTS: usize = 4;
 
@@ -281,7 +283,9 @@ impl Rk4 {
             let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
             (end, a, mode)
         };
-        let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0) else {
+        let ends = (self.table.at(2 * k), phi_end);
+        let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0, ends)
+        else {
             return end_of(self.split_from(drive, start, 0.0, h, mode0));
         };
         let s = switch.at;
@@ -303,8 +307,7 @@ impl Rk4 {
     fn split_from(&self, drive: &LocalDrive, y: [f64; 2], t: f64, h: f64, mode: Mode) -> [f64; 2] {
         let f = &self.field;
         let (mut y, mut t, mut mode) = (y, t, mode);
-        let accel = |t: f64, y: [f64; 2], mode: Mode| {
-            let (pi, pii) = drive.phi_sq(t);
+        let accel = |y: [f64; 2], (pi, pii): (f64, f64), mode: Mode| {
             f.accel_in_mode(y[0], y[1], pi, pii, mode)
         };
         // RK4 from time t over hs on the piece `mode`, from y with acceleration a
@@ -317,9 +320,11 @@ impl Rk4 {
             if hs <= 0.0 {
                 return y;
             }
-            let start = (y, accel(t, y, mode));
+            let ends = (drive.phi_sq(t), drive.phi_sq(t + hs));
+            let start = (y, accel(y, ends.0, mode));
             let y1 = step(start, t, hs, mode);
-            match self.first_switch(drive, start, (y1, accel(t + hs, y1, mode)), t, hs, mode) {
+            let end = (y1, accel(y1, ends.1, mode));
+            match self.first_switch(drive, start, end, t, hs, mode, ends) {
                 None => return y1,
                 Some(switch) => {
                     y = step(start, t, switch.at, mode);
@@ -330,14 +335,31 @@ impl Rk4 {
         }
         let hs = h - t;
         if hs > 0.0 {
-            y = step((y, accel(t, y, mode)), t, hs, mode);
+            y = step((y, accel(y, drive.phi_sq(t), mode)), t, hs, mode);
         }
         y
+    }
+
+    /// Both membranes' switching functions at a state, positive while `mode` holds (each
+    /// tension times its Gent denominator, so without a division).
+    #[inline]
+    fn switching(&self, [x, v]: [f64; 2], (pi, pii): (f64, f64), mode: Mode) -> [f64; 2] {
+        let f = &self.field;
+        let oriented = |taut: bool, g: f64| if taut { g } else { -g };
+        [
+            oriented(mode.taut_i, f.scaled_tension_of(Membrane::I, x, v, pi, pii)),
+            oriented(
+                mode.taut_ii,
+                f.scaled_tension_of(Membrane::Ii, x, v, pi, pii),
+            ),
+        ]
     }
 
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
     /// after `h`, on piece `mode`, where a membrane's tension crosses zero against its mode,
     /// located on the step's cubic Hermite interpolant: (offset from t0, membrane).
+    /// `phi_ends` is the drive (φ_I², φ_II²) at both ends.
+    #[allow(clippy::too_many_arguments)]
     fn first_switch(
         &self,
         drive: &LocalDrive,
@@ -346,56 +368,41 @@ impl Rk4 {
         t0: f64,
         h: f64,
         mode: Mode,
+        phi_ends: ((f64, f64), (f64, f64)),
     ) -> Option<Switch> {
-        let f = &self.field;
         let ([x0, v0], [x1, v1]) = (y0, y1);
-        // switching functions, positive while the mode holds
-        let g = |s: f64| -> (f64, f64) {
+        // the switching functions along the interpolant
+        let along = |s: f64| {
             let x = hermite::value(x0, v0, x1, v1, h, s);
             let v = hermite::value(v0, a0, v1, a1, h, s);
-            let (pi, pii) = drive.phi_sq(t0 + s * h);
-            let (p_i, p_ii) = f.tensions(x, v, pi, pii);
-            (
-                if mode.taut_i { p_i } else { -p_i },
-                if mode.taut_ii { p_ii } else { -p_ii },
-            )
+            self.switching([x, v], drive.phi_sq(t0 + s * h), mode)
         };
+        let negative = |g: [f64; 2]| g[0] < 0.0 || g[1] < 0.0;
         // usually the end of the step already shows the switch; otherwise scan inside it for
         // a brief excursion
-        let (gi, gii) = g(1.0);
-        let bracket = if gi < 0.0 || gii < 0.0 {
-            Some((0.0, 1.0, gi, gii))
+        let g_start = self.switching(y0, phi_ends.0, mode);
+        let g_end = self.switching(y1, phi_ends.1, mode);
+        let (lo, hi, g_lo, g_hi) = if negative(g_end) {
+            (0.0, 1.0, g_start, g_end)
         } else {
-            let mut s_prev = 0.0;
+            let (mut s_prev, mut g_prev) = (0.0, g_start);
             let mut found = None;
             for j in 1..SWITCH_SCAN_POINTS {
                 let s = j as f64 / SWITCH_SCAN_POINTS as f64;
-                let (gi, gii) = g(s);
-                if gi < 0.0 || gii < 0.0 {
-                    found = Some((s_prev, s, gi, gii));
+                let g = along(s);
+                if negative(g) {
+                    found = Some((s_prev, s, g_prev, g));
                     break;
                 }
-                s_prev = s;
+                (s_prev, g_prev) = (s, g);
             }
-            found
-        }?;
-        let (lo, hi, gi, gii) = bracket;
-        // locate each membrane's crossing, keep the earlier
-        // one membrane's switching function along the interpolant
-        let along = |m: Membrane, s: f64| {
-            let x = hermite::value(x0, v0, x1, v1, h, s);
-            let v = hermite::value(v0, a0, v1, a1, h, s);
-            let (pi, pii) = drive.phi_sq(t0 + s * h);
-            let p = f.tension_of(m, x, v, pi, pii);
-            let taut = match m {
-                Membrane::I => mode.taut_i,
-                Membrane::Ii => mode.taut_ii,
-            };
-            if taut { p } else { -p }
+            found?
         };
-        let root_i = (gi < 0.0).then(|| crossing(|s| along(Membrane::I, s), lo, hi, gi));
-        let root_ii = (gii < 0.0).then(|| crossing(|s| along(Membrane::Ii, s), lo, hi, gii));
-        let (s_root, membrane) = match (root_i, root_ii) {
+        // locate each membrane's crossing, keep the earlier
+        let root = |m: usize| {
+            (g_hi[m] < 0.0).then(|| crossing(|s| along(s)[m], (lo, g_lo[m]), (hi, g_hi[m])))
+        };
+        let (s_root, membrane) = match (root(0), root(1)) {
             (Some(a), Some(b)) if b < a => (b, Membrane::Ii),
             (Some(a), _) => (a, Membrane::I),
             (None, Some(b)) => (b, Membrane::Ii),
@@ -424,13 +431,13 @@ pub struct StepEnds<const L: usize> {
     pub a: [f64; L],
 }
 
-/// The point where `g` turns negative in (lo, hi], given g(hi) = `g_hi` < 0 (if g(lo) < 0
+/// The point where `g` turns negative in (lo, hi], from g(lo) and g(hi) < 0 (if g(lo) < 0
 /// too, lo itself): regula falsi with the Anderson–Björck correction, stopped when successive
-/// estimates agree to 1e-6 of the step. A switch misplaced by δ costs only O(δ²), and the
-/// interpolant itself is good to O(h³), so more digits would buy nothing.
-fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64, g_hi: f64) -> f64 {
+/// estimates agree to [`SWITCH_TOLERANCE`] of the step. A switch misplaced by δ costs only
+/// O(δ²), and the interpolant itself is good to O(h³), so more digits would buy nothing.
+fn crossing(g: impl Fn(f64) -> f64, (lo, g_lo): (f64, f64), (hi, g_hi): (f64, f64)) -> f64 {
     let (mut a, mut b) = (lo, hi);
-    let (mut ga, mut gb) = (g(a), g_hi);
+    let (mut ga, mut gb) = (g_lo, g_hi);
     if ga < 0.0 {
         return a;
     }
@@ -438,7 +445,7 @@ fn crossing(g: impl Fn(f64) -> f64, lo: f64, hi: f64, g_hi: f64) -> f64 {
     for _ in 0..60 {
         let c = (a * gb - b * ga) / (gb - ga);
         let c = if c > a && c < b { c } else { 0.5 * (a + b) };
-        if (c - last).abs() < 1e-6 || b - a < 1e-6 {
+        if (c - last).abs() < SWITCH_TOLERANCE || b - a < SWITCH_TOLERANCE {
             return c;
         }
         last = c;
