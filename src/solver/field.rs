@@ -179,6 +179,36 @@ impl Field {
         }
     }
 
+    /// The rate d/dτ of [`Self::scaled_tension_of`] along a trajectory at (`x`, `v`) with
+    /// acceleration `a`, under drive `phi_sq` changing at `phi_sq_rate` (both as (I, II));
+    /// 0 below the lower pole, where the switching function is the constant −1.
+    #[inline]
+    pub fn scaled_tension_rate(
+        &self,
+        m: Membrane,
+        [x, v, a]: [f64; 3],
+        phi_sq: (f64, f64),
+        phi_sq_rate: (f64, f64),
+    ) -> f64 {
+        let (lambda, lambda_dot, lambda_ddot, phi_sq, phi_sq_rate) = match m {
+            Membrane::I => (x, v, a, phi_sq.0, phi_sq_rate.0),
+            Membrane::Ii => (self.two_lambda_p - x, -v, -a, phi_sq.1, phi_sq_rate.1),
+        };
+        let (j, j2) = (self.j, self.j_plus_2);
+        let l2 = lambda * lambda;
+        let l4 = l2 * l2;
+        let den = lambda * (j2.mul_add(l2, -l4) - 1.0);
+        if den <= 0.0 {
+            return 0.0;
+        }
+        // P = num − den·E with num = J(λ⁴ − 1), E = φ²λ − c̃λ̇
+        let num_rate = 4.0 * j * l2 * lambda * lambda_dot;
+        let den_rate = (3.0 * j2 * l2 - 5.0 * l4 - 1.0) * lambda_dot;
+        let e = phi_sq * lambda - self.c_tilde * lambda_dot;
+        let e_rate = phi_sq_rate * lambda + phi_sq * lambda_dot - self.c_tilde * lambda_ddot;
+        num_rate - den_rate * e - den * e_rate
+    }
+
     /// Tensions (p_I, p_II) a taut membrane would carry; below the lower Gent pole, where a
     /// membrane is slack whatever the formula says, −1. These are the switching functions.
     pub fn tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
@@ -307,6 +337,32 @@ mod tests {
                         f.scaled_tension_of(Membrane::Ii, x, v, 0.05, 0.01)
                     );
                 }
+            }
+        }
+    }
+
+    /// The rate of the switching function is its derivative along a trajectory.
+    #[test]
+    fn scaled_tension_rate_is_its_derivative() {
+        let p = Params::baseline();
+        let f = Field::new(&p);
+        // a made-up trajectory and drive, smooth in τ
+        let x = |t: f64| 1.02 + 0.3 * (1.7 * t).sin();
+        let v = |t: f64| 0.51 * (1.7 * t).cos();
+        let a = |t: f64| -0.867 * (1.7 * t).sin();
+        let phi = |t: f64| (0.04 + 0.01 * (3.0 * t).cos(), 0.02 * (1.0 + t * t));
+        let phi_rate = |t: f64| (-0.03 * (3.0 * t).sin(), 0.04 * t);
+        let e = 1e-6;
+        for i in 0..40 {
+            let t = 0.1 * i as f64;
+            for m in [Membrane::I, Membrane::Ii] {
+                let g = |t: f64| f.scaled_tension_of(m, x(t), v(t), phi(t).0, phi(t).1);
+                let numeric = (g(t + e) - g(t - e)) / (2.0 * e);
+                let rate = f.scaled_tension_rate(m, [x(t), v(t), a(t)], phi(t), phi_rate(t));
+                assert!(
+                    (rate - numeric).abs() < 1e-6 * (1.0 + numeric.abs()),
+                    "{m:?} at {t}: {rate} vs {numeric}"
+                );
             }
         }
     }

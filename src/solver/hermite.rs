@@ -12,6 +12,42 @@ pub fn value(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
         + (s3 - s2) * h * d1
 }
 
+/// Slope dy/ds at fraction `s` ∈ [0, 1] of a step of length `h` (dy/dτ = slope / h).
+#[inline]
+pub fn slope(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
+    let s2 = s * s;
+    (6.0 * s2 - 6.0 * s) * (y0 - y1)
+        + (3.0 * s2 - 4.0 * s + 1.0) * h * d0
+        + (3.0 * s2 - 2.0 * s) * h * d1
+}
+
+/// A root of the cubic in (0, 1], given y0 ≥ 0 > y1: Newton's method kept inside the shrinking
+/// sign-change bracket (bisection where a Newton step leaves it), from the secant estimate,
+/// stopped when successive estimates agree to `tolerance`.
+pub fn crossing(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, tolerance: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut s = y0 / (y0 - y1);
+    for _ in 0..60 {
+        let y = value(y0, d0, y1, d1, h, s);
+        if y < 0.0 {
+            hi = s;
+        } else {
+            lo = s;
+        }
+        let newton = s - y / slope(y0, d0, y1, d1, h, s);
+        let next = if newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - s).abs() < tolerance {
+            return next;
+        }
+        s = next;
+    }
+    s
+}
+
 /// Extremum of the cubic strictly inside the step, if its slope changes sign there:
 /// returns (fraction s, value).
 pub fn interior_extremum(y0: f64, d0: f64, y1: f64, d1: f64, h: f64) -> Option<(f64, f64)> {
@@ -59,6 +95,23 @@ mod tests {
             let got = value(y(t0), dy(t0), y(t0 + h), dy(t0 + h), h, s);
             assert!((got - y(t0 + s * h)).abs() < 1e-14);
         }
+    }
+
+    #[test]
+    fn slope_is_the_derivative_and_crossing_the_root() {
+        let y = |t: f64| 0.4 - 1.3 * t + 0.2 * t * t + 0.3 * t * t * t;
+        let dy = |t: f64| -1.3 + 0.4 * t + 0.9 * t * t;
+        let (t0, h) = (0.1, 0.8);
+        let ends = (y(t0), dy(t0), y(t0 + h), dy(t0 + h));
+        for i in 0..=10 {
+            let s = i as f64 / 10.0;
+            let got = slope(ends.0, ends.1, ends.2, ends.3, h, s) / h;
+            assert!((got - dy(t0 + s * h)).abs() < 1e-13, "{s}");
+        }
+        assert!(ends.0 > 0.0 && ends.2 < 0.0);
+        let s = crossing(ends.0, ends.1, ends.2, ends.3, h, 1e-12);
+        assert!(y(t0 + s * h).abs() < 1e-12, "{s}");
+        assert!((0.0..=1.0).contains(&s));
     }
 
     #[test]

@@ -5,8 +5,9 @@
 //! ([`Field::accel`]) and the acceleration at the end of a step is reused as the first stage
 //! of the next (4 evaluations per step). A step in which any stage sees a membrane switch
 //! between taut and slack is redone for that lane alone: the switch is located on a cubic
-//! Hermite interpolant of the step, and the step is split there, integrating each side on its
-//! own smooth piece. This restores fourth order on orbits that go slack (MODEL.md §4b).
+//! Hermite interpolant of the switching function over the step, and the step is split there,
+//! integrating each side on its own smooth piece. This restores fourth order on orbits that go
+//! slack (MODEL.md §4b).
 
 use super::Collision;
 use super::drive_table::{DriveTable, LocalDrive};
@@ -19,6 +20,9 @@ use crate::model::Params;
 const MAX_SWITCHES_PER_STEP: usize = 4;
 /// Agreement of successive switch estimates, as a fraction of the step, that ends the search.
 const SWITCH_TOLERANCE: f64 = 1e-6;
+/// Agreement of successive Newton estimates of a switch, as a fraction of the step: Newton's
+/// method converges quadratically, so the last estimate is then good to about 1e-8.
+const NEWTON_TOLERANCE: f64 = 1e-4;
 /// Samples of the switching functions per step when looking for a sign change.
 const SWITCH_SCAN_POINTS: usize = 4;
 
@@ -356,9 +360,12 @@ impl Rk4 {
     }
 
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
-    /// after `h`, on piece `mode`, where a membrane's tension crosses zero against its mode,
-    /// located on the step's cubic Hermite interpolant: (offset from t0, membrane).
-    /// `phi_ends` is the drive (φ_I², φ_II²) at both ends.
+    /// after `h`, on piece `mode`, where a membrane's tension crosses zero against its mode:
+    /// (offset from t0, membrane). Where the step's end shows the switch (the usual case), it
+    /// is the root of the switching function's cubic Hermite interpolant from its values and
+    /// rates at both ends (O(h³), like the state's own interpolant); otherwise the switching
+    /// functions are scanned along the state's interpolant for a brief excursion. `phi_ends`
+    /// is the drive (φ_I², φ_II²) at both ends.
     #[allow(clippy::too_many_arguments)]
     fn first_switch(
         &self,
@@ -378,13 +385,39 @@ impl Rk4 {
             self.switching([x, v], drive.phi_sq(t0 + s * h), mode)
         };
         let negative = |g: [f64; 2]| g[0] < 0.0 || g[1] < 0.0;
-        // usually the end of the step already shows the switch; otherwise scan inside it for
-        // a brief excursion
+        // usually the end of the step already shows the switch
         let g_start = self.switching(y0, phi_ends.0, mode);
         let g_end = self.switching(y1, phi_ends.1, mode);
-        let (lo, hi, g_lo, g_hi) = if negative(g_end) {
-            (0.0, 1.0, g_start, g_end)
+        let (s_root_i, s_root_ii) = if negative(g_end) {
+            // the switching functions' cubic Hermite interpolants from their values and rates
+            // at both ends: no evaluation inside the step
+            let rates = |t: f64, y: [f64; 2], a: f64| {
+                let (phi_sq, phi_sq_rate) = drive.phi_sq_with_rate(t);
+                let state = [y[0], y[1], a];
+                let rate = |m| {
+                    self.field
+                        .scaled_tension_rate(m, state, phi_sq, phi_sq_rate)
+                };
+                let oriented = |taut: bool, r: f64| if taut { r } else { -r };
+                [
+                    oriented(mode.taut_i, rate(Membrane::I)),
+                    oriented(mode.taut_ii, rate(Membrane::Ii)),
+                ]
+            };
+            let (d0, d1) = (rates(t0, y0, a0), rates(t0 + h, y1, a1));
+            let root = |m: usize| {
+                (g_end[m] < 0.0).then(|| {
+                    if g_start[m] < 0.0 {
+                        0.0
+                    } else {
+                        let (g0, g1) = (g_start[m], g_end[m]);
+                        hermite::crossing(g0, d0[m], g1, d1[m], h, NEWTON_TOLERANCE)
+                    }
+                })
+            };
+            (root(0), root(1))
         } else {
+            // a brief excursion: scan the switching functions along the state's interpolant
             let (mut s_prev, mut g_prev) = (0.0, g_start);
             let mut found = None;
             for j in 1..SWITCH_SCAN_POINTS {
@@ -396,13 +429,13 @@ impl Rk4 {
                 }
                 (s_prev, g_prev) = (s, g);
             }
-            found?
+            let (lo, hi, g_lo, g_hi) = found?;
+            let root = |m: usize| {
+                (g_hi[m] < 0.0).then(|| crossing(|s| along(s)[m], (lo, g_lo[m]), (hi, g_hi[m])))
+            };
+            (root(0), root(1))
         };
-        // locate each membrane's crossing, keep the earlier
-        let root = |m: usize| {
-            (g_hi[m] < 0.0).then(|| crossing(|s| along(s)[m], (lo, g_lo[m]), (hi, g_hi[m])))
-        };
-        let (s_root, membrane) = match (root(0), root(1)) {
+        let (s_root, membrane) = match (s_root_i, s_root_ii) {
             (Some(a), Some(b)) if b < a => (b, Membrane::Ii),
             (Some(a), _) => (a, Membrane::I),
             (None, Some(b)) => (b, Membrane::Ii),
