@@ -4,8 +4,10 @@
 //! form, V = |u|² shrinks under M by the factor c = |μ|² (a focus) or max μ² (a node). The
 //! radius r is the largest of cap, cap/2, cap/4, … for which sample points on that ring and on
 //! every smaller ring, integrated k forcing periods with the trajectories' own integrator, all
-//! end with V below (1 + c)/2 of where they started. V then decreases at every sampled point
-//! of E: the nonlinear map still contracts there, so E holds no other invariant set (no
+//! end with V below 1 − (1 − c)/8 of where they started: at least an eighth of the linearised
+//! map's decrease. V then decreases at every sampled point of E, by a margin much larger than
+//! it can vary between neighbouring samples (it is a smooth function along the ring): the
+//! nonlinear map still contracts there, so E holds no other invariant set (no
 //! other attractor, no saddle whose stable manifold could bound p's basin) and every point of E
 //! goes to p. (A ring only checks that V shrinks, a smooth property, never which basin a point
 //! is in, so a thin foreign basin cannot slip between samples.) Where no ring passes, the
@@ -167,8 +169,8 @@ fn eigenvector(m: &Matrix2<f64>, mu: f64, fallback: usize) -> Vector2<f64> {
 /// smaller ring: all rings are integrated at once, one pass.
 fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> CaptureRegion {
     let mut region = CaptureRegion::new(center, shape, 0.0);
-    // V must shrink at least half as fast as under the linearised map
-    let required = 0.5 * (1.0 + shape.shrink);
+    // V must shrink by at least an eighth of what the linearised map takes off
+    let required = 1.0 - (1.0 - shape.shrink) / 8.0;
     let t = shape.t;
     let radii: Vec<f64> = (0..RINGS).map(|n| cap * 0.5f64.powi(n as i32)).collect();
     let samples: Vec<[f64; 2]> = radii
