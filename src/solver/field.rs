@@ -34,6 +34,16 @@ impl Mode {
         }
     }
 
+    /// Per-membrane quantities (I, II) signed to be positive where they agree with this mode:
+    /// negated for a slack membrane. Turns tensions into switching functions.
+    #[inline]
+    pub fn oriented(self, [i, ii]: [f64; 2]) -> [f64; 2] {
+        [
+            if self.taut_i { i } else { -i },
+            if self.taut_ii { ii } else { -ii },
+        ]
+    }
+
     /// The same mode with one membrane's state flipped.
     pub fn flipped(self, m: Membrane) -> Mode {
         match m {
@@ -195,12 +205,12 @@ impl Field {
             Membrane::Ii => (self.two_lambda_p - x, -v, -a, phi_sq.1, phi_sq_rate.1),
         };
         let (j, j2) = (self.j, self.j_plus_2);
-        let l2 = lambda * lambda;
-        let l4 = l2 * l2;
-        let den = lambda * (j2.mul_add(l2, -l4) - 1.0);
+        let (_, den) = gent_fraction(lambda, j, j2);
         if den <= 0.0 {
             return 0.0;
         }
+        let l2 = lambda * lambda;
+        let l4 = l2 * l2;
         // P = num − den·E with num = J(λ⁴ − 1), E = φ²λ − c̃λ̇
         let num_rate = 4.0 * j * l2 * lambda * lambda_dot;
         let den_rate = (3.0 * j2 * l2 - 5.0 * l4 - 1.0) * lambda_dot;

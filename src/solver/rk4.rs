@@ -348,15 +348,8 @@ impl Rk4 {
     /// tension times its Gent denominator, so without a division).
     #[inline]
     fn switching(&self, [x, v]: [f64; 2], (pi, pii): (f64, f64), mode: Mode) -> [f64; 2] {
-        let f = &self.field;
-        let oriented = |taut: bool, g: f64| if taut { g } else { -g };
-        [
-            oriented(mode.taut_i, f.scaled_tension_of(Membrane::I, x, v, pi, pii)),
-            oriented(
-                mode.taut_ii,
-                f.scaled_tension_of(Membrane::Ii, x, v, pi, pii),
-            ),
-        ]
+        let g = |m| self.field.scaled_tension_of(m, x, v, pi, pii);
+        mode.oriented([g(Membrane::I), g(Membrane::Ii)])
     }
 
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
@@ -393,16 +386,12 @@ impl Rk4 {
             // at both ends: no evaluation inside the step
             let rates = |t: f64, y: [f64; 2], a: f64| {
                 let (phi_sq, phi_sq_rate) = drive.phi_sq_with_rate(t);
-                let state = [y[0], y[1], a];
                 let rate = |m| {
+                    let state = [y[0], y[1], a];
                     self.field
                         .scaled_tension_rate(m, state, phi_sq, phi_sq_rate)
                 };
-                let oriented = |taut: bool, r: f64| if taut { r } else { -r };
-                [
-                    oriented(mode.taut_i, rate(Membrane::I)),
-                    oriented(mode.taut_ii, rate(Membrane::Ii)),
-                ]
+                mode.oriented([rate(Membrane::I), rate(Membrane::Ii)])
             };
             let (d0, d1) = (rates(t0, y0, a0), rates(t0 + h, y1, a1));
             let root = |m: usize| {
