@@ -138,16 +138,23 @@ impl Field {
     /// Both membranes' tensions as P = p·den and den, without a division.
     #[inline(always)]
     fn scaled_tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> ScaledTensions {
-        let (num_i, den_i) = gent_fraction(x, self.j, self.j_plus_2);
-        let x_ii = self.two_lambda_p - x;
-        let (num_ii, den_ii) = gent_fraction(x_ii, self.j, self.j_plus_2);
-        let cv = self.c_tilde * v;
+        let (big_p_i, den_i) = self.scaled_tension(x, v, phi_sq_i);
+        let (big_p_ii, den_ii) = self.scaled_tension(self.two_lambda_p - x, -v, phi_sq_ii);
         ScaledTensions {
-            big_p_i: (-phi_sq_i.mul_add(x, -cv)).mul_add(den_i, num_i),
-            big_p_ii: (-phi_sq_ii.mul_add(x_ii, cv)).mul_add(den_ii, num_ii),
+            big_p_i,
+            big_p_ii,
             den_i,
             den_ii,
         }
+    }
+
+    /// One membrane's P = p·den = num − den·(φ²λ − c̃λ̇) and den, at its own stretch λ and
+    /// stretch rate λ̇.
+    #[inline(always)]
+    fn scaled_tension(&self, lambda: f64, lambda_dot: f64, phi_sq: f64) -> (f64, f64) {
+        let (num, den) = gent_fraction(lambda, self.j, self.j_plus_2);
+        let big_p = (-phi_sq.mul_add(lambda, -self.c_tilde * lambda_dot)).mul_add(den, num);
+        (big_p, den)
     }
 
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
@@ -181,12 +188,8 @@ impl Field {
             Membrane::I => (x, phi_sq_i, v),
             Membrane::Ii => (self.two_lambda_p - x, phi_sq_ii, -v),
         };
-        let (num, den) = gent_fraction(lambda, self.j, self.j_plus_2);
-        if den > 0.0 {
-            (-phi_sq.mul_add(lambda, -self.c_tilde * lambda_dot)).mul_add(den, num)
-        } else {
-            -1.0
-        }
+        let (big_p, den) = self.scaled_tension(lambda, lambda_dot, phi_sq);
+        if den > 0.0 { big_p } else { -1.0 }
     }
 
     /// The rate d/dτ of [`Self::scaled_tension_of`] along a trajectory at (`x`, `v`) with

@@ -287,9 +287,7 @@ impl Rk4 {
             let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
             (end, a, mode)
         };
-        let ends = (self.table.at(2 * k), phi_end);
-        let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0, ends)
-        else {
+        let Some(switch) = self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0) else {
             return end_of(self.split_from(drive, start, 0.0, h, mode0));
         };
         let s = switch.at;
@@ -328,7 +326,7 @@ impl Rk4 {
             let start = (y, accel(y, ends.0, mode));
             let y1 = step(start, t, hs, mode);
             let end = (y1, accel(y1, ends.1, mode));
-            match self.first_switch(drive, start, end, t, hs, mode, ends) {
+            match self.first_switch(drive, start, end, t, hs, mode) {
                 None => return y1,
                 Some(switch) => {
                     y = step(start, t, switch.at, mode);
@@ -357,9 +355,7 @@ impl Rk4 {
     /// (offset from t0, membrane). Where the step's end shows the switch (the usual case), it
     /// is the root of the switching function's cubic Hermite interpolant from its values and
     /// rates at both ends (O(h³), like the state's own interpolant); otherwise the switching
-    /// functions are scanned along the state's interpolant for a brief excursion. `phi_ends`
-    /// is the drive (φ_I², φ_II²) at both ends.
-    #[allow(clippy::too_many_arguments)]
+    /// functions are scanned along the state's interpolant for a brief excursion.
     fn first_switch(
         &self,
         drive: &LocalDrive,
@@ -368,7 +364,6 @@ impl Rk4 {
         t0: f64,
         h: f64,
         mode: Mode,
-        phi_ends: ((f64, f64), (f64, f64)),
     ) -> Option<Switch> {
         let ([x0, v0], [x1, v1]) = (y0, y1);
         // the switching functions along the interpolant
@@ -379,13 +374,13 @@ impl Rk4 {
         };
         let negative = |g: [f64; 2]| g[0] < 0.0 || g[1] < 0.0;
         // usually the end of the step already shows the switch
-        let g_start = self.switching(y0, phi_ends.0, mode);
-        let g_end = self.switching(y1, phi_ends.1, mode);
+        let (drive_start, drive_end) = (drive.phi_sq_with_rate(t0), drive.phi_sq_with_rate(t0 + h));
+        let g_start = self.switching(y0, drive_start.0, mode);
+        let g_end = self.switching(y1, drive_end.0, mode);
         let (s_root_i, s_root_ii) = if negative(g_end) {
             // the switching functions' cubic Hermite interpolants from their values and rates
             // at both ends: no evaluation inside the step
-            let rates = |t: f64, y: [f64; 2], a: f64| {
-                let (phi_sq, phi_sq_rate) = drive.phi_sq_with_rate(t);
+            let rates = |(phi_sq, phi_sq_rate), y: [f64; 2], a: f64| {
                 let rate = |m| {
                     let state = [y[0], y[1], a];
                     self.field
@@ -393,7 +388,7 @@ impl Rk4 {
                 };
                 mode.oriented([rate(Membrane::I), rate(Membrane::Ii)])
             };
-            let (d0, d1) = (rates(t0, y0, a0), rates(t0 + h, y1, a1));
+            let (d0, d1) = (rates(drive_start, y0, a0), rates(drive_end, y1, a1));
             let root = |m: usize| {
                 (g_end[m] < 0.0).then(|| {
                     if g_start[m] < 0.0 {
