@@ -17,6 +17,17 @@ pub enum Membrane {
     Ii,
 }
 
+impl Membrane {
+    /// This membrane's member of a pair given as (I, II).
+    #[inline(always)]
+    pub fn of<T>(self, (i, ii): (T, T)) -> T {
+        match self {
+            Membrane::I => i,
+            Membrane::Ii => ii,
+        }
+    }
+}
+
 impl Mode {
     /// taut_I + 2·taut_II as a float (selects, which vectorise better than casts).
     #[inline(always)]
@@ -34,14 +45,15 @@ impl Mode {
         }
     }
 
-    /// Per-membrane quantities (I, II) signed to be positive where they agree with this mode:
-    /// negated for a slack membrane. Turns tensions into switching functions.
+    /// Membrane `m`'s `value` signed to be positive where it agrees with this mode: negated
+    /// for a slack membrane. Turns a tension into a switching function.
     #[inline]
-    pub fn oriented(self, [i, ii]: [f64; 2]) -> [f64; 2] {
-        [
-            if self.taut_i { i } else { -i },
-            if self.taut_ii { ii } else { -ii },
-        ]
+    pub fn oriented(self, m: Membrane, value: f64) -> f64 {
+        if m.of((self.taut_i, self.taut_ii)) {
+            value
+        } else {
+            -value
+        }
     }
 
     /// The same mode with one membrane's state flipped.
@@ -157,13 +169,18 @@ impl Field {
         (big_p, den)
     }
 
+    /// Membrane `m`'s stretch and the sign of its rate (λ̇_m = sign·λ̇_I) when λ_I = `x`:
+    /// λ_II = 2λ_p − λ_I.
+    #[inline(always)]
+    fn stretch_of(&self, m: Membrane, x: f64) -> (f64, f64) {
+        m.of(((x, 1.0), (self.two_lambda_p - x, -1.0)))
+    }
+
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
     #[inline]
     pub fn tension_of(&self, m: Membrane, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> f64 {
-        let (lambda, phi_sq, lambda_dot) = match m {
-            Membrane::I => (x, phi_sq_i, v),
-            Membrane::Ii => (self.two_lambda_p - x, phi_sq_ii, -v),
-        };
+        let (lambda, sign) = self.stretch_of(m, x);
+        let (phi_sq, lambda_dot) = (m.of((phi_sq_i, phi_sq_ii)), sign * v);
         let (num, den) = gent_fraction(lambda, self.j, self.j_plus_2);
         if den > 0.0 {
             num / den - phi_sq * lambda + self.c_tilde * lambda_dot
@@ -184,11 +201,8 @@ impl Field {
         phi_sq_i: f64,
         phi_sq_ii: f64,
     ) -> f64 {
-        let (lambda, phi_sq, lambda_dot) = match m {
-            Membrane::I => (x, phi_sq_i, v),
-            Membrane::Ii => (self.two_lambda_p - x, phi_sq_ii, -v),
-        };
-        let (big_p, den) = self.scaled_tension(lambda, lambda_dot, phi_sq);
+        let (lambda, sign) = self.stretch_of(m, x);
+        let (big_p, den) = self.scaled_tension(lambda, sign * v, m.of((phi_sq_i, phi_sq_ii)));
         if den > 0.0 { big_p } else { -1.0 }
     }
 
@@ -203,10 +217,9 @@ impl Field {
         phi_sq: (f64, f64),
         phi_sq_rate: (f64, f64),
     ) -> f64 {
-        let (lambda, lambda_dot, lambda_ddot, phi_sq, phi_sq_rate) = match m {
-            Membrane::I => (x, v, a, phi_sq.0, phi_sq_rate.0),
-            Membrane::Ii => (self.two_lambda_p - x, -v, -a, phi_sq.1, phi_sq_rate.1),
-        };
+        let (lambda, sign) = self.stretch_of(m, x);
+        let (lambda_dot, lambda_ddot) = (sign * v, sign * a);
+        let (phi_sq, phi_sq_rate) = (m.of(phi_sq), m.of(phi_sq_rate));
         let (j, j2) = (self.j, self.j_plus_2);
         let (_, den) = gent_fraction(lambda, j, j2);
         if den <= 0.0 {

@@ -346,8 +346,8 @@ impl Rk4 {
     /// tension times its Gent denominator, so without a division).
     #[inline]
     fn switching(&self, [x, v]: [f64; 2], (pi, pii): (f64, f64), mode: Mode) -> [f64; 2] {
-        let g = |m| self.field.scaled_tension_of(m, x, v, pi, pii);
-        mode.oriented([g(Membrane::I), g(Membrane::Ii)])
+        let g = |m| mode.oriented(m, self.field.scaled_tension_of(m, x, v, pi, pii));
+        [g(Membrane::I), g(Membrane::Ii)]
     }
 
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
@@ -378,25 +378,23 @@ impl Rk4 {
         let g_start = self.switching(y0, drive_start.0, mode);
         let g_end = self.switching(y1, drive_end.0, mode);
         let (s_root_i, s_root_ii) = if negative(g_end) {
-            // the switching functions' cubic Hermite interpolants from their values and rates
-            // at both ends: no evaluation inside the step
-            let rates = |(phi_sq, phi_sq_rate), y: [f64; 2], a: f64| {
-                let rate = |m| {
-                    let state = [y[0], y[1], a];
-                    self.field
-                        .scaled_tension_rate(m, state, phi_sq, phi_sq_rate)
-                };
-                mode.oriented([rate(Membrane::I), rate(Membrane::Ii)])
+            // the switching function's cubic Hermite interpolant from its values and rates at
+            // both ends: no evaluation inside the step (rates only for a membrane that switches)
+            let rate = |m, (phi_sq, phi_sq_rate), [x, v]: [f64; 2], a: f64| {
+                let r = self
+                    .field
+                    .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
+                mode.oriented(m, r)
             };
-            let (d0, d1) = (rates(drive_start, y0, a0), rates(drive_end, y1, a1));
             let root = |m: usize| {
                 (g_end[m] < 0.0).then(|| {
                     if g_start[m] < 0.0 {
-                        0.0
-                    } else {
-                        let (g0, g1) = (g_start[m], g_end[m]);
-                        hermite::crossing(g0, d0[m], g1, d1[m], h, NEWTON_TOLERANCE)
+                        return 0.0;
                     }
+                    let membrane = [Membrane::I, Membrane::Ii][m];
+                    let d0 = rate(membrane, drive_start, y0, a0);
+                    let d1 = rate(membrane, drive_end, y1, a1);
+                    hermite::crossing(g_start[m], d0, g_end[m], d1, h, NEWTON_TOLERANCE)
                 })
             };
             (root(0), root(1))
