@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::AnalysisError;
 use super::attractor::{AttractorTable, SAME_POINT_TOL};
 use super::batch::{KnownAttractors, LANES, steady_states};
+use super::capture::Verification;
 use super::grid::{Axis, starts};
 use super::progress::Progress;
 use super::steady_state::{SteadyState, SteadyStateSpec};
@@ -228,6 +229,6 @@ fn seed_attractors(
         .ok_or(AnalysisError::Cancelled)?
         .concat();
     let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
-    known.learn_all(&outcomes, SAME_POINT_TOL);
+    known.learn_all(&outcomes, SAME_POINT_TOL, Verification::Covered);
     Ok(known)
 }

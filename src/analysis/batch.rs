@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use super::capture::{CaptureRegion, capture_regions};
+use super::capture::{CaptureRegion, Verification, capture_regions};
 use super::period_detector::PeriodDetector;
 use super::period_map::OrbitRecord;
 use super::steady_state::{Class, SteadyState, SteadyStateSpec, collided, from_record};
@@ -51,13 +51,15 @@ impl KnownAttractors {
     }
 
     /// Adds a periodic response unless one with the same period and points is there already,
-    /// and verifies its capture regions (and those of the others whose cap it lowers).
+    /// and verifies its capture regions (and those of the others whose cap it lowers) over
+    /// one return.
     pub fn learn(&mut self, s: &SteadyState, tol: f64) {
-        self.learn_all(std::slice::from_ref(s), tol);
+        self.learn_all(std::slice::from_ref(s), tol, Verification::OneReturn);
     }
 
-    /// [`Self::learn`] for each of `states` in turn, the regions verified side by side.
-    pub fn learn_all(&mut self, states: &[SteadyState], tol: f64) {
+    /// [`Self::learn`] for each of `states` in turn, the regions verified side by side, by
+    /// `verification`.
+    pub fn learn_all(&mut self, states: &[SteadyState], tol: f64, verification: Verification) {
         let before = self.responses.len();
         for s in states {
             let known = self
@@ -83,7 +85,8 @@ impl KnownAttractors {
         let verified: Vec<(usize, Vec<CaptureRegion>)> = stale
             .into_par_iter()
             .map(|(a, caps)| {
-                let regions = capture_regions(&self.rk, &self.responses[a].poincare, &caps);
+                let points = &self.responses[a].poincare;
+                let regions = capture_regions(&self.rk, points, &caps, verification);
                 (a, regions)
             })
             .collect();

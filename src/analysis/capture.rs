@@ -1,19 +1,26 @@
 //! Capture regions for the early stop. Around each Poincaré point p of a stable periodic
 //! response (period k), an ellipse E = {x : |T⁻¹(x − p)|² < r²} adapted to the response's
 //! linearised return map M = DPᵏ(p): in the coordinates u = T⁻¹(x − p) of M's real Jordan
-//! form, V = |u|² shrinks under M by the factor c = |μ|² (a focus) or max μ² (a node). The
-//! radius r is the largest of cap, cap/2, cap/4, … for which sample points on that ring and on
-//! every smaller ring, integrated k forcing periods with the trajectories' own integrator, all
-//! end with V below 1 − (1 − c)/8 of where they started: at least an eighth of the linearised
-//! map's decrease. V then decreases at every sampled point of E, by a margin much larger than
-//! it can vary between neighbouring samples (it is a smooth function along the ring): the
-//! nonlinear map still contracts there, so E holds no other invariant set (no
-//! other attractor, no saddle whose stable manifold could bound p's basin) and every point of E
-//! goes to p. (A ring only checks that V shrinks, a smooth property, never which basin a point
-//! is in, so a thin foreign basin cannot slip between samples.) Where no ring passes, the
-//! region is empty.
+//! form, V = |u|² shrinks under M by the factor c = |μ|² (a focus) or max μ² (a node).
+//!
+//! [`Verification::OneReturn`]: the radius r is the largest of cap, cap/2, cap/4, … for which
+//! sample points on that ring and on every smaller ring, integrated k forcing periods with the
+//! trajectories' own integrator, all end with V below 1 − (1 − c)/8 of where they started: at
+//! least an eighth of the linearised map's decrease. V then decreases at every sampled point
+//! of E, by a margin much larger than it can vary between neighbouring samples (over one
+//! return the map is nearly linear at these radii): the nonlinear map still contracts there,
+//! so E holds no other invariant set (no other attractor, no saddle whose stable manifold
+//! could bound p's basin) and every point of E goes to p. Where no ring passes, the region is
+//! empty. The same test over many returns is not safe: the map then grows steep near a
+//! foreign invariant set, and a thin basin slips between the rings (Fig 5's 1:3 response at
+//! ω_e 3.55–3.65 was lost that way).
+//!
+//! [`Verification::Covered`], for a basin's seeds: many returns, with each sample's Jacobian
+//! bounding the map between samples ([`covered`]), so steepness fails the test instead of
+//! hiding from it.
 
 use nalgebra::{Matrix2, Vector2};
+use rayon::prelude::*;
 
 use super::batch::LANES;
 use super::floquet::Multipliers;
@@ -76,9 +83,25 @@ impl CaptureRegion {
     }
 }
 
+/// How a capture region is verified.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verification {
+    /// Rings of samples over one return (the module's description): cheap, for the few
+    /// trajectories of a frequency response's ω_e or of one chunk.
+    OneReturn,
+    /// A cover of first-order bounds over many returns ([`covered`]): regions several times
+    /// larger, at about 30 times the cost, repaid by the tens of thousands of cells of a basin.
+    Covered,
+}
+
 /// The capture region of each of a periodic response's Poincaré points `poincare` (period
 /// k = its length), each at most `caps[j]` in radius.
-pub fn capture_regions(rk: &Rk4, poincare: &[[f64; 2]], caps: &[f64]) -> Vec<CaptureRegion> {
+pub fn capture_regions(
+    rk: &Rk4,
+    poincare: &[[f64; 2]],
+    caps: &[f64],
+    verification: Verification,
+) -> Vec<CaptureRegion> {
     let k = poincare.len();
     let Some(jacobians) = one_period_jacobians(rk, poincare) else {
         return poincare.iter().map(|&p| CaptureRegion::empty(p)).collect();
@@ -88,7 +111,10 @@ pub fn capture_regions(rk: &Rk4, poincare: &[[f64; 2]], caps: &[f64]) -> Vec<Cap
             // the return map at p_j: J_{j+k−1} ⋯ J_{j+1} J_j
             let m = (1..k).fold(jacobians[j], |m, i| jacobians[(j + i) % k] * m);
             match Shape::of(&m) {
-                Some(shape) => verified(rk, poincare[j], &shape, k, caps[j]),
+                Some(shape) => match verification {
+                    Verification::OneReturn => verified(rk, poincare[j], &shape, k, caps[j]),
+                    Verification::Covered => covered(rk, poincare[j], &shape, k, caps[j]),
+                },
                 None => CaptureRegion::empty(poincare[j]),
             }
         })
@@ -186,7 +212,8 @@ fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> Ca
             })
         })
         .collect();
-    let images = iterate(rk, &samples, k);
+    let starts: Vec<Option<[f64; 2]>> = samples.iter().copied().map(Some).collect();
+    let images = iterate(rk, &starts, k);
     let ring_passes: Vec<bool> = samples
         .chunks(RING_POINTS)
         .zip(images.chunks(RING_POINTS))
@@ -200,6 +227,100 @@ fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> Ca
     let first_passing = (0..RINGS).rev().take_while(|&n| ring_passes[n]).last();
     if let Some(n) = first_passing {
         region.radius_sq = radii[n] * radii[n];
+    }
+    region
+}
+
+/// Rings of the covered test: radii cap·2^(−j/2), j = 0 … COVER_RINGS − 1 (down to cap/64).
+const COVER_RINGS: usize = 13;
+/// Samples per ring of the covered test, at the same angles on every ring.
+const COVER_POINTS: usize = 16;
+/// The covered test maps the samples over n returns, the fewest for which the linearised map
+/// shrinks |u| a hundredfold (at most [`MAX_COVER_PERIODS`] forcing periods): the twist of the nonlinear orbit
+/// (its angle turning with amplitude) grows ‖DF‖ only in proportion to n, while the
+/// contraction shrinks it geometrically.
+const COVER_CONTRACTION: f64 = 0.01;
+/// Most forcing periods the covered test integrates.
+const MAX_COVER_PERIODS: usize = 256;
+/// Step of the finite-difference Jacobian of Pⁿᵏ, relative to the sample's |u|.
+const COVER_JACOBIAN_STEP: f64 = 1e-5;
+
+/// The ellipse of `shape` around `center` with the largest radius, of cap·2^(−j/2), inside
+/// which the first-order bounds at a polar grid of samples prove that |u| shrinks under the
+/// map F = Pⁿᵏ over n returns (the fewest for which the linear map shrinks |u| by
+/// κ = cⁿᐟ² ≤ [`COVER_CONTRACTION`]). Each annular cell of the grid lies within h of one of
+/// its corners, h half the cell's diagonal; a sample u on the rings of such cells passes if
+/// |F(u)| + ‖DF(u)‖·h ≤ σ·(|u| − h), σ = (1 + κ)/2 (half-way between the linear prediction and
+/// no decrease), so every point within h of it also shrinks, to first order. Unlike the
+/// one-return rings this does not rely on the samples being dense enough: near another
+/// invariant set or a saddle's stable manifold, where a thin foreign basin could hide
+/// between samples, Pⁿᵏ stretches so much that ‖DF‖·h alone exceeds the margin. (Fig 5 at
+/// ω_e 3.6: the 1:3 response, whose points lie 0.04–0.07 from the 1:1's, stays outside
+/// the 1:1's region.) The disc inside the last ring (cap/64) is left to the linearisation.
+fn covered(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> CaptureRegion {
+    let mut region = CaptureRegion::new(center, shape, 0.0);
+    let most = (MAX_COVER_PERIODS / k).max(1);
+    let returns = (1..most)
+        .find(|&n| shape.shrink.powi(n as i32).sqrt() <= COVER_CONTRACTION)
+        .unwrap_or(most);
+    let kappa = shape.shrink.powi(returns as i32).sqrt();
+    let sigma = 0.5 * (1.0 + kappa);
+    let radii: Vec<f64> = (0..COVER_RINGS)
+        .map(|j| cap * 0.5f64.powf(0.5 * j as f64))
+        .collect();
+    // half the diagonal of the cell whose outer ring has radius r
+    let angle_step = std::f64::consts::TAU / COVER_POINTS as f64;
+    let half_diagonal =
+        |r: f64| 0.5 * (r * (1.0 - 0.5f64.sqrt())).hypot(2.0 * r * (0.5 * angle_step).sin());
+    // each sample in u, and the starts in x: the sample and a step along each axis of u
+    let samples: Vec<Vector2<f64>> = radii
+        .iter()
+        .flat_map(|&r| {
+            (0..COVER_POINTS).map(move |i| {
+                let (sin, cos) = (angle_step * i as f64).sin_cos();
+                Vector2::new(r * cos, r * sin)
+            })
+        })
+        .collect();
+    let p = Vector2::from(center);
+    let starts: Vec<Option<[f64; 2]>> = samples
+        .iter()
+        .flat_map(|&u| {
+            let step = COVER_JACOBIAN_STEP * u.norm();
+            [u, u + Vector2::new(step, 0.0), u + Vector2::new(0.0, step)]
+                .map(|w| Some((p + shape.t * w).into()))
+        })
+        .collect();
+    let images = iterate(rk, &starts, k * returns);
+    let to_u = |x: [f64; 2]| shape.t_inv * (Vector2::from(x) - p);
+    let passes = |j: usize, u: &Vector2<f64>, ends: &[Option<[f64; 2]>]| {
+        let [Some(f), Some(f_1), Some(f_2)] = [ends[0], ends[1], ends[2]] else {
+            return false;
+        };
+        let step = COVER_JACOBIAN_STEP * u.norm();
+        let f_u = to_u(f);
+        let jacobian = Matrix2::from_columns(&[(to_u(f_1) - f_u) / step, (to_u(f_2) - f_u) / step]);
+        let h = half_diagonal(radii[j.saturating_sub(1)]);
+        let stretch = jacobian.singular_values().max();
+        f_u.norm() + stretch * h <= sigma * (u.norm() - h)
+    };
+    let ring_passes: Vec<bool> = samples
+        .chunks(COVER_POINTS)
+        .zip(images.chunks(3 * COVER_POINTS))
+        .enumerate()
+        .map(|(j, (ring, ends))| {
+            ring.iter()
+                .zip(ends.chunks(3))
+                .all(|(u, ends)| passes(j, u, ends))
+        })
+        .collect();
+    // the largest ring inside which every ring passes
+    let first_passing = (0..COVER_RINGS)
+        .rev()
+        .take_while(|&j| ring_passes[j])
+        .last();
+    if let Some(j) = first_passing {
+        region.radius_sq = radii[j] * radii[j];
     }
     region
 }
@@ -233,7 +354,7 @@ fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64
             ]
         })
         .collect();
-    let starts: Vec<[f64; 2]> = points
+    let starts: Vec<Option<[f64; 2]>> = points
         .iter()
         .zip(&steps)
         .flat_map(|(p, e)| {
@@ -243,6 +364,7 @@ fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64
                 [p[0], p[1] + e[1]],
                 [p[0], p[1] - e[1]],
             ]
+            .map(Some)
         })
         .collect();
     let ends: Vec<[f64; 2]> = iterate(rk, &starts, 1).into_iter().collect::<Option<_>>()?;
@@ -259,31 +381,43 @@ fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64
     )
 }
 
-/// Each start integrated `periods` forcing periods from phase 0; `None` where it collides.
-fn iterate(rk: &Rk4, starts: &[[f64; 2]], periods: usize) -> Vec<Option<[f64; 2]>> {
-    let mut out = Vec::with_capacity(starts.len());
-    for batch in starts.chunks(LANES) {
-        let mut x = [rk.params().lambda_p(); LANES];
-        let mut v = [0.0; LANES];
-        for (i, s) in batch.iter().enumerate() {
-            (x[i], v[i]) = (s[0], s[1]);
-        }
-        let mut lanes = rk.start(x, v);
-        for _ in 0..periods {
-            rk.advance_period(&mut lanes, |_, _, _| {});
-        }
-        out.extend((0..batch.len()).map(|i| {
-            lanes.collision[i]
-                .is_none()
-                .then_some([lanes.x[i], lanes.v[i]])
-        }));
-    }
-    out
+/// Each start integrated `periods` forcing periods from phase 0; `None` where it collides
+/// (or started as `None`).
+fn iterate(rk: &Rk4, starts: &[Option<[f64; 2]>], periods: usize) -> Vec<Option<[f64; 2]>> {
+    starts
+        .par_chunks(LANES)
+        .flat_map_iter(|batch| {
+            let mut x = [rk.params().lambda_p(); LANES];
+            let mut v = [0.0; LANES];
+            for (i, s) in batch.iter().enumerate() {
+                if let Some(s) = s {
+                    (x[i], v[i]) = (s[0], s[1]);
+                }
+            }
+            let mut lanes = rk.start(x, v);
+            for _ in 0..periods {
+                rk.advance_period(&mut lanes, |_, _, _| {});
+            }
+            let ends: Vec<Option<[f64; 2]>> = batch
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let free = s.is_some() && lanes.collision[i].is_none();
+                    free.then_some([lanes.x[i], lanes.v[i]])
+                })
+                .collect();
+            ends
+        })
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::attractor::same_attractor;
+    use crate::analysis::steady_state::{SteadyState, SteadyStateSpec, steady_state};
+    use crate::model::Params;
+    use crate::solver::Resolution;
 
     /// Q solves Mᵀ Q M − Q = −I for a stable focus and a stable node; none for an unstable M.
     #[test]
@@ -328,28 +462,28 @@ mod tests {
         assert!(Shape::of(&Matrix2::new(1.1, 0.0, 0.0, 0.5)).is_none());
     }
 
-    /// On Fig 6B's model (a 1:3 response born beside the 1:1 focus), every region is
-    /// non-empty, no region of one response holds a point of another, and starts spread over
-    /// each region, integrated to full convergence on their own, all reach the region's
-    /// response.
-    #[test]
-    fn points_of_a_region_reach_its_response() {
-        use crate::analysis::attractor::same_attractor;
-        use crate::analysis::steady_state::{SteadyStateSpec, steady_state};
-        use crate::model::Params;
-        use crate::solver::Resolution;
-        let p = Params::paper(1.0, 3.6).unwrap();
+    /// The responses of `params` from `starts` (near their Poincaré points).
+    fn responses_from(p: &Params, starts: &[[f64; 2]]) -> Vec<SteadyState> {
         let spec = SteadyStateSpec::default();
-        let rk = Rk4::new(&p, &Resolution::default());
-        // the 1:1, 1:2 and 1:3 responses, from near their points (`isola basin --adr 1 --omega 3.6`)
-        let responses: Vec<_> = [[1.017, 0.001], [1.1208, 0.4402], [1.02594, 0.06897]]
+        starts
             .iter()
-            .map(|s| steady_state(&p, s[0], s[1], &spec))
-            .collect();
-        let periods: Vec<usize> = responses.iter().map(|r| r.poincare.len()).collect();
-        assert_eq!(periods, [1, 2, 3]);
-        for r in &responses {
-            // as the early stop caps them: at most half-way to another response's point
+            .map(|s| steady_state(p, s[0], s[1], &spec))
+            .collect()
+    }
+
+    /// Every region of every response (capped as the early stop caps them: at most half-way
+    /// to another response's point, at most 0.1) is at least `least` of its cap in radius, holds no
+    /// point of another response, and starts spread over it, integrated to full convergence
+    /// on their own, all reach the region's response.
+    fn regions_hold_only_their_response(
+        p: &Params,
+        responses: &[SteadyState],
+        verification: Verification,
+        least: f64,
+    ) {
+        let spec = SteadyStateSpec::default();
+        let rk = Rk4::new(p, &Resolution::default());
+        for r in responses {
             let caps: Vec<f64> = r
                 .poincare
                 .iter()
@@ -362,8 +496,11 @@ mod tests {
                     (0.5 * nearest).min(0.1)
                 })
                 .collect();
-            for (region, cap) in capture_regions(&rk, &r.poincare, &caps).iter().zip(&caps) {
-                assert!(region.radius() >= cap / 32.0, "{region:?} under {cap}");
+            for (region, cap) in capture_regions(&rk, &r.poincare, &caps, verification)
+                .iter()
+                .zip(&caps)
+            {
+                assert!(region.radius() >= least * cap, "{region:?} under {cap}");
                 for other in responses.iter().filter(|o| *o != r) {
                     assert!(other.poincare.iter().all(|&q| !region.contains(q)));
                 }
@@ -380,9 +517,61 @@ mod tests {
                             0.5 * (x[1] + region.center[1]),
                         ];
                     }
-                    let end = steady_state(&p, x[0], x[1], &spec);
+                    let end = steady_state(p, x[0], x[1], &spec);
                     assert!(same_attractor(&end, r, 1e-6), "from {x:?}: {end:?}");
                 }
+            }
+        }
+    }
+
+    /// Fig 6B's model (a 1:3 response born beside the 1:1 focus), both verifications: the 1:1,
+    /// 1:2 and 1:3 responses (from near their points, `isola basin --adr 1 --omega 3.6`).
+    #[test]
+    fn fig6b_regions_hold_only_their_response() {
+        let p = Params::paper(1.0, 3.6).unwrap();
+        let responses = responses_from(&p, &[[1.017, 0.001], [1.1208, 0.4402], [1.02594, 0.06897]]);
+        let periods: Vec<usize> = responses.iter().map(|r| r.poincare.len()).collect();
+        assert_eq!(periods, [1, 2, 3]);
+        regions_hold_only_their_response(&p, &responses, Verification::OneReturn, 1.0 / 32.0);
+        regions_hold_only_their_response(&p, &responses, Verification::Covered, 1.0 / 64.0);
+    }
+
+    /// Fig 6A's model, covered: the 1:1 and 1:2 regions reach at least 0.7 of their cap 0.1
+    /// (0.025 and 0.05 over one return) and hold only their response.
+    #[test]
+    fn fig6a_covered_regions_hold_only_their_response() {
+        let p = Params::paper(0.6, 3.7).unwrap();
+        let responses = responses_from(&p, &[[1.02, 0.0], [1.32, 0.0]]);
+        let periods: Vec<usize> = responses.iter().map(|r| r.poincare.len()).collect();
+        assert_eq!(periods, [1, 2]);
+        regions_hold_only_their_response(&p, &responses, Verification::Covered, 0.7);
+    }
+
+    /// Fig 5's model at ω_e 3.55–3.65 with the 1:1 response alone known (as when no start has
+    /// reached the 1:3 yet): its covered region (cap 0.1) keeps out the 1:3 response, whose
+    /// points lie 0.04–0.07 from the 1:1's and whose thin basin a test of samples alone
+    /// misses, yet is larger than the one-return region.
+    #[test]
+    fn covered_region_keeps_out_a_nearby_1_3_response() {
+        for (omega, one, three) in [
+            (3.55, [1.016559, 0.001233], [1.030497, 0.074272]),
+            (3.6, [1.016985, 0.001140], [1.025937, 0.068965]),
+            (3.65, [1.017377, 0.001059], [1.024182, 0.062779]),
+        ] {
+            let p = Params::paper(1.0, omega).unwrap();
+            let rk = Rk4::new(&p, &Resolution::default());
+            let found = responses_from(&p, &[one, three]);
+            let [r_1, r_3] = [&found[0], &found[1]];
+            assert_eq!((r_1.poincare.len(), r_3.poincare.len()), (1, 3));
+            let covered = &capture_regions(&rk, &r_1.poincare, &[0.1], Verification::Covered)[0];
+            let one_return =
+                &capture_regions(&rk, &r_1.poincare, &[0.1], Verification::OneReturn)[0];
+            assert!(
+                covered.radius() > one_return.radius(),
+                "ω {omega}: {covered:?}"
+            );
+            for &q in &r_3.poincare {
+                assert!(!covered.contains(q), "ω {omega}: {q:?} in {covered:?}");
             }
         }
     }

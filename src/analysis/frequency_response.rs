@@ -11,6 +11,7 @@ use super::AnalysisError;
 use super::Ratio;
 use super::attractor::{SAME_POINT_TOL, same_attractor};
 use super::batch::{KnownAttractors, steady_states};
+use super::capture::Verification;
 use super::continuation::ContinuationParameter;
 use super::grid::{Axis, starts};
 use super::progress::Progress;
@@ -334,6 +335,7 @@ impl<'a> ResponsePlan<'a> {
         let (spec, omegas, params) = (self.spec, &self.omegas, self.params);
         let cancel = progress.cancel_flag();
         if spec.seed_neighbours && omegas.len() > 1 {
+            let mut seeding: Vec<Seeding> = vec![Seeding::default(); omegas.len()];
             for _ in 0..MAX_SEED_ROUNDS {
                 let mut new = 0;
                 let up: Vec<usize> = (1..omegas.len()).collect();
@@ -342,7 +344,8 @@ impl<'a> ResponsePlan<'a> {
                     for i in order {
                         let j = (i as isize + from) as usize;
                         let at = (omegas[i], &self.at_omega[i]);
-                        new += seed_from(&mut per_omega, i, j, at, spec, cancel)?;
+                        let seeding = &mut seeding[i];
+                        new += seed_from(&mut per_omega, seeding, i, j, at, spec, cancel)?;
                     }
                 }
                 if new == 0 {
@@ -399,35 +402,45 @@ fn same_response(a: &SteadyState, b: &SteadyState) -> bool {
     }
 }
 
-/// Integrates the periodic responses of ω_e index `from` at index `i`; adds what is new.
+/// What the neighbour seeding of one ω_e has done so far.
+#[derive(Debug, Clone, Default)]
+struct Seeding {
+    /// Responses of the neighbours below and above already integrated here.
+    used: [usize; 2],
+    /// This ω_e's responses with their capture regions, verified once and kept.
+    known: Option<KnownAttractors>,
+}
+
+/// Integrates the periodic responses of ω_e index `from` not yet seeded at index `i`; adds
+/// what is new.
 fn seed_from(
     per_omega: &mut [Vec<Response>],
+    seeding: &mut Seeding,
     i: usize,
     from: usize,
     (omega, params): (f64, &Params),
     spec: &FrequencyResponseSpec,
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<usize, AnalysisError> {
-    let seeds: Vec<[f64; 2]> = per_omega[from]
+    let used = &mut seeding.used[usize::from(from > i)];
+    let seeds: Vec<[f64; 2]> = per_omega[from][*used..]
         .iter()
         .filter(|r| r.steady.class == Class::Periodic)
         .flat_map(|r| r.steady.poincare.iter().copied())
         .collect();
+    *used = per_omega[from].len();
     if seeds.is_empty() {
         return Ok(0);
     }
-    let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
-    let found: Vec<SteadyState> = per_omega[i].iter().map(|r| r.steady.clone()).collect();
-    known.learn_all(&found, SAME_POINT_TOL);
-    let outcomes = steady_states(
-        params,
-        &seeds,
-        &spec.steady,
-        Some(&mut known),
-        cancel,
-        |_| {},
-    )
-    .ok_or(AnalysisError::Cancelled)?;
+    // the responses found here, and those seeding adds (learnt as they are reached)
+    let known = seeding.known.get_or_insert_with(|| {
+        let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
+        let found: Vec<SteadyState> = per_omega[i].iter().map(|r| r.steady.clone()).collect();
+        known.learn_all(&found, SAME_POINT_TOL, Verification::OneReturn);
+        known
+    });
+    let outcomes = steady_states(params, &seeds, &spec.steady, Some(known), cancel, |_| {})
+        .ok_or(AnalysisError::Cancelled)?;
     let mut new = 0;
     for s in outcomes {
         if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))
