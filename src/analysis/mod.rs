@@ -6,6 +6,7 @@ pub mod batch;
 pub mod bifurcation_curve;
 pub mod branch_from_state;
 pub mod capture;
+mod capture_cover;
 pub mod chirp_sweep;
 pub mod continuation;
 pub mod family;

@@ -1,0 +1,98 @@
+//! The covered verification of a capture region ([`super::capture::Verification::Covered`]):
+//! a polar grid of samples in the coordinates u of the region's shape, each mapped over many
+//! returns with its Jacobian, whose first-order bounds cover the whole region.
+
+use nalgebra::{Matrix2, Vector2};
+
+use super::capture::{Shape, iterate};
+use crate::solver::Rk4;
+
+/// Rings of the covered test: radii cap·2^(−j/2), j = 0 … COVER_RINGS − 1 (down to cap/64).
+const COVER_RINGS: usize = 13;
+/// Samples per ring of the covered test, at the same angles on every ring.
+const COVER_POINTS: usize = 16;
+/// The covered test maps the samples over n returns, the fewest for which the linearised map
+/// shrinks |u| a hundredfold (at most [`MAX_COVER_PERIODS`] forcing periods): the twist of
+/// the nonlinear orbit (its angle turning with amplitude) grows ‖DF‖ only in proportion to
+/// n, while the contraction shrinks it geometrically.
+const COVER_CONTRACTION: f64 = 0.01;
+/// Most forcing periods the covered test integrates.
+const MAX_COVER_PERIODS: usize = 256;
+/// Step of the finite-difference Jacobian of Pⁿᵏ, relative to the sample's |u|.
+const COVER_JACOBIAN_STEP: f64 = 1e-5;
+
+/// The radius of the largest ellipse of `shape` around `center`, of cap·2^(−j/2) (0 if
+/// none), inside which the first-order bounds at a polar grid of samples prove that |u|
+/// shrinks under the map F = Pⁿᵏ over n returns (the fewest for which the linear map shrinks
+/// |u| by κ = cⁿᐟ² ≤ [`COVER_CONTRACTION`]). Each annular cell of the grid lies within h of one of
+/// its corners, h half the cell's diagonal; a sample u on the rings of such cells passes if
+/// |F(u)| + ‖DF(u)‖·h ≤ σ·(|u| − h), σ = (1 + κ)/2 (half-way between the linear prediction and
+/// no decrease), so every point within h of it also shrinks, to first order. The test rests
+/// on that first-order bound rather than on the samples being dense: near another invariant
+/// set or a saddle's stable manifold, where a thin foreign basin could hide between samples,
+/// Pⁿᵏ stretches so much that ‖DF‖·h alone exceeds the margin. (Fig 5 at ω_e 3.6: the 1:3
+/// response, whose points lie 0.04–0.07 from the 1:1's, stays outside the 1:1's region.)
+/// The disc inside the last ring (cap/64) is left to the linearisation.
+pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
+    let most = (MAX_COVER_PERIODS / k).max(1);
+    let returns = (1..most)
+        .find(|&n| shape.shrink.powi(n as i32).sqrt() <= COVER_CONTRACTION)
+        .unwrap_or(most);
+    let kappa = shape.shrink.powi(returns as i32).sqrt();
+    let sigma = 0.5 * (1.0 + kappa);
+    let radii: Vec<f64> = (0..COVER_RINGS)
+        .map(|j| cap * 0.5f64.powf(0.5 * j as f64))
+        .collect();
+    // half the diagonal of the cell whose outer ring has radius r
+    let angle_step = std::f64::consts::TAU / COVER_POINTS as f64;
+    let half_diagonal =
+        |r: f64| 0.5 * (r * (1.0 - 0.5f64.sqrt())).hypot(2.0 * r * (0.5 * angle_step).sin());
+    // each sample in u, and the starts in x: the sample and a step along each axis of u
+    let samples: Vec<Vector2<f64>> = radii
+        .iter()
+        .flat_map(|&r| {
+            (0..COVER_POINTS).map(move |i| {
+                let (sin, cos) = (angle_step * i as f64).sin_cos();
+                Vector2::new(r * cos, r * sin)
+            })
+        })
+        .collect();
+    let p = Vector2::from(center);
+    let starts: Vec<Option<[f64; 2]>> = samples
+        .iter()
+        .flat_map(|&u| {
+            let step = COVER_JACOBIAN_STEP * u.norm();
+            [u, u + Vector2::new(step, 0.0), u + Vector2::new(0.0, step)]
+                .map(|w| Some((p + shape.t * w).into()))
+        })
+        .collect();
+    let images = iterate(rk, &starts, k * returns);
+    let to_u = |x: [f64; 2]| shape.t_inv * (Vector2::from(x) - p);
+    let passes = |j: usize, u: &Vector2<f64>, ends: &[Option<[f64; 2]>]| {
+        let [Some(f), Some(f_1), Some(f_2)] = [ends[0], ends[1], ends[2]] else {
+            return false;
+        };
+        let step = COVER_JACOBIAN_STEP * u.norm();
+        let f_u = to_u(f);
+        let jacobian = Matrix2::from_columns(&[(to_u(f_1) - f_u) / step, (to_u(f_2) - f_u) / step]);
+        let h = half_diagonal(radii[j.saturating_sub(1)]);
+        let stretch = jacobian.singular_values().max();
+        f_u.norm() + stretch * h <= sigma * (u.norm() - h)
+    };
+    let ring_passes: Vec<bool> = samples
+        .chunks(COVER_POINTS)
+        .zip(images.chunks(3 * COVER_POINTS))
+        .enumerate()
+        .map(|(j, (ring, ends))| {
+            ring.iter()
+                .zip(ends.chunks(3))
+                .all(|(u, ends)| passes(j, u, ends))
+        })
+        .collect();
+    // the largest ring inside which every ring passes
+    let first_passing = (0..COVER_RINGS)
+        .rev()
+        .take_while(|&j| ring_passes[j])
+        .last();
+    first_passing.map_or(0.0, |j| radii[j])
+}
