@@ -112,16 +112,14 @@ pub fn capture_regions(
         .map(|j| {
             // the return map at p_j: J_{j+k−1} ⋯ J_{j+1} J_j
             let m = (1..k).fold(jacobians[j], |m, i| jacobians[(j + i) % k] * m);
-            match Shape::of(&m) {
-                Some(shape) => match verification {
-                    Verification::OneReturn => verified(rk, poincare[j], &shape, k, caps[j]),
-                    Verification::Covered => {
-                        let r = covered_radius(rk, poincare[j], &shape, k, caps[j]);
-                        CaptureRegion::new(poincare[j], &shape, r * r)
-                    }
-                },
-                None => CaptureRegion::empty(poincare[j]),
-            }
+            let Some(shape) = Shape::of(&m) else {
+                return CaptureRegion::empty(poincare[j]);
+            };
+            let radius = match verification {
+                Verification::OneReturn => one_return_radius(rk, poincare[j], &shape, k, caps[j]),
+                Verification::Covered => covered_radius(rk, poincare[j], &shape, k, caps[j]),
+            };
+            CaptureRegion::new(poincare[j], &shape, radius * radius)
         })
         .collect()
 }
@@ -195,11 +193,12 @@ fn eigenvector(m: &Matrix2<f64>, mu: f64, fallback: usize) -> Vector2<f64> {
         .unwrap_or_else(|| Vector2::ith(fallback, 1.0))
 }
 
-/// The ellipse of `shape` around `center` with the largest radius, of `cap`, cap/2, cap/4, …,
-/// whose ring of samples passes the test of the module's description together with every
-/// smaller ring: all rings are integrated at once, one pass.
-fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> CaptureRegion {
-    let mut region = CaptureRegion::new(center, shape, 0.0);
+/// The radius of the largest ellipse of `shape` around `center`, of `cap`, cap/2, cap/4, …
+/// (0 if none), whose ring of samples passes the one-return test of the module's description
+/// together with every smaller ring: all rings are integrated at once, one pass.
+fn one_return_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
+    // the ellipse's V, whatever its radius
+    let region = CaptureRegion::new(center, shape, 0.0);
     // V must shrink by at least an eighth of what the linearised map takes off
     let required = 1.0 - (1.0 - shape.shrink) / 8.0;
     let t = shape.t;
@@ -228,12 +227,19 @@ fn verified(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> Ca
                 .all(|(&x, y)| y.is_some_and(|y| region.v(y) <= required * region.v(x)))
         })
         .collect();
-    // the largest ring inside which every ring passes
-    let first_passing = (0..RINGS).rev().take_while(|&n| ring_passes[n]).last();
-    if let Some(n) = first_passing {
-        region.radius_sq = radii[n] * radii[n];
-    }
-    region
+    largest_passing(&radii, &ring_passes)
+}
+
+/// The largest of `radii` (outermost first) inside which every ring passes: `ring_passes`
+/// holds from the innermost ring out to it. 0 if the innermost ring fails.
+pub(super) fn largest_passing(radii: &[f64], ring_passes: &[bool]) -> f64 {
+    radii
+        .iter()
+        .zip(ring_passes)
+        .rev()
+        .take_while(|&(_, &passes)| passes)
+        .last()
+        .map_or(0.0, |(&r, _)| r)
 }
 
 /// Q with Mᵀ Q M − Q = −I by Smith's doubling (Q = Σ (Mᵀ)ⁿ Mⁿ); `None` unless M's spectral
@@ -387,9 +393,9 @@ mod tests {
     }
 
     /// Every region of every response (capped as the early stop caps them: at most half-way
-    /// to another response's point, at most 0.1) is at least `least` of its cap in radius, holds no
-    /// point of another response, and starts spread over it, integrated to full convergence
-    /// on their own, all reach the region's response.
+    /// to another response's point, at most 0.1) is at least `least` of its cap in radius,
+    /// holds no point of another response, and starts spread over it, integrated to full
+    /// convergence on their own, all reach the region's response.
     fn regions_hold_only_their_response(
         p: &Params,
         responses: &[SteadyState],

@@ -4,7 +4,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::capture::{Shape, iterate};
+use super::capture::{Shape, iterate, largest_passing};
 use crate::solver::Rk4;
 
 /// Rings of the covered test: radii cap·2^(−j/2), j = 0 … COVER_RINGS − 1 (down to cap/64).
@@ -24,13 +24,13 @@ const COVER_JACOBIAN_STEP: f64 = 1e-5;
 /// The radius of the largest ellipse of `shape` around `center`, of cap·2^(−j/2) (0 if
 /// none), inside which the first-order bounds at a polar grid of samples prove that |u|
 /// shrinks under the map F = Pⁿᵏ over n returns (the fewest for which the linear map shrinks
-/// |u| by κ = cⁿᐟ² ≤ [`COVER_CONTRACTION`]). Each annular cell of the grid lies within h of one of
-/// its corners, h half the cell's diagonal; a sample u on the rings of such cells passes if
-/// |F(u)| + ‖DF(u)‖·h ≤ σ·(|u| − h), σ = (1 + κ)/2 (half-way between the linear prediction and
-/// no decrease), so every point within h of it also shrinks, to first order. The test rests
-/// on that first-order bound rather than on the samples being dense: near another invariant
-/// set or a saddle's stable manifold, where a thin foreign basin could hide between samples,
-/// Pⁿᵏ stretches so much that ‖DF‖·h alone exceeds the margin. (Fig 5 at ω_e 3.6: the 1:3
+/// |u| by κ = cⁿᐟ² ≤ [`COVER_CONTRACTION`]). Each annular cell of the grid lies within h of
+/// one of its corners, h half the cell's diagonal; a sample u on the rings of such cells
+/// passes if |F(u)| + ‖DF(u)‖·h ≤ σ·(|u| − h), σ = (1 + κ)/2 (half-way between the linear
+/// prediction and no decrease), so every point within h of it also shrinks, to first order.
+/// The test rests on that first-order bound rather than on the samples being dense: near
+/// another invariant set or a saddle's stable manifold, where a thin foreign basin could hide
+/// between samples, Pⁿᵏ stretches so much that ‖DF‖·h alone exceeds the margin. (Fig 5 at ω_e 3.6: the 1:3
 /// response, whose points lie 0.04–0.07 from the 1:1's, stays outside the 1:1's region.)
 /// The disc inside the last ring (cap/64) is left to the linearisation.
 pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
@@ -58,11 +58,12 @@ pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize
         })
         .collect();
     let p = Vector2::from(center);
+    let fd_step = |u: &Vector2<f64>| COVER_JACOBIAN_STEP * u.norm();
     let starts: Vec<Option<[f64; 2]>> = samples
         .iter()
-        .flat_map(|&u| {
-            let step = COVER_JACOBIAN_STEP * u.norm();
-            [u, u + Vector2::new(step, 0.0), u + Vector2::new(0.0, step)]
+        .flat_map(|u| {
+            let step = fd_step(u);
+            [*u, u + Vector2::new(step, 0.0), u + Vector2::new(0.0, step)]
                 .map(|w| Some((p + shape.t * w).into()))
         })
         .collect();
@@ -72,9 +73,9 @@ pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize
         let [Some(f), Some(f_1), Some(f_2)] = [ends[0], ends[1], ends[2]] else {
             return false;
         };
-        let step = COVER_JACOBIAN_STEP * u.norm();
-        let f_u = to_u(f);
-        let jacobian = Matrix2::from_columns(&[(to_u(f_1) - f_u) / step, (to_u(f_2) - f_u) / step]);
+        let (f_u, step) = (to_u(f), fd_step(u));
+        let column = |f_i: [f64; 2]| (to_u(f_i) - f_u) / step;
+        let jacobian = Matrix2::from_columns(&[column(f_1), column(f_2)]);
         let h = half_diagonal(radii[j.saturating_sub(1)]);
         let stretch = jacobian.singular_values().max();
         f_u.norm() + stretch * h <= sigma * (u.norm() - h)
@@ -89,10 +90,5 @@ pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize
                 .all(|(u, ends)| passes(j, u, ends))
         })
         .collect();
-    // the largest ring inside which every ring passes
-    let first_passing = (0..COVER_RINGS)
-        .rev()
-        .take_while(|&j| ring_passes[j])
-        .last();
-    first_passing.map_or(0.0, |j| radii[j])
+    largest_passing(&radii, &ring_passes)
 }

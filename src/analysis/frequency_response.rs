@@ -344,8 +344,8 @@ impl<'a> ResponsePlan<'a> {
                     for i in order {
                         let j = (i as isize + from) as usize;
                         let at = (omegas[i], &self.at_omega[i]);
-                        let seeding = &mut seeding[i];
-                        new += seed_from(&mut per_omega, seeding, i, j, at, spec, cancel)?;
+                        let done = &mut seeding[i];
+                        new += seed_from(&mut per_omega, done, i, j, at, spec, cancel)?;
                     }
                 }
                 if new == 0 {
