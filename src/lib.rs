@@ -1,5 +1,13 @@
+//! isola: the nonlinear dynamics of forced, piecewise-smooth oscillators, starting with
+//! antagonistic pure-shear dielectric elastomer actuators. Data flows one way:
+//! model → solver → analysis → jobs → session.
+
 pub mod analysis;
 pub mod jobs;
 pub mod model;
 pub mod session;
 pub mod solver;
+
+/// This build: package version and the commit it was built from (`-modified` if the tree
+/// had changes), recorded with every result.
+pub const BUILD: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("ISOLA_COMMIT"));

@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
 
 use isola::analysis::Progress;
-use isola::session::run::{ResultPaths, Shard, is_current, run_analysis};
+use isola::session::run::{Shard, is_current, run_analysis};
+use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
 fn scratch(name: &str) -> PathBuf {
@@ -140,76 +140,6 @@ fn physical_model_values_are_converted() {
     let p = s.params(None).unwrap();
     assert!((p.omega() - 1.8).abs() < 1e-4, "{}", p.omega());
     assert!((p.drive_i().phi_dc() - 0.1841).abs() < 1e-3);
-}
-
-fn run_binary(session: &Path) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_isola"))
-        .args(["run", &session.to_string_lossy(), "--threads", "2"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap()
-}
-
-const BASIN_SESSION: &str = "schema = 1\n[model]\nadr = 1.0\nomega = 3.6\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 161 }\nv = { min = -1.0, max = 1.0, points = 201 }\n";
-
-/// Kill -9 in the middle of a basin, run again: only the missing chunks are computed, and the
-/// CSVs are byte for byte those of an uninterrupted run.
-#[test]
-fn killed_run_resumes_to_identical_results() {
-    let dir = scratch("resume");
-    let (a, b) = (dir.join("a"), dir.join("b"));
-    std::fs::create_dir_all(&a).unwrap();
-    std::fs::create_dir_all(&b).unwrap();
-    let (sa, sb) = (a.join("s.toml"), b.join("s.toml"));
-    std::fs::write(&sa, BASIN_SESSION).unwrap();
-    std::fs::write(&sb, BASIN_SESSION).unwrap();
-    // uninterrupted
-    assert!(run_binary(&sb).wait().unwrap().success());
-    // interrupted once some chunks are saved
-    let mut child = run_binary(&sa);
-    let chunks = a.join("s.results/basin.chunks");
-    let started = Instant::now();
-    while std::fs::read_dir(&chunks).map_or(0, |d| d.count()) < 6 {
-        assert!(
-            started.elapsed() < Duration::from_secs(60),
-            "no chunks appeared"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    child.kill().unwrap();
-    child.wait().unwrap();
-    assert!(
-        !a.join("s.results/basin.csv").exists(),
-        "killed before the end"
-    );
-    let saved = std::fs::read_dir(&chunks).unwrap().count();
-    let out = run_binary(&sa).wait_with_output().unwrap();
-    assert!(out.status.success());
-    let text = String::from_utf8_lossy(&out.stdout);
-    let total = (161 * 201usize).div_ceil(isola::analysis::basin::CHUNK_CELLS);
-    let computed: usize = text
-        .split(" chunks computed now")
-        .next()
-        .unwrap()
-        .rsplit('(')
-        .next()
-        .unwrap()
-        .trim()
-        .parse()
-        .unwrap();
-    assert!(
-        computed + saved >= total && computed < total,
-        "{text}: saved {saved}, total {total}"
-    );
-    for f in ["basin.csv", "basin.attractors.csv"] {
-        let (x, y) = (
-            std::fs::read(a.join("s.results").join(f)).unwrap(),
-            std::fs::read(b.join("s.results").join(f)).unwrap(),
-        );
-        assert!(x == y, "{f} differs");
-    }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A changed setting makes the stored result stale rather than mixing it in.

@@ -509,7 +509,7 @@ impl Problem<'_> {
     fn divisor_gaps(&self, s: &Solved) -> Vec<(usize, [f64; 2])> {
         let x = s.flow.poincare[0];
         (1..self.k)
-            .filter(|j| self.k % j == 0)
+            .filter(|j| self.k.is_multiple_of(*j))
             .map(|j| {
                 let pj = s.flow.poincare[j];
                 (j, [pj[0] - x[0], pj[1] - x[1]])

@@ -33,6 +33,12 @@ pub use progress::Progress;
 pub use ratio::Ratio;
 pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady_state_with};
 
+/// The version of isola's numerics, part of every result's fingerprint: bump it with any
+/// change that alters a number any analysis writes (a new step rule, tolerance, seed or
+/// classification), so that chunks and results of builds with other numerics are never
+/// mixed with this build's. Changes that keep every result byte-identical keep it.
+pub const NUMERICS_VERSION: u32 = 1;
+
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AnalysisError {

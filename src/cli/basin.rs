@@ -33,6 +33,7 @@ pub struct BasinArgs {
 }
 
 pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let (dx, v) = args.starts.axes(args.grid);
     let spec = BasinSpec {

@@ -41,6 +41,7 @@ pub struct ContinueArgs {
 }
 
 pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let started = Instant::now();
     let spec = BranchFromState {

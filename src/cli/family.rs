@@ -40,6 +40,7 @@ pub struct FamilyArgs {
 }
 
 pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let spec = FamilySpec {
         parameter: args.vary,

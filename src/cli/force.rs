@@ -34,6 +34,7 @@ pub struct ForceArgs {
 }
 
 pub fn run(args: &ForceArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref()])?;
     let spec = ForceCurveSpec {
         lambda_p: args.lambda_p.clone(),
         phi_i: args.phi.clone(),

@@ -55,6 +55,7 @@ pub struct HuntArgs {
 }
 
 pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref(), args.response_csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
     let (min, max) = args
@@ -190,7 +191,11 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.response_csv {
-        isola::session::export::response_csv(&found.response, path)?;
+        isola::session::export::response_csv(
+            &found.response,
+            &isola::model::Device::default(),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     Ok(())

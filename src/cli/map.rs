@@ -54,6 +54,7 @@ pub struct MapArgs {
 }
 
 pub fn run(args: &MapArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref(), args.curves_csv.as_deref()])?;
     let values = parse::range(&args.values).map_err(|e| anyhow::anyhow!("--values: {e}"))?;
     let (x_axis, params) = if args.x == ContinuationParameter::Omega {
         args.model.omega_range("1.0:6.0:0.1")?

@@ -92,6 +92,17 @@ fn open_workbench() -> anyhow::Result<()> {
     anyhow::bail!("this isola was built without the terminal workbench (feature `tui`); see --help")
 }
 
+/// Checks every output path a command was given (`--csv` and the like) before any work
+/// starts, so that a path that cannot take the output fails at once, not after the run.
+fn check_outputs<'a>(
+    paths: impl IntoIterator<Item = Option<&'a std::path::Path>>,
+) -> anyhow::Result<()> {
+    for path in paths.into_iter().flatten() {
+        isola::session::output::check_target(path, &isola::session::output::Protected::none())?;
+    }
+    Ok(())
+}
+
 /// Sends tracing events to the file `path` (appended; its folder made if needed), never to the
 /// terminal, where progress bars and the workbench live.
 pub fn log_to(path: &std::path::Path) -> anyhow::Result<()> {

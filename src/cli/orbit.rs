@@ -60,6 +60,7 @@ struct OrbitReport<'a> {
 }
 
 pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.history_csv.as_deref()])?;
     let params = args.model.params()?;
     let spec = SteadyStateSpec {
         max_period: args.max_period,

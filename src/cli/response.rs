@@ -40,6 +40,7 @@ pub struct ResponseArgs {
 }
 
 pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
     let spec = FrequencyResponseSpec {
@@ -90,7 +91,7 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        isola::session::export::response_csv(&fr, path)?;
+        isola::session::export::response_csv(&fr, &isola::model::Device::default(), path)?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -37,6 +37,7 @@ pub struct SweepArgs {
 }
 
 pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
+    super::check_outputs([args.csv.as_deref(), args.scalogram_csv.as_deref()])?;
     let omega_text = args
         .model
         .omega_text(if args.stepped { "0.2:6.0:0.05" } else { "0:6" });

@@ -1,38 +1,78 @@
-//! Files written whole or not at all: a temporary file beside the target, fsync, rename.
+//! Files written whole or not at all: a temporary file with a random name beside the target,
+//! fsync, rename, fsync of the folder.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+use std::time::{Duration, SystemTime};
 
 /// Writes `bytes` to `path` atomically: readers see the old file or the new one, never a
-/// half-written one, and a crash before the rename leaves the old file intact.
+/// half-written one, and a crash before the rename leaves the old file intact. The temporary
+/// (`.NAME.XXXXXX.tmp`, random, so writers on other hosts or in other PID namespaces never
+/// collide) is removed on error; one left by a killed writer is removed by
+/// [`remove_stale_temporaries`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = temp_path(path);
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, path)?;
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            // make the rename itself durable
-            if let Ok(d) = std::fs::File::open(dir) {
-                let _ = d.sync_all();
-            }
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// The temporary file used for `path`: hidden, beside it, with the process id.
-pub fn temp_path(path: &Path) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".tmp")
+        // the usual mode under the user's umask, not tempfile's private 0600
+        .permissions(std::fs::Permissions::from_mode(0o666))
+        .tempfile_in(dir)?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    sync_dir(dir);
+    Ok(())
+}
+
+/// Makes renames and removals in `dir` durable (best effort: some file systems refuse).
+pub fn sync_dir(dir: &Path) {
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+}
+
+/// True for the name of a temporary that [`write_atomic`] makes for a file whose name starts
+/// with `stem` (`stem` = `basin` matches `.basin.csv.XXXXXX.tmp`).
+pub fn is_temporary_of(file_name: &str, stem: &str) -> bool {
+    file_name
+        .strip_prefix('.')
+        .and_then(|rest| rest.strip_prefix(stem))
+        .is_some_and(|rest| rest.starts_with('.') && rest.ends_with(".tmp"))
+}
+
+/// Removes the temporaries of files named `stem…` in `dir` that were last written more than
+/// `older_than` ago (a live writer writes its temporary in one go, within seconds). Returns
+/// how many were removed.
+pub fn remove_stale_temporaries(dir: &Path, stem: &str, older_than: Duration) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    let now = SystemTime::now();
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !is_temporary_of(&name, stem) {
+            continue;
+        }
+        let old = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .is_ok_and(|t| now.duration_since(t).unwrap_or_default() >= older_than);
+        if old && std::fs::remove_file(entry.path()).is_ok() {
+            tracing::info!(file = %entry.path().display(), "stale temporary removed");
+            removed += 1;
+        }
+    }
+    removed
 }
 
 #[cfg(test)]
@@ -41,13 +81,31 @@ mod tests {
 
     #[test]
     fn replaces_whole_and_leaves_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("isola-atomic-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("a.txt");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.txt");
         write_atomic(&path, b"old").unwrap();
         write_atomic(&path, b"new").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
-        assert!(!temp_path(&path).exists());
-        std::fs::remove_dir_all(&dir).unwrap();
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["a.txt"]);
+    }
+
+    #[test]
+    fn stale_temporaries_of_one_stem_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in [".basin.csv.AbC123.tmp", ".basin-2.csv.x.tmp", "basin.csv"] {
+            std::fs::write(dir.path().join(name), "x").unwrap();
+        }
+        assert!(is_temporary_of(".basin.csv.AbC123.tmp", "basin"));
+        assert!(!is_temporary_of(".basin-2.csv.x.tmp", "basin"));
+        assert_eq!(
+            remove_stale_temporaries(dir.path(), "basin", Duration::ZERO),
+            1
+        );
+        assert!(dir.path().join(".basin-2.csv.x.tmp").exists());
+        assert!(dir.path().join("basin.csv").exists());
     }
 }

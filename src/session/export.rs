@@ -7,8 +7,9 @@ use crate::analysis::basin::Basin;
 use crate::analysis::frequency_response::FrequencyResponse;
 use crate::model::{Device, Params};
 
-/// Writes a CSV file atomically (see [`super::atomic::write_atomic`]): the rows are built in
-/// memory, so a failure while filling leaves the old file as it was.
+/// Writes a CSV file whole (see [`super::output`]: a regular file is replaced atomically, a
+/// FIFO or device written through): the rows are built in memory, so a failure while filling
+/// leaves the old file as it was.
 pub fn write_atomic(
     path: &Path,
     fill: impl FnOnce(&mut csv::Writer<&mut Vec<u8>>) -> anyhow::Result<()>,
@@ -19,7 +20,7 @@ pub fn write_atomic(
         fill(&mut w)?;
         w.flush()?;
     }
-    super::atomic::write_atomic(path, &bytes)?;
+    super::output::write_output(path, &bytes, &super::output::Protected::none())?;
     Ok(())
 }
 
@@ -105,10 +106,13 @@ const RESPONSE_COLUMNS: [&str; 6] = [
     "share",
 ];
 
-fn response_fields(r: &crate::analysis::frequency_response::Response) -> Vec<String> {
+fn response_fields(
+    r: &crate::analysis::frequency_response::Response,
+    device: &Device,
+) -> Vec<String> {
     let mut row = vec![
         format!("{:.6}", r.omega),
-        format!("{:.4}", Device::silicone().hz(r.omega)),
+        format!("{:.4}", device.hz(r.omega)),
         r.branch.map_or(String::new(), |b| b.to_string()),
         r.hidden.map_or(String::new(), |h| h.to_string()),
         r.seeded.to_string(),
@@ -119,15 +123,15 @@ fn response_fields(r: &crate::analysis::frequency_response::Response) -> Vec<Str
     row
 }
 
-/// One row per response per ω_e.
-pub fn response_csv(fr: &FrequencyResponse, path: &Path) -> anyhow::Result<()> {
+/// One row per response per ω_e (`frequency_hz` for `device`).
+pub fn response_csv(fr: &FrequencyResponse, device: &Device, path: &Path) -> anyhow::Result<()> {
     write_atomic(path, |w| {
         let mut header = RESPONSE_COLUMNS.to_vec();
         header.extend(STEADY_COLUMNS);
         header.extend(["poincare_lambda", "poincare_v"]);
         w.write_record(&header)?;
         for r in &fr.responses {
-            w.write_record(response_fields(r))?;
+            w.write_record(response_fields(r, device))?;
         }
         Ok(())
     })
@@ -142,6 +146,7 @@ pub fn family_responses_path(family_csv: &Path) -> PathBuf {
 pub fn family_responses_csv(
     parameter: &str,
     members: &[crate::analysis::family::FamilyMember],
+    device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
     write_atomic(path, |w| {
@@ -153,7 +158,7 @@ pub fn family_responses_csv(
         for m in members {
             for r in &m.response.responses {
                 let mut row = vec![m.value.to_string()];
-                row.extend(response_fields(r));
+                row.extend(response_fields(r, device));
                 w.write_record(&row)?;
             }
         }

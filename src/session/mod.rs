@@ -1,11 +1,13 @@
-//! Sessions: the TOML file of what a user explores, the results beside it, CSV export and
-//! atomic writes.
+//! Sessions: the TOML file of what a user explores, the results store beside it, CSV export,
+//! atomic writes and checked output paths.
 
 pub mod atomic;
 pub mod export;
 pub mod model_section;
+pub mod output;
 pub mod results;
 pub mod run;
 pub mod schema;
+pub mod store;
 
 pub use schema::{AnalysisEntry, Session, SessionError, SessionFile, Settings};

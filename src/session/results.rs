@@ -8,10 +8,11 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::time::SystemTime;
 
-use serde::de::DeserializeOwned;
-
-use super::run::{Manifest, ResultPaths, read_manifest};
+use super::run::{basin_content, chunk_count, family_content, map_content, response_content};
 use super::schema::{AnalysisEntry, Session, Settings};
+use super::store::chunk::{self, ChunkId};
+use super::store::manifest::{Manifest, Unverified};
+use super::store::{self, ResultPaths};
 use crate::analysis::Ratio;
 use crate::analysis::SteadyState;
 use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
@@ -267,9 +268,9 @@ pub enum ResultStatus {
     Missing,
     /// Chunks done of total, no final file yet.
     Partial { done: usize, total: usize },
-    /// Complete, for the current model and settings.
+    /// Complete, verified, for the current model, device, settings and numerics.
     Complete,
-    /// On disk, but computed for another model or settings.
+    /// Complete and verified, but computed for another model, device, settings or numerics.
     Stale,
 }
 
@@ -278,13 +279,17 @@ pub enum ResultStatus {
 pub struct ResultReader {
     name: String,
     kind: &'static str,
-    manifest_seen: Option<(SystemTime, u64)>,
-    csv_seen: Option<(SystemTime, u64)>,
+    /// The fingerprint the last poll looked for.
+    fingerprint: String,
+    /// (manifest, main file) as last seen: a change of either means verifying again.
+    seen: Option<(Option<Stamp>, Option<Stamp>)>,
+    /// The stored result, verified, and its view.
+    stored: Option<(Manifest, ResultView)>,
     chunks_read: Vec<bool>,
     partial: Partial,
     pub status: ResultStatus,
     pub view: Option<ResultView>,
-    /// Why the files could not be read, if they could not.
+    /// Why the files could not be read or verified, if they could not.
     pub error: Option<String>,
 }
 
@@ -302,7 +307,10 @@ enum Partial {
     Map(Vec<Option<Vec<MapCell>>>),
 }
 
-fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
+/// A file's modification time and length: a change of either means reading it again.
+type Stamp = (SystemTime, u64);
+
+fn stamp(path: &Path) -> Option<Stamp> {
     let m = std::fs::metadata(path).ok()?;
     Some((m.modified().ok()?, m.len()))
 }
@@ -312,8 +320,9 @@ impl ResultReader {
         ResultReader {
             name: entry.name.clone(),
             kind: entry.settings.kind(),
-            manifest_seen: None,
-            csv_seen: None,
+            fingerprint: String::new(),
+            seen: None,
+            stored: None,
             chunks_read: Vec::new(),
             partial: Partial::None,
             status: ResultStatus::Missing,
@@ -328,81 +337,96 @@ impl ResultReader {
             *self = ResultReader::new(entry);
         }
         let paths = ResultPaths::new(session, &entry.name);
-        let manifest_stamp = stamp(&paths.manifest);
-        let csv_stamp = stamp(&paths.csv);
-        let manifest = read_manifest(&paths.manifest);
-        let before = (self.status, self.view.is_some());
-        let current = manifest
-            .as_ref()
-            .is_some_and(|m| m.fingerprint == session.fingerprint(entry));
+        let fingerprint = session.fingerprint(entry);
+        let before = (self.status, self.view.is_some(), self.error.clone());
         let mut changed = false;
-        if manifest_stamp != self.manifest_seen || csv_stamp != self.csv_seen {
-            self.manifest_seen = manifest_stamp;
+        if fingerprint != self.fingerprint {
+            self.fingerprint = fingerprint.clone();
+            self.chunks_read.clear();
+            self.partial = Partial::None;
             changed = true;
         }
-        match &manifest {
-            Some(m) if m.complete && csv_stamp.is_some() => {
-                if csv_stamp != self.csv_seen {
-                    self.csv_seen = csv_stamp;
-                    self.partial = Partial::None;
-                    self.chunks_read.clear();
-                    match read_csv_view(&entry.settings, &paths) {
-                        Ok(view) => {
-                            self.view = Some(view);
-                            self.error = None;
-                        }
-                        Err(e) => {
-                            self.view = None;
-                            self.error = Some(format!("{}: {e:#}", paths.csv.display()));
-                        }
+        let seen = Some((stamp(&paths.manifest), stamp(&paths.csv)));
+        if seen != self.seen {
+            self.seen = seen;
+            self.error = None;
+            self.stored = match store::verified(&paths) {
+                Ok(m) => match read_csv_view(&entry.settings, &paths) {
+                    Ok(view) => Some((m, view)),
+                    Err(e) => {
+                        self.error = Some(format!("{}: {e:#}", paths.csv.display()));
+                        None
                     }
-                    changed = true;
+                },
+                Err(Unverified::Missing) => None,
+                Err(why) => {
+                    self.error = Some(why.to_string());
+                    None
                 }
-                self.status = if current {
-                    ResultStatus::Complete
+            };
+            changed = true;
+        }
+        match &self.stored {
+            Some((m, view)) if m.fingerprint == fingerprint => {
+                self.chunks_read.clear();
+                self.partial = Partial::None;
+                self.status = ResultStatus::Complete;
+                if changed {
+                    self.view = Some(view.clone());
+                }
+            }
+            stored => {
+                let stale = stored.as_ref().map(|(_, view)| view.clone());
+                let work = paths.work_dir(&fingerprint);
+                let total = chunk_count(&entry.settings);
+                changed |= self.read_new_chunks(&entry.settings, &work, &fingerprint, total);
+                let done = self.chunks_read.iter().filter(|&&r| r).count();
+                if done > 0 {
+                    self.status = ResultStatus::Partial { done, total };
+                } else if let Some(view) = stale {
+                    self.status = ResultStatus::Stale;
+                    if changed {
+                        self.view = Some(view);
+                    }
                 } else {
-                    ResultStatus::Stale
-                };
-            }
-            Some(m) if current => {
-                self.csv_seen = None;
-                changed |= self.read_new_chunks(&entry.settings, &paths, m);
-                self.status = ResultStatus::Partial {
-                    done: self.chunks_read.iter().filter(|&&r| r).count(),
-                    total: m.chunks_total,
-                };
-            }
-            Some(_) => self.status = ResultStatus::Stale,
-            None => {
-                if self.status != ResultStatus::Missing {
+                    self.status = ResultStatus::Missing;
                     self.view = None;
-                    self.partial = Partial::None;
-                    self.chunks_read.clear();
-                    self.csv_seen = None;
                 }
-                self.status = ResultStatus::Missing;
             }
         }
-        changed || before != (self.status, self.view.is_some())
+        changed || before != (self.status, self.view.is_some(), self.error.clone())
     }
 
-    /// Reads chunk files not read yet; true if any was.
-    fn read_new_chunks(&mut self, settings: &Settings, paths: &ResultPaths, m: &Manifest) -> bool {
-        let n = m.chunks_total;
+    /// Reads the good chunk files of the current fingerprint not read yet; true if any was.
+    fn read_new_chunks(
+        &mut self,
+        settings: &Settings,
+        work: &Path,
+        fingerprint: &str,
+        n: usize,
+    ) -> bool {
         if self.chunks_read.len() != n {
             self.chunks_read = vec![false; n];
             self.partial = Partial::None;
+        }
+        if !work.is_dir() {
+            return false;
         }
         let mut any = false;
         for i in 0..n {
             if self.chunks_read[i] {
                 continue;
             }
-            let file = paths.chunks.join(format!("{i:06}.json"));
+            let file = work.join(store::chunk_name(i));
             let Ok(bytes) = std::fs::read(&file) else {
                 continue;
             };
-            if self.absorb_chunk(settings, i, &bytes).is_some() {
+            let id = ChunkId {
+                fingerprint,
+                index: i,
+                chunks: n,
+            };
+            if self.absorb_chunk(settings, &id, &bytes).is_some() {
                 self.chunks_read[i] = true;
                 any = true;
             }
@@ -413,14 +437,15 @@ impl ResultReader {
         any
     }
 
-    /// Adds chunk `i` to the partial result; `None` if it is not readable (yet).
-    fn absorb_chunk(&mut self, settings: &Settings, i: usize, bytes: &[u8]) -> Option<()> {
-        fn parse<T: DeserializeOwned>(bytes: &[u8]) -> Option<T> {
-            serde_json::from_slice(bytes).ok()
-        }
+    /// Adds chunk `id` to the partial result; `None` if it is not good (yet).
+    fn absorb_chunk(&mut self, settings: &Settings, id: &ChunkId, bytes: &[u8]) -> Option<()> {
+        let i = id.index;
         match settings {
             Settings::Basin(spec) => {
-                let outcomes: Vec<SteadyState> = parse(bytes)?;
+                let outcomes: Vec<SteadyState> =
+                    chunk::decode(bytes, id, |o: &Vec<SteadyState>| basin_content(spec, i, o))
+                        .ok()?
+                        .value;
                 let cells = spec.dx.points * spec.v.points;
                 if !matches!(self.partial, Partial::Basin { .. }) {
                     self.partial = Partial::Basin {
@@ -439,7 +464,10 @@ impl ResultReader {
                 }
             }
             Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
-                let responses: Vec<Response> = parse(bytes)?;
+                let responses: Vec<Response> =
+                    chunk::decode(bytes, id, |r: &Vec<Response>| response_content(spec, i, r))
+                        .ok()?
+                        .value;
                 if !matches!(self.partial, Partial::Response(_)) {
                     self.partial = Partial::Response(vec![Vec::new(); spec.omega.points]);
                 }
@@ -450,7 +478,10 @@ impl ResultReader {
                     responses.iter().map(ResponsePoint::from_response).collect();
             }
             Settings::Family(spec) => {
-                let member: FamilyMember = parse(bytes)?;
+                let member: FamilyMember =
+                    chunk::decode(bytes, id, |m: &FamilyMember| family_content(spec, i, m))
+                        .ok()?
+                        .value;
                 if !matches!(self.partial, Partial::Family(_)) {
                     self.partial = Partial::Family(vec![None; spec.values.len()]);
                 }
@@ -466,7 +497,9 @@ impl ResultReader {
                 *members.get_mut(i)? = Some((member.value, points));
             }
             Settings::Map(spec) => {
-                let row: MapRow = parse(bytes)?;
+                let row: MapRow = chunk::decode(bytes, id, |r: &MapRow| map_content(spec, i, r))
+                    .ok()?
+                    .value;
                 if !matches!(self.partial, Partial::Map(_)) {
                     self.partial = Partial::Map(vec![None; spec.values.points]);
                 }

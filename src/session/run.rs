@@ -1,48 +1,38 @@
-//! Running a session's analyses headless, with results checkpointed chunk by chunk beside the
-//! session so that a killed run resumes where it stopped and produces the same files.
-//!
-//! Layout, for analysis `A` of `sessions/NAME.toml`:
-//! - `sessions/NAME.results/A.csv`: the result (see README for the columns); a hunt's
-//!   continued branches go beside it in `A.branches.csv`;
-//! - `sessions/NAME.results/A.manifest.json`: fingerprint, version, chunks, timing, completion;
-//! - `sessions/NAME.results/A.chunks/000012.json`: finished chunks while the run is under way.
-//!
-//! Chunks are addressed by index, so a run can be split across machines (`shard`).
+//! Running a session's analyses headless through the results store ([`super::store`]): a
+//! killed run resumes where it stopped and produces the same files, byte for byte; runs of
+//! one session at once, and shards on the nodes of a cluster, share the work chunk by chunk;
+//! exactly one of them assembles the result.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use anyhow::Context;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
-use super::atomic::write_atomic;
 use super::export;
 use super::schema::{AnalysisEntry, Session, Settings};
-use crate::analysis::basin::BasinPlan;
+use super::store::chunk::Payload;
+use super::store::finite::first_non_finite;
+use super::store::manifest::{MANIFEST_FORMAT, Manifest};
+use super::store::{self, ResultPaths, Work, lock, unix_now};
+use crate::analysis::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::branch_from_state::branch_from_state;
 use crate::analysis::chirp_sweep::chirp_sweep;
-use crate::analysis::family::{FamilyMember, family_member};
+use crate::analysis::family::{FamilyMember, FamilySpec, family_member};
 use crate::analysis::force_curve::force_curves;
-use crate::analysis::frequency_response::{Response, ResponsePlan};
+use crate::analysis::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
 use crate::analysis::hunt::{HuntSpec, hunt_in};
-use crate::analysis::map::{MapRow, map_curves, map_row};
+use crate::analysis::map::{MapRow, MapSpec, map_curves, map_row};
 use crate::analysis::stepped_sweep::stepped_sweep;
 use crate::analysis::time_history::time_history;
-use crate::analysis::{AnalysisError, Progress};
+use crate::analysis::{AnalysisError, Progress, SteadyState};
 
-/// The small record kept beside each result.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Manifest {
-    pub analysis: String,
-    pub kind: String,
-    /// Fingerprint of the model and settings the result belongs to.
-    pub fingerprint: String,
-    pub isola_version: String,
-    pub chunks_total: usize,
-    pub chunks_done: usize,
-    pub complete: bool,
-    /// Seconds spent computing, summed over runs.
-    pub compute_seconds: f64,
+impl ResultPaths {
+    /// Where analysis `name` of `session` keeps its result.
+    pub fn new(session: &Session, name: &str) -> Self {
+        ResultPaths::in_dir(&session.results_dir(), name)
+    }
 }
 
 /// Which chunks this process computes: all, or those with index ≡ `index` mod `count`.
@@ -63,12 +53,14 @@ impl Shard {
 /// What happened to one analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
-    /// Its result was already complete and current.
+    /// Its result was already complete, verified and current.
     UpToDate,
-    /// Computed (or finished) now.
+    /// Complete now: assembled by this run, or by another run this one worked beside.
     Completed {
         chunks_computed: usize,
+        /// Seconds of computing in all (every chunk, on whichever host, and the assembly).
         seconds: f64,
+        assembled_here: bool,
     },
     /// This shard's chunks are done; others are still missing.
     ShardDone {
@@ -77,42 +69,127 @@ pub enum Outcome {
     },
 }
 
-/// Where analysis `name`'s files live.
-pub struct ResultPaths {
-    pub csv: PathBuf,
-    pub manifest: PathBuf,
-    pub chunks: PathBuf,
+/// True when `entry`'s stored result is complete, passes its checksums and belongs to the
+/// session's current model, device, settings and numerics.
+pub fn is_current(session: &Session, entry: &AnalysisEntry) -> bool {
+    store::is_current(
+        &ResultPaths::new(session, &entry.name),
+        &session.fingerprint(entry),
+    )
 }
 
-impl ResultPaths {
-    pub fn new(session: &Session, name: &str) -> Self {
-        let dir = session.results_dir();
-        ResultPaths {
-            csv: dir.join(format!("{name}.csv")),
-            manifest: dir.join(format!("{name}.manifest.json")),
-            chunks: dir.join(format!("{name}.chunks")),
+/// How many chunks an analysis of these settings is cut into (1 for those computed whole).
+pub fn chunk_count(settings: &Settings) -> usize {
+    match settings {
+        Settings::Basin(spec) => (spec.dx.points * spec.v.points).div_ceil(CHUNK_CELLS),
+        Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
+            spec.omega.points
+        }
+        Settings::Map(spec) => spec.values.points,
+        Settings::Family(spec) => spec.values.len(),
+        _ => 1,
+    }
+}
+
+/// The files of a result whose main file is `csv`, in the order they are recorded.
+pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
+    let mut files = vec![csv.to_path_buf()];
+    match settings {
+        Settings::Basin(_) => files.push(csv.with_extension("attractors.csv")),
+        Settings::Hunt(_) => files.push(export::branches_path(csv)),
+        Settings::Map(_) => files.push(export::curves_path(csv)),
+        Settings::Family(_) => files.push(export::family_responses_path(csv)),
+        _ => {}
+    }
+    files
+}
+
+impl Payload for MapRow {
+    fn items(&self) -> usize {
+        self.cells.len()
+    }
+}
+
+impl Payload for FamilyMember {
+    fn items(&self) -> usize {
+        self.response.responses.len()
+    }
+}
+
+/// What chunk `i` of a basin must hold: one outcome per cell of the chunk.
+pub fn basin_content(spec: &BasinSpec, i: usize, outcomes: &[SteadyState]) -> Result<(), String> {
+    let cells = spec.dx.points * spec.v.points;
+    let expected = CHUNK_CELLS.min(cells.saturating_sub(i * CHUNK_CELLS));
+    if outcomes.len() == expected {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} cells, chunk {i} has {expected}",
+            outcomes.len()
+        ))
+    }
+}
+
+/// What chunk `i` of a frequency response must hold: responses at its ω_e whose counts add
+/// up to the grid of initial states.
+pub fn response_content(
+    spec: &FrequencyResponseSpec,
+    i: usize,
+    responses: &[Response],
+) -> Result<(), String> {
+    let omega = spec.omega.at(i);
+    if let Some(r) = responses
+        .iter()
+        .find(|r| r.omega_index != i || r.omega != omega)
+    {
+        return Err(format!(
+            "a response at ω_e {} (index {}), chunk {i} is ω_e {omega}",
+            r.omega, r.omega_index
+        ));
+    }
+    let starts = spec.dx.points * spec.v.points;
+    let counted: usize = responses.iter().map(|r| r.count).sum();
+    if counted != starts {
+        return Err(format!("{counted} starts counted, the grid has {starts}"));
+    }
+    Ok(())
+}
+
+/// What row `i` of a map must hold: its value of the parameter and a cell per value of x.
+pub fn map_content(spec: &MapSpec, i: usize, row: &MapRow) -> Result<(), String> {
+    let (value, columns) = (spec.values.at(i), spec.response.omega.points);
+    if row.value != value || row.cells.len() != columns {
+        return Err(format!(
+            "row at {} with {} cells, row {i} is at {value} with {columns}",
+            row.value,
+            row.cells.len()
+        ));
+    }
+    Ok(())
+}
+
+/// What member `i` of a family must hold: its value and a response over the whole ω grid.
+pub fn family_content(spec: &FamilySpec, i: usize, member: &FamilyMember) -> Result<(), String> {
+    let value = spec.values.get(i).copied();
+    let columns = spec.response.omega.points;
+    if Some(member.value) != value || member.response.omegas.len() != columns {
+        return Err(format!(
+            "member at {} over {} ω_e, member {i} is at {value:?} over {columns}",
+            member.value,
+            member.response.omegas.len()
+        ));
+    }
+    for (j, r) in member.response.responses.iter().enumerate() {
+        if r.omega_index >= columns {
+            return Err(format!("response {j} at ω_e index {}", r.omega_index));
         }
     }
-
-    fn chunk(&self, i: usize) -> PathBuf {
-        self.chunks.join(format!("{i:06}.json"))
-    }
+    Ok(())
 }
 
-/// Reads an analysis' manifest, if any.
-pub fn read_manifest(path: &Path) -> Option<Manifest> {
-    serde_json::from_slice(&std::fs::read(path).ok()?).ok()
-}
-
-/// True when `entry`'s result is complete and belongs to its current model and settings.
-pub fn is_current(session: &Session, entry: &AnalysisEntry) -> bool {
-    let paths = ResultPaths::new(session, &entry.name);
-    read_manifest(&paths.manifest).is_some_and(|m| {
-        m.complete && m.fingerprint == session.fingerprint(entry) && paths.csv.exists()
-    })
-}
-
-/// Runs one analysis of `session`, resuming from any chunks a previous run left.
+/// Runs one analysis of `session`: returns at once if its stored result is current, else
+/// computes the chunks this shard owns that no other run has done or is doing, and
+/// assembles the result once every chunk is there.
 pub fn run_analysis(
     session: &Session,
     entry: &AnalysisEntry,
@@ -121,176 +198,449 @@ pub fn run_analysis(
 ) -> anyhow::Result<Outcome> {
     let paths = ResultPaths::new(session, &entry.name);
     let fingerprint = session.fingerprint(entry);
-    std::fs::create_dir_all(&paths.chunks)?;
-    let previous = read_manifest(&paths.manifest);
-    if let Some(m) = &previous {
-        if m.fingerprint == fingerprint && m.complete && paths.csv.exists() {
-            tracing::info!(analysis = %entry.name, "up to date");
-            return Ok(Outcome::UpToDate);
-        }
-        if m.fingerprint != fingerprint {
-            tracing::warn!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint, "stale result discarded");
-            // stale: another model or settings; never mix its chunks in
-            std::fs::remove_dir_all(&paths.chunks)?;
-            std::fs::create_dir_all(&paths.chunks)?;
-            let _ = std::fs::remove_file(&paths.csv);
-        }
+    std::fs::create_dir_all(&paths.dir)
+        .with_context(|| format!("results folder {}", paths.dir.display()))?;
+    if store::is_current(&paths, &fingerprint) {
+        tracing::info!(analysis = %entry.name, "up to date");
+        store::remove_unused_work(&paths);
+        return Ok(Outcome::UpToDate);
     }
-    let spent = previous
-        .as_ref()
-        .filter(|m| m.fingerprint == fingerprint)
-        .map_or(0.0, |m| m.compute_seconds);
-    let started = Instant::now();
-    let params = session.params(Some(entry))?;
-    let device = session.device();
-    let mut manifest = Manifest {
-        analysis: entry.name.clone(),
-        kind: entry.settings.kind().into(),
-        fingerprint,
-        isola_version: env!("CARGO_PKG_VERSION").into(),
-        chunks_total: 1,
-        chunks_done: 0,
-        complete: false,
-        compute_seconds: spent,
-    };
-    let save_manifest = |m: &Manifest| -> anyhow::Result<()> {
-        write_atomic(&paths.manifest, serde_json::to_string_pretty(m)?.as_bytes())?;
-        Ok(())
-    };
-    let cancelled = |e: AnalysisError| anyhow::anyhow!("{}: {e}", entry.name);
-    // chunked kinds: compute the missing chunks this shard owns, then assemble if all exist
-    let (computed, missing) = match &entry.settings {
-        Settings::Basin(spec) => {
-            let plan = BasinPlan::new(&params, spec, progress).map_err(cancelled)?;
-            let n = plan.chunks();
-            manifest.chunks_total = n;
-            save_manifest(&manifest)?;
-            progress.grow_total(plan.cells());
-            let done = |i: usize| progress.add(plan.chunk_cells(i).len());
-            run_chunks(
-                &paths,
-                n,
-                shard,
-                done,
-                |i| plan.chunk(i, progress),
-                |chunks| export::basin_csv(&plan.assemble(chunks), &params, &paths.csv),
-            )?
-        }
-        Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
-            let plan = ResponsePlan::new(&params, spec).map_err(cancelled)?;
-            let n = plan.chunks();
-            manifest.chunks_total = n;
-            save_manifest(&manifest)?;
-            progress.grow_total(plan.work());
-            let per_chunk = spec.dx.points * spec.v.points;
-            run_chunks(
-                &paths,
-                n,
-                shard,
-                |_| progress.add(per_chunk),
-                |i| plan.grid_at(i, progress),
-                |per_omega: Vec<Vec<Response>>| {
-                    let fr = plan.finish(per_omega, progress).map_err(cancelled)?;
-                    if let Settings::Hunt(hunt) = &entry.settings {
-                        let found = hunt_in(&params, fr, &hunt.continuation, progress)
-                            .map_err(cancelled)?;
-                        let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
-                        export::continued_csv(&branches, &export::branches_path(&paths.csv))?;
-                        export::response_csv(&found.response, &paths.csv)
-                    } else {
-                        export::response_csv(&fr, &paths.csv)
-                    }
-                },
-            )?
-        }
-        Settings::Map(spec) => {
-            let n = spec.values.points;
-            manifest.chunks_total = n;
-            save_manifest(&manifest)?;
-            spec.validate(&params)?;
-            // each row announces its own work as it starts; rows run side by side
-            run_chunks(
-                &paths,
-                n,
-                shard,
-                |_| {},
-                |i| map_row(&params, spec, i, progress).ok(),
-                |rows: Vec<MapRow>| {
-                    let curves = if spec.curves {
-                        map_curves(&params, spec, &rows, progress).map_err(cancelled)?
-                    } else {
-                        Vec::new()
-                    };
-                    export::curves_csv(&curves, &export::curves_path(&paths.csv))?;
-                    let omegas = spec.response.omega.values();
-                    let names = (spec.x.name(), spec.parameter.name());
-                    export::map_csv(names, &omegas, &rows, &paths.csv)
-                },
-            )?
-        }
-        Settings::Family(spec) => {
-            let n = spec.values.len();
-            manifest.chunks_total = n;
-            save_manifest(&manifest)?;
-            spec.validate(&params)?;
-            // each member announces its own work as it starts; members run side by side
-            run_chunks(
-                &paths,
-                n,
-                shard,
-                |_| {},
-                |i| family_member(&params, spec, i, progress).ok(),
-                |members: Vec<FamilyMember>| {
-                    export::family_csv(spec.parameter.name(), &members, &paths.csv)?;
-                    export::family_responses_csv(
-                        spec.parameter.name(),
-                        &members,
-                        &export::family_responses_path(&paths.csv),
-                    )
-                },
-            )?
-        }
-        single => {
-            save_manifest(&manifest)?;
-            progress.grow_total(1);
-            if shard.owns(0) {
-                run_single(single, &params, &device, &paths.csv, progress)?;
-            }
-            progress.add(1);
-            (1, usize::from(!paths.csv.exists()))
-        }
-    };
-    manifest.compute_seconds = spent + started.elapsed().as_secs_f64();
-    manifest.chunks_done = manifest.chunks_total - missing;
-    if progress.is_cancelled() {
-        save_manifest(&manifest)?;
-        anyhow::bail!("{}: cancelled", entry.name);
+    match store::verified(&paths) {
+        Ok(m) => tracing::info!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint,
+            "stored result is stale: kept until the new one is complete"),
+        Err(why) => tracing::info!(analysis = %entry.name, reason = %why, "no usable result"),
     }
-    if missing > 0 {
-        save_manifest(&manifest)?;
-        tracing::info!(analysis = %entry.name, computed_now = computed, missing, "shard done");
-        return Ok(Outcome::ShardDone {
-            chunks_computed: computed,
-            missing,
-        });
+    let work = Work::join(&paths, &fingerprint)?;
+    let run = Run {
+        session,
+        entry,
+        shard,
+        progress,
+        work: &work,
+        chunks: chunk_count(&entry.settings),
+    };
+    let outcome = run.run();
+    work.retire();
+    match &outcome {
+        Ok(o) => tracing::info!(analysis = %entry.name, outcome = ?o, "run ended"),
+        Err(e) => tracing::warn!(analysis = %entry.name, error = %format!("{e:#}"), "run failed"),
     }
-    manifest.complete = true;
-    save_manifest(&manifest)?;
-    tracing::info!(
-        analysis = %entry.name,
-        chunks = manifest.chunks_total,
-        computed_now = computed,
-        seconds = manifest.compute_seconds,
-        "complete"
-    );
-    let _ = std::fs::remove_dir_all(&paths.chunks);
-    Ok(Outcome::Completed {
-        chunks_computed: computed,
-        seconds: manifest.compute_seconds,
-    })
+    outcome
 }
 
-/// The analyses that have no chunks: computed at once and written.
+/// One run's part in computing one analysis.
+struct Run<'a> {
+    session: &'a Session,
+    entry: &'a AnalysisEntry,
+    shard: Shard,
+    progress: &'a Progress,
+    work: &'a Work,
+    chunks: usize,
+}
+
+/// What became of one chunk in one pass.
+enum Step {
+    /// Its file was there and good (or another run finished it while this one waited).
+    Existing,
+    Computed,
+    /// Another run is computing it.
+    Claimed,
+    Cancelled,
+}
+
+impl Run<'_> {
+    fn cancelled(&self) -> bool {
+        self.progress.is_cancelled()
+    }
+
+    fn cancelled_error(&self) -> anyhow::Error {
+        anyhow::anyhow!("{}: cancelled", self.entry.name)
+    }
+
+    fn named(&self) -> impl Fn(AnalysisError) -> anyhow::Error + '_ {
+        move |e| anyhow::anyhow!("{}: {e}", self.entry.name)
+    }
+
+    fn run(&self) -> anyhow::Result<Outcome> {
+        let entry = self.entry;
+        let params = self.session.params(Some(entry))?;
+        let progress = self.progress;
+        let named = self.named();
+        match &entry.settings {
+            Settings::Basin(spec) => {
+                let plan = BasinPlan::new(&params, spec, progress).map_err(&named)?;
+                progress.grow_total(plan.cells());
+                let (dx, v) = (spec.dx.values(), spec.v.values());
+                self.chunked(
+                    |i| progress.add(plan.chunk_cells(i).len()),
+                    |i| Ok(plan.chunk(i, progress)),
+                    |i, outcomes: &Vec<SteadyState>| basin_content(spec, i, outcomes),
+                    |i| {
+                        let first = i * CHUNK_CELLS;
+                        let last = (first + CHUNK_CELLS).min(dx.len() * v.len()) - 1;
+                        let at =
+                            |c: usize| format!("(Δλ {}, v {})", dx[c / v.len()], v[c % v.len()]);
+                        format!("cells {first}–{last}, {} to {}", at(first), at(last))
+                    },
+                    |chunks, csv| {
+                        let basin = plan.assemble(chunks);
+                        finite(&basin, "the assembled basin")?;
+                        export::basin_csv(&basin, &params, csv)
+                    },
+                )
+            }
+            Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
+                let plan = ResponsePlan::new(&params, spec).map_err(&named)?;
+                progress.grow_total(plan.work());
+                let per_chunk = spec.dx.points * spec.v.points;
+                let device = self.session.device();
+                self.chunked(
+                    |_| progress.add(per_chunk),
+                    |i| Ok(plan.grid_at(i, progress)),
+                    |i, responses: &Vec<Response>| response_content(spec, i, responses),
+                    |i| format!("ω_e = {}", spec.omega.at(i)),
+                    |per_omega: Vec<Vec<Response>>, csv| {
+                        let fr = plan.finish(per_omega, progress).map_err(&named)?;
+                        if let Settings::Hunt(hunt) = &entry.settings {
+                            let found = hunt_in(&params, fr, &hunt.continuation, progress)
+                                .map_err(&named)?;
+                            finite(&found, "the hunt")?;
+                            let branches: Vec<_> =
+                                found.branches.iter().map(|h| &h.branch).collect();
+                            export::continued_csv(&branches, &export::branches_path(csv))?;
+                            export::response_csv(&found.response, &device, csv)
+                        } else {
+                            finite(&fr, "the frequency response")?;
+                            export::response_csv(&fr, &device, csv)
+                        }
+                    },
+                )
+            }
+            Settings::Map(spec) => {
+                spec.validate(&params)?;
+                // each row announces its own work as it starts; rows run side by side
+                self.chunked(
+                    |_| {},
+                    |i| optional(map_row(&params, spec, i, progress)),
+                    |i, row: &MapRow| map_content(spec, i, row),
+                    |i| format!("{} = {}", spec.parameter.name(), spec.values.at(i)),
+                    |rows: Vec<MapRow>, csv| {
+                        let curves = if spec.curves {
+                            map_curves(&params, spec, &rows, progress).map_err(&named)?
+                        } else {
+                            Vec::new()
+                        };
+                        finite(&curves, "the map's curves")?;
+                        export::curves_csv(&curves, &export::curves_path(csv))?;
+                        let omegas = spec.response.omega.values();
+                        let names = (spec.x.name(), spec.parameter.name());
+                        export::map_csv(names, &omegas, &rows, csv)
+                    },
+                )
+            }
+            Settings::Family(spec) => {
+                spec.validate(&params)?;
+                let device = self.session.device();
+                // each member announces its own work as it starts; members run side by side
+                self.chunked(
+                    |_| {},
+                    |i| optional(family_member(&params, spec, i, progress)),
+                    |i, member: &FamilyMember| family_content(spec, i, member),
+                    |i| format!("{} = {}", spec.parameter.name(), spec.values[i]),
+                    |members: Vec<FamilyMember>, csv| {
+                        let name = spec.parameter.name();
+                        export::family_csv(name, &members, csv)?;
+                        let responses = export::family_responses_path(csv);
+                        export::family_responses_csv(name, &members, &device, &responses)
+                    },
+                )
+            }
+            single => self.whole(single, &params),
+        }
+    }
+
+    /// An analysis computed whole, as chunk 0: by the run that claims it.
+    fn whole(&self, settings: &Settings, params: &crate::model::Params) -> anyhow::Result<Outcome> {
+        let progress = self.progress;
+        if !self.shard.owns(0) {
+            return Ok(Outcome::ShardDone {
+                chunks_computed: 0,
+                missing: 1,
+            });
+        }
+        progress.grow_total(1);
+        let Some(_claim) = self.work.claim(0, &|| self.cancelled())? else {
+            return Err(self.cancelled_error());
+        };
+        if let Ok(m) = store::verified(&self.work.paths)
+            && m.fingerprint == self.work.fingerprint
+        {
+            progress.add(1);
+            return Ok(Outcome::Completed {
+                chunks_computed: 0,
+                seconds: m.compute_seconds,
+                assembled_here: false,
+            });
+        }
+        let started = Instant::now();
+        let staging = self.work.staging()?;
+        let csv = staging.join(file_name(&self.work.paths.csv));
+        let device = self.session.device();
+        run_single(settings, params, &device, &csv, progress)
+            .with_context(|| self.entry.name.clone())?;
+        if self.cancelled() {
+            return Err(self.cancelled_error());
+        }
+        progress.add(1);
+        let m = self.commit(&csv, started.elapsed().as_secs_f64())?;
+        Ok(Outcome::Completed {
+            chunks_computed: 1,
+            seconds: m.compute_seconds,
+            assembled_here: true,
+        })
+    }
+
+    /// A chunked analysis: this shard's missing chunks computed (claimed one by one, shared
+    /// with other runs), then, if every chunk is there and good, the result assembled.
+    fn chunked<T: Payload>(
+        &self,
+        on_existing: impl Fn(usize) + Sync,
+        compute: impl Fn(usize) -> anyhow::Result<Option<T>> + Sync,
+        content: impl Fn(usize, &T) -> Result<(), String> + Sync,
+        describe: impl Fn(usize) -> String + Sync,
+        finish: impl FnOnce(Vec<T>, &Path) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Outcome> {
+        let n = self.chunks;
+        let counted: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
+        let existing = |i: usize| {
+            if !counted[i].swap(true, Ordering::Relaxed) {
+                on_existing(i);
+            }
+        };
+        let mine: Vec<usize> = (0..n).filter(|&i| self.shard.owns(i)).collect();
+        let mut computed = 0;
+        // a chunk that is good when computed but fails when loaded (damaged meanwhile) sends
+        // the run round again; a file system that damages everything ends in an error
+        for _round in 0..3 {
+            let one = |i: usize, wait: bool| -> anyhow::Result<Step> {
+                self.one_chunk(i, wait, &existing, &compute, &content, &describe)
+            };
+            let steps: Vec<(usize, Step)> = mine
+                .par_iter()
+                .map(|&i| one(i, false).map(|s| (i, s)))
+                .collect::<anyhow::Result<_>>()?;
+            let waiting: Vec<usize> = steps
+                .iter()
+                .filter(|(_, s)| matches!(s, Step::Claimed))
+                .map(|(i, _)| *i)
+                .collect();
+            let waited: Vec<Step> = waiting
+                .par_iter()
+                .map(|&i| one(i, true))
+                .collect::<anyhow::Result<_>>()?;
+            computed += steps
+                .iter()
+                .map(|(_, s)| s)
+                .chain(&waited)
+                .filter(|s| matches!(s, Step::Computed))
+                .count();
+            if self.cancelled()
+                || steps
+                    .iter()
+                    .map(|(_, s)| s)
+                    .chain(&waited)
+                    .any(|s| matches!(s, Step::Cancelled))
+            {
+                return Err(self.cancelled_error());
+            }
+            let (chunks, seconds, missing) = self.load_all(&content)?;
+            if missing.is_empty() {
+                return self.assemble(chunks, seconds, computed, finish);
+            }
+            if missing.iter().all(|&i| !self.shard.owns(i)) {
+                return Ok(Outcome::ShardDone {
+                    chunks_computed: computed,
+                    missing: missing.len(),
+                });
+            }
+        }
+        anyhow::bail!(
+            "{}: chunks in {} fail their checks again and again (see run.log)",
+            self.entry.name,
+            self.work.dir.display()
+        )
+    }
+
+    /// Chunk `i` in one pass: used if its file is good, computed if this run gets its claim,
+    /// left to its claimer otherwise (or, with `wait`, waited for and then used or computed).
+    fn one_chunk<T: Payload>(
+        &self,
+        i: usize,
+        wait: bool,
+        existing: &(impl Fn(usize) + Sync),
+        compute: &(impl Fn(usize) -> anyhow::Result<Option<T>> + Sync),
+        content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
+        describe: &(impl Fn(usize) -> String + Sync),
+    ) -> anyhow::Result<Step> {
+        let (work, n) = (self.work, self.chunks);
+        if self.cancelled() {
+            return Ok(Step::Cancelled);
+        }
+        if let Ok(Some(_)) = work.read_chunk::<T>(i, n, |v| content(i, v)) {
+            existing(i);
+            return Ok(Step::Existing);
+        }
+        let claim = if wait {
+            match work.claim(i, &|| self.cancelled())? {
+                Some(c) => c,
+                None => return Ok(Step::Cancelled),
+            }
+        } else {
+            match work.try_claim(i)? {
+                Some(c) => c,
+                None => return Ok(Step::Claimed),
+            }
+        };
+        // read again under the claim: its previous holder may have just finished it
+        match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+            Ok(Some(_)) => {
+                existing(i);
+                return Ok(Step::Existing);
+            }
+            Ok(None) => {}
+            Err(why) => work.reject(i, &why),
+        }
+        let started = Instant::now();
+        let Some(value) = compute(i)? else {
+            return Ok(Step::Cancelled);
+        };
+        if self.cancelled() {
+            // a chunk cut short by a cancel is not a chunk
+            return Ok(Step::Cancelled);
+        }
+        work.save_chunk(i, n, &value, started.elapsed().as_secs_f64())
+            .with_context(|| {
+                format!(
+                    "{} ({}): chunk {i}, {}",
+                    self.entry.name,
+                    self.entry.settings.kind(),
+                    describe(i)
+                )
+            })?;
+        drop(claim);
+        Ok(Step::Computed)
+    }
+
+    /// Every good chunk in index order, their seconds, and the indices of those missing (a
+    /// chunk found damaged now is moved aside and counted missing).
+    #[allow(clippy::type_complexity)]
+    fn load_all<T: Payload>(
+        &self,
+        content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
+    ) -> anyhow::Result<(Vec<T>, f64, Vec<usize>)> {
+        let (work, n) = (self.work, self.chunks);
+        let mut chunks = Vec::with_capacity(n);
+        let mut seconds = 0.0;
+        let mut missing = Vec::new();
+        for i in 0..n {
+            match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+                Ok(Some(d)) => {
+                    seconds += d.seconds;
+                    chunks.push(d.value);
+                }
+                Ok(None) => missing.push(i),
+                Err(_) => {
+                    if let Some(_claim) = work.try_claim(i)?
+                        && let Err(why) = work.read_chunk::<T>(i, n, |v| content(i, v))
+                    {
+                        work.reject(i, &why);
+                    }
+                    missing.push(i);
+                }
+            }
+        }
+        Ok((chunks, seconds, missing))
+    }
+
+    /// Assembles the result from every chunk, unless another run has just done so; only one
+    /// run assembles at a time.
+    fn assemble<T: Payload>(
+        &self,
+        chunks: Vec<T>,
+        chunk_seconds: f64,
+        computed: usize,
+        finish: impl FnOnce(Vec<T>, &Path) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Outcome> {
+        let Some(_assembler) = self.work.assembler(&|| self.cancelled())? else {
+            return Err(self.cancelled_error());
+        };
+        if let Ok(m) = store::verified(&self.work.paths)
+            && m.fingerprint == self.work.fingerprint
+        {
+            return Ok(Outcome::Completed {
+                chunks_computed: computed,
+                seconds: m.compute_seconds,
+                assembled_here: false,
+            });
+        }
+        let started = Instant::now();
+        let staging = self.work.staging()?;
+        let csv = staging.join(file_name(&self.work.paths.csv));
+        finish(chunks, &csv)?;
+        if self.cancelled() {
+            return Err(self.cancelled_error());
+        }
+        let m = self.commit(&csv, chunk_seconds + started.elapsed().as_secs_f64())?;
+        Ok(Outcome::Completed {
+            chunks_computed: computed,
+            seconds: m.compute_seconds,
+            assembled_here: true,
+        })
+    }
+
+    /// Moves the staged result into place with its manifest.
+    fn commit(&self, staged_csv: &Path, seconds: f64) -> anyhow::Result<Manifest> {
+        let entry = self.entry;
+        let manifest = Manifest {
+            format: MANIFEST_FORMAT,
+            analysis: entry.name.clone(),
+            kind: entry.settings.kind().into(),
+            fingerprint: self.work.fingerprint.clone(),
+            numerics: crate::analysis::NUMERICS_VERSION,
+            isola_version: crate::BUILD.into(),
+            chunks_total: self.chunks,
+            compute_seconds: seconds,
+            assembled_by: lock::holder(),
+            assembled_unix: unix_now(),
+            files: Vec::new(),
+        };
+        self.work
+            .commit(&output_files(&entry.settings, staged_csv), manifest)
+    }
+}
+
+fn file_name(path: &Path) -> &std::ffi::OsStr {
+    path.file_name().unwrap_or_default()
+}
+
+/// A chunk's value, `None` for a cancel, an error for anything else.
+fn optional<T>(result: Result<T, AnalysisError>) -> anyhow::Result<Option<T>> {
+    match result {
+        Ok(v) => Ok(Some(v)),
+        Err(AnalysisError::Cancelled) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// An error naming the first non-finite number of `value`, which no result may hold.
+fn finite<T: serde::Serialize>(value: &T, what: &str) -> anyhow::Result<()> {
+    match first_non_finite(value) {
+        Some(found) => anyhow::bail!("{what}: {found}; nothing written"),
+        None => Ok(()),
+    }
+}
+
+/// The analyses that have no chunks: computed at once and written to `csv`.
 fn run_single(
     settings: &Settings,
     params: &crate::model::Params,
@@ -299,12 +649,19 @@ fn run_single(
     progress: &Progress,
 ) -> anyhow::Result<()> {
     match settings {
-        Settings::ForceCurve(spec) => export::force_csv(&force_curves(spec)?, csv),
+        Settings::ForceCurve(spec) => {
+            let curves = force_curves(spec)?;
+            finite(&curves, "the force curves")?;
+            export::force_csv(&curves, csv)
+        }
         Settings::TimeHistory(spec) => {
-            export::history_csv(&time_history(params, spec)?, device, csv)
+            let h = time_history(params, spec)?;
+            finite(&h, "the time history")?;
+            export::history_csv(&h, device, csv)
         }
         Settings::ChirpSweep(spec) => {
             let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
+            finite(&s, "the chirp sweep")?;
             export::chirp_csv(&s, device, csv)
         }
         Settings::SteppedSweep(spec) => {
@@ -317,10 +674,12 @@ fn run_single(
                 progress.cancel_flag(),
                 |_| {},
             )?;
+            finite(&steps, "the stepped sweep")?;
             export::stepped_csv(&steps, device, csv)
         }
         Settings::Continuation(spec) => {
             let branch = branch_from_state(params, spec, progress)?;
+            finite(&branch, "the continued branch")?;
             export::continued_csv(&[&branch], csv)
         }
         Settings::Basin(_)
@@ -331,69 +690,4 @@ fn run_single(
             unreachable!("chunked kinds are run chunk by chunk")
         }
     }
-}
-
-/// Computes the chunks this shard owns, then, if every chunk exists, `finish`es with all of
-/// them in index order. Returns (chunks computed now, chunks still missing).
-fn run_chunks<T: Serialize + serde::de::DeserializeOwned + Send>(
-    paths: &ResultPaths,
-    n: usize,
-    shard: Shard,
-    on_existing: impl Fn(usize) + Sync,
-    compute: impl Fn(usize) -> Option<T> + Sync,
-    finish: impl FnOnce(Vec<T>) -> anyhow::Result<()>,
-) -> anyhow::Result<(usize, usize)> {
-    let computed = compute_chunks(paths, n, shard, on_existing, compute)?;
-    match load_chunks(paths, n) {
-        Some(chunks) => {
-            finish(chunks)?;
-            Ok((computed, 0))
-        }
-        None => Ok((computed, missing_count(paths, n))),
-    }
-}
-
-/// Computes, in parallel, the chunks this shard owns that have no file yet; each is saved as
-/// soon as it is done. Returns how many were computed.
-fn compute_chunks<T: Serialize + Send>(
-    paths: &ResultPaths,
-    n: usize,
-    shard: Shard,
-    on_existing: impl Fn(usize) + Sync,
-    compute: impl Fn(usize) -> Option<T> + Sync,
-) -> anyhow::Result<usize> {
-    let todo: Vec<usize> = (0..n).filter(|&i| shard.owns(i)).collect();
-    let results: Vec<anyhow::Result<bool>> = todo
-        .par_iter()
-        .map(|&i| {
-            if paths.chunk(i).exists() {
-                on_existing(i);
-                return Ok(false);
-            }
-            match compute(i) {
-                Some(value) => {
-                    write_atomic(&paths.chunk(i), &serde_json::to_vec(&value)?)?;
-                    tracing::debug!(chunk = i, "chunk saved");
-                    Ok(true)
-                }
-                None => Ok(false),
-            }
-        })
-        .collect();
-    let mut computed = 0;
-    for r in results {
-        computed += usize::from(r?);
-    }
-    Ok(computed)
-}
-
-/// Every chunk in index order, if all are there.
-fn load_chunks<T: serde::de::DeserializeOwned>(paths: &ResultPaths, n: usize) -> Option<Vec<T>> {
-    (0..n)
-        .map(|i| serde_json::from_slice(&std::fs::read(paths.chunk(i)).ok()?).ok())
-        .collect()
-}
-
-fn missing_count(paths: &ResultPaths, n: usize) -> usize {
-    (0..n).filter(|&i| !paths.chunk(i).exists()).count()
 }

@@ -353,16 +353,25 @@ impl Session {
         self.analyses.iter().find(|a| a.name == name)
     }
 
-    /// A stable fingerprint of what `entry` computes (model and settings): results with another
-    /// fingerprint are stale.
+    /// A stable fingerprint of what `entry` computes: its kind and settings, the model, the
+    /// device (physical columns) and the numerics version of this build. A result or chunk
+    /// with another fingerprint is stale and never mixed in.
     pub fn fingerprint(&self, entry: &AnalysisEntry) -> String {
+        self.fingerprint_with(entry, crate::analysis::NUMERICS_VERSION)
+    }
+
+    /// The fingerprint `entry` has under numerics version `numerics`.
+    pub fn fingerprint_with(&self, entry: &AnalysisEntry, numerics: u32) -> String {
+        use sha2::Digest;
         let spec = self.param_spec(Some(entry)).ok();
-        let json = serde_json::to_string(&(spec, &entry.settings)).unwrap_or_default();
-        // FNV-1a, 64 bits: stable across builds and platforms
-        let hash = json.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+        let what = serde_json::json!({
+            "numerics": numerics,
+            "device": self.device(),
+            "model": spec,
+            "settings": &entry.settings,
         });
-        format!("{hash:016x}")
+        let digest = sha2::Sha256::digest(what.to_string().as_bytes());
+        super::store::chunk::hex(&digest[..16])
     }
 
     /// Sets model key `key` for analysis `index` (comments and layout kept, then re-validated):
@@ -564,10 +573,10 @@ fn find_key(item: &toml_edit::Item, key: &str) -> Option<std::ops::Range<usize>>
         if let Some(span) = find_key(v, key) {
             return Some(span);
         }
-        if let Some(inline) = v.as_value().and_then(|v| v.as_inline_table()) {
-            if let Some((k2, _)) = inline.get_key_value(key) {
-                return k2.span();
-            }
+        if let Some(inline) = v.as_value().and_then(|v| v.as_inline_table())
+            && let Some((k2, _)) = inline.get_key_value(key)
+        {
+            return k2.span();
         }
     }
     None

@@ -10,8 +10,10 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::analysis::family::FamilySpec;
 use isola::analysis::scalogram::Scalogram;
 use isola::analysis::time_history::TimeHistorySpec;
+use isola::session::output::{Protected, check_target};
 use isola::session::results::{HistoryView, ResultStatus, ResultView};
-use isola::session::run::{Outcome, ResultPaths};
+use isola::session::run::Outcome;
+use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
 use super::jobs::{JobList, Output, Work};
@@ -160,7 +162,11 @@ impl App {
             .selected
             .min(self.session.analyses.len().saturating_sub(1));
         self.refresh_rows();
-        self.poll_results(true);
+        // the readers keep what they read: ask for it all again, changed or not
+        self.last_poll = Instant::now();
+        self.last_full_poll = Instant::now();
+        let all = (0..self.session.analyses.len()).collect();
+        self.watcher.poll_all(&self.snapshot, all);
         self.reset_cursor();
     }
 
@@ -230,8 +236,14 @@ impl App {
                         Outcome::Completed {
                             chunks_computed,
                             seconds,
+                            assembled_here,
                         } => format!(
-                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s in all)"
+                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s in all{})",
+                            if assembled_here {
+                                ""
+                            } else {
+                                ", assembled by another run"
+                            }
                         ),
                         Outcome::ShardDone { missing, .. } => {
                             format!("{name}: {missing} chunks still missing")
@@ -688,16 +700,31 @@ impl App {
             return;
         };
         let paths = ResultPaths::new(&self.session, &entry.name);
+        let fingerprint = self.session.fingerprint(entry);
+        let protected = Protected::session(&self.session.path, &self.session.results_dir());
         let copy = |from: &Path, to: &Path| -> anyhow::Result<()> {
+            let target = check_target(to, &protected)?;
             let bytes = std::fs::read(from)?;
-            isola::session::atomic::write_atomic(to, &bytes)?;
+            target.write(&bytes)?;
             Ok(())
         };
-        let mut result = copy(&paths.csv, to);
-        let table = paths.csv.with_extension("attractors.csv");
-        if result.is_ok() && table.exists() {
-            result = copy(&table, &to.with_extension("attractors.csv"));
-        }
+        // copied under the store's read lock, from a verified result of the current settings
+        let result = isola::session::store::with_verified(&paths, |m| {
+            if m.fingerprint != fingerprint {
+                anyhow::bail!("the stored result is of other settings");
+            }
+            copy(&paths.csv, to)?;
+            let table = paths.csv.with_extension("attractors.csv");
+            if m.files
+                .iter()
+                .any(|f| Some(f.name.as_str()) == table.file_name().and_then(|n| n.to_str()))
+            {
+                copy(&table, &to.with_extension("attractors.csv"))?;
+            }
+            Ok(())
+        })
+        .map_err(anyhow::Error::from)
+        .and_then(|r| r);
         match result {
             Ok(()) => self.say(format!("exported {}", to.display()), false),
             Err(e) => self.say(format!("export failed: {e:#}"), true),

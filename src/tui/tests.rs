@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::session::Session;
 use isola::session::results::{ResultStatus, ResultView};
-use isola::session::run::ResultPaths;
+use isola::session::store::ResultPaths;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
@@ -473,6 +473,15 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
         std::fs::read(&target).unwrap(),
         std::fs::read(stored).unwrap()
     );
+    // saving keeps the result on view (it used to show "not run" until a restart)
+    key(&mut app, KeyCode::Char('s'));
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(app.view().is_some());
+    // an export onto the session file is refused, and the session is left as it was
+    let session_text = std::fs::read(&path).unwrap();
+    app.export(&path);
+    assert_eq!(std::fs::read(&path).unwrap(), session_text);
     // editing the model makes the stored result stale (shown, not silently reused)
     let row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
     app.param_row = row;

@@ -30,6 +30,8 @@ impl Default for Stored {
 struct Request {
     session: Arc<Session>,
     which: Vec<usize>,
+    /// Send every analysis' state, changed or not (the app has just forgotten them).
+    resend: bool,
 }
 
 enum Reply {
@@ -68,11 +70,21 @@ impl Watcher {
 
     /// Asks for analyses `which` of `session` to be read again (what changed on disk).
     pub fn poll(&mut self, session: &Arc<Session>, which: Vec<usize>) {
+        self.request(session, which, false);
+    }
+
+    /// Asks for the state of analyses `which`, changed or not (after the app reset its own).
+    pub fn poll_all(&mut self, session: &Arc<Session>, which: Vec<usize>) {
+        self.request(session, which, true);
+    }
+
+    fn request(&mut self, session: &Arc<Session>, which: Vec<usize>, resend: bool) {
         if self
             .requests
             .send(Request {
                 session: session.clone(),
                 which,
+                resend,
             })
             .is_ok()
         {
@@ -113,7 +125,7 @@ fn read_loop(requests: Receiver<Request>, replies: Sender<Reply>) {
             let reader = readers
                 .entry((request.session.path.clone(), entry.name.clone()))
                 .or_insert_with(|| ResultReader::new(entry));
-            if reader.poll(&request.session, entry) {
+            if reader.poll(&request.session, entry) || request.resend {
                 let stored = Stored {
                     status: reader.status,
                     view: reader.view.clone().map(Arc::new),

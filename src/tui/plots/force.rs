@@ -30,17 +30,17 @@ pub fn plot(f: &ForceView, ctx: &PlotContext) -> XyPlot {
         ));
     }
     let curve = ctx.cursor.1.min(f.curves.len().saturating_sub(1));
-    if let Some((lambda_p, phi, points)) = f.curves.get(curve) {
-        if let Some(p) = points.get(ctx.cursor.0.min(points.len().saturating_sub(1))) {
-            plot.cursor = Some((p[0], p[1]));
-            plot.footer.push(Line::from(vec![
-                Span::styled("▸ ", theme.key()),
-                Span::raw(format!(
-                    "λp {lambda_p} φ {phi}: Δλ {:+.4}  f {:+.5}  (↑↓ curve)",
-                    p[0], p[1]
-                )),
-            ]));
-        }
+    if let Some((lambda_p, phi, points)) = f.curves.get(curve)
+        && let Some(p) = points.get(ctx.cursor.0.min(points.len().saturating_sub(1)))
+    {
+        plot.cursor = Some((p[0], p[1]));
+        plot.footer.push(Line::from(vec![
+            Span::styled("▸ ", theme.key()),
+            Span::raw(format!(
+                "λp {lambda_p} φ {phi}: Δλ {:+.4}  f {:+.5}  (↑↓ curve)",
+                p[0], p[1]
+            )),
+        ]));
     }
     plot.footer.push(Line::from(legend));
     plot

@@ -290,17 +290,17 @@ impl Widget for XyPlot {
                 _ => {}
             }
         }
-        if let Some((x, y)) = self.cursor {
-            if inside(x, y) {
-                let (col, row) = (col_of(canvas, &self.x, x), row_of(canvas, &self.y, y));
-                let cell = &mut buf[(col, row)];
-                let symbol = if cell.symbol().trim().is_empty() {
-                    "┼".to_string()
-                } else {
-                    cell.symbol().to_string()
-                };
-                cell.set_symbol(&symbol).set_style(self.cursor_style);
-            }
+        if let Some((x, y)) = self.cursor
+            && inside(x, y)
+        {
+            let (col, row) = (col_of(canvas, &self.x, x), row_of(canvas, &self.y, y));
+            let cell = &mut buf[(col, row)];
+            let symbol = if cell.symbol().trim().is_empty() {
+                "┼".to_string()
+            } else {
+                cell.symbol().to_string()
+            };
+            cell.set_symbol(&symbol).set_style(self.cursor_style);
         }
         draw_footer(area, canvas, &self.footer, buf);
     }

@@ -104,15 +104,16 @@ impl Widget for HeatMap<'_> {
             let under = cell.bg;
             cell.set_symbol(glyph).set_style(style.bg(under));
         }
-        if let Some((ix, iy)) = self.cursor {
-            if ix < self.nx && iy < self.ny {
-                let c = ((ix as f64 + 0.5) * canvas.width as f64 / self.nx as f64) as u16;
-                let r = ((self.ny - 1 - iy) as f64 + 0.5) * canvas.height as f64 / self.ny as f64;
-                let (c, r) = (c.min(canvas.width - 1), (r as u16).min(canvas.height - 1));
-                buf[(canvas.x + c, canvas.y + r)]
-                    .set_symbol("╋")
-                    .set_style(self.cursor_style);
-            }
+        if let Some((ix, iy)) = self.cursor
+            && ix < self.nx
+            && iy < self.ny
+        {
+            let c = ((ix as f64 + 0.5) * canvas.width as f64 / self.nx as f64) as u16;
+            let r = ((self.ny - 1 - iy) as f64 + 0.5) * canvas.height as f64 / self.ny as f64;
+            let (c, r) = (c.min(canvas.width - 1), (r as u16).min(canvas.height - 1));
+            buf[(canvas.x + c, canvas.y + r)]
+                .set_symbol("╋")
+                .set_style(self.cursor_style);
         }
         draw_footer(area, canvas, &self.footer, buf);
     }

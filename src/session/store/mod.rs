@@ -1,0 +1,361 @@
+//! The results store: what `isola run` and the workbench keep beside a session, built for
+//! many writers (threads, processes, shards on the nodes of a cluster) on one shared folder.
+//!
+//! Layout, for analysis `A` of `sessions/NAME.toml`:
+//! - `NAME.results/A.csv` (and companions such as `A.attractors.csv`): the result;
+//! - `NAME.results/A.manifest.json`: written last, only for a complete result: fingerprint,
+//!   numerics, build, and a SHA-256 of every file of the result (see [`manifest`]);
+//! - `NAME.results/A.lock`: held shared to read the result, exclusive to replace it;
+//! - `NAME.results/A.chunks/FINGERPRINT/`: the work under way for one fingerprint:
+//!   - `000012.json`: a finished, self-describing chunk (see [`chunk`]);
+//!   - `000012.claim`: locked by whoever computes chunk 12 (`host pid N` inside);
+//!   - `active.lock`: held shared by every run taking part, so the folder is removed only
+//!     when no run uses it;
+//!   - `assemble.lock`: held by the one run that assembles the result;
+//!   - `staging/`: the result's files before they are moved into place.
+//!
+//! Every check failing ends in recomputing or in an error naming the file, never in a result
+//! that is used without being verified.
+
+pub mod chunk;
+pub mod finite;
+pub mod lock;
+pub mod manifest;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use chunk::{ChunkError, ChunkId, Decoded, Payload};
+use lock::{Lock, Mode};
+use manifest::{Manifest, StoredFile, Unverified};
+
+/// Where analysis `name`'s files live.
+#[derive(Debug, Clone)]
+pub struct ResultPaths {
+    /// `NAME.results/`.
+    pub dir: PathBuf,
+    pub name: String,
+    /// The main result file, `A.csv`.
+    pub csv: PathBuf,
+    pub manifest: PathBuf,
+    pub lock: PathBuf,
+    /// `A.chunks/`, one folder per fingerprint under it.
+    pub chunks: PathBuf,
+}
+
+impl ResultPaths {
+    /// The paths of analysis `name` in the results folder `dir`.
+    pub fn in_dir(dir: &Path, name: &str) -> Self {
+        ResultPaths {
+            dir: dir.to_path_buf(),
+            name: name.to_string(),
+            csv: dir.join(format!("{name}.csv")),
+            manifest: dir.join(format!("{name}.manifest.json")),
+            lock: dir.join(format!("{name}.lock")),
+            chunks: dir.join(format!("{name}.chunks")),
+        }
+    }
+
+    /// The work folder of `fingerprint`.
+    pub fn work_dir(&self, fingerprint: &str) -> PathBuf {
+        self.chunks.join(fingerprint)
+    }
+
+    /// Chunk `i`'s file in the work folder of `fingerprint`.
+    pub fn chunk(&self, fingerprint: &str, i: usize) -> PathBuf {
+        self.work_dir(fingerprint).join(chunk_name(i))
+    }
+}
+
+/// `000012.json`.
+pub fn chunk_name(i: usize) -> String {
+    format!("{i:06}.json")
+}
+
+fn io_at(path: &Path) -> impl Fn(std::io::Error) -> anyhow::Error + '_ {
+    move |e| anyhow::anyhow!("{}: {e}", path.display())
+}
+
+/// The verified manifest of the stored result, read under the shared lock so that a result
+/// being replaced is never half-read.
+pub fn verified(paths: &ResultPaths) -> Result<Manifest, Unverified> {
+    with_verified(paths, Manifest::clone)
+}
+
+/// Runs `read` on the verified stored result while holding the shared lock, so that no run
+/// replaces the files while they are read.
+pub fn with_verified<R>(
+    paths: &ResultPaths,
+    read: impl FnOnce(&Manifest) -> R,
+) -> Result<R, Unverified> {
+    if !paths.dir.is_dir() {
+        return Err(Unverified::Missing);
+    }
+    let _read = Lock::acquire(&paths.lock, Mode::Shared).map_err(|e| Unverified::Unreadable {
+        file: paths.lock.display().to_string(),
+        why: e.to_string(),
+    })?;
+    let m = verified_unlocked(paths)?;
+    Ok(read(&m))
+}
+
+fn verified_unlocked(paths: &ResultPaths) -> Result<Manifest, Unverified> {
+    let m = Manifest::read(&paths.manifest)?;
+    if m.analysis != paths.name {
+        return Err(Unverified::Unreadable {
+            file: paths.manifest.display().to_string(),
+            why: format!("it is the manifest of analysis '{}'", m.analysis),
+        });
+    }
+    m.verify_files(&paths.dir)?;
+    Ok(m)
+}
+
+/// True when the stored result is complete, verified, and of `fingerprint`.
+pub fn is_current(paths: &ResultPaths, fingerprint: &str) -> bool {
+    verified(paths).is_ok_and(|m| m.fingerprint == fingerprint)
+}
+
+/// A run's part in the work of one fingerprint: holds `active.lock` shared until dropped.
+pub struct Work {
+    pub paths: ResultPaths,
+    pub fingerprint: String,
+    pub dir: PathBuf,
+    _active: Lock,
+}
+
+impl Work {
+    /// Joins (making it if needed) the work folder of `fingerprint`.
+    pub fn join(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Work> {
+        let dir = paths.work_dir(fingerprint);
+        for _ in 0..100 {
+            std::fs::create_dir_all(&dir).map_err(io_at(&dir))?;
+            let active = Lock::acquire(&dir.join("active.lock"), Mode::Shared)?;
+            // the folder may have been retired while this run waited for the lock
+            if active.still_at_path() {
+                return Ok(Work {
+                    paths: paths.clone(),
+                    fingerprint: fingerprint.to_string(),
+                    dir,
+                    _active: active,
+                });
+            }
+        }
+        anyhow::bail!("{}: removed again and again while joining", dir.display())
+    }
+
+    pub fn id(&self, index: usize, chunks: usize) -> ChunkId<'_> {
+        ChunkId {
+            fingerprint: &self.fingerprint,
+            index,
+            chunks,
+        }
+    }
+
+    pub fn chunk_path(&self, i: usize) -> PathBuf {
+        self.dir.join(chunk_name(i))
+    }
+
+    fn claim_path(&self, i: usize) -> PathBuf {
+        self.dir.join(format!("{i:06}.claim"))
+    }
+
+    /// Chunk `i` if its file exists and passes every check; `Err` says why it does not.
+    pub fn read_chunk<T: Payload>(
+        &self,
+        i: usize,
+        chunks: usize,
+        content: impl FnOnce(&T) -> Result<(), String>,
+    ) -> Result<Option<Decoded<T>>, ChunkError> {
+        match std::fs::read(self.chunk_path(i)) {
+            Ok(bytes) => chunk::decode(&bytes, &self.id(i, chunks), content).map(Some),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(ChunkError::BadPayload(e.to_string())),
+        }
+    }
+
+    /// Claims chunk `i` if no one else has; `None` if someone is computing it.
+    pub fn try_claim(&self, i: usize) -> anyhow::Result<Option<Lock>> {
+        let claim = Lock::try_acquire(&self.claim_path(i), Mode::Exclusive)?;
+        Ok(claim.map(|mut c| {
+            let _ = c.describe(&lock::holder());
+            c
+        }))
+    }
+
+    /// Waits for the claim on chunk `i` (polling, so that `cancelled` is seen); `None` if
+    /// cancelled.
+    pub fn claim(&self, i: usize, cancelled: &dyn Fn() -> bool) -> anyhow::Result<Option<Lock>> {
+        wait_for(|| self.try_claim(i), cancelled)
+    }
+
+    /// Moves an unusable chunk file aside (`000012.json.rejected`, for inspection), logging
+    /// why; only while holding its claim, so that a good file just written is never moved.
+    pub fn reject(&self, i: usize, why: &ChunkError) {
+        let path = self.chunk_path(i);
+        tracing::warn!(file = %path.display(), reason = %why, "chunk rejected; recomputing");
+        let aside = path.with_extension("json.rejected");
+        if std::fs::rename(&path, &aside).is_err() {
+            let _ = std::fs::remove_file(&path);
+        }
+    }
+
+    /// Saves chunk `i` atomically (call with its claim held); `Err` names the non-finite number
+    /// a chunk may not hold.
+    pub fn save_chunk<T: Payload>(
+        &self,
+        i: usize,
+        chunks: usize,
+        value: &T,
+        seconds: f64,
+    ) -> anyhow::Result<()> {
+        let bytes = chunk::encode(&self.id(i, chunks), value, seconds)
+            .map_err(|found| anyhow::anyhow!("{found}"))?;
+        super::atomic::remove_stale_temporaries(&self.dir, &format!("{i:06}"), Duration::ZERO);
+        let path = self.chunk_path(i);
+        super::atomic::write_atomic(&path, &bytes).map_err(io_at(&path))?;
+        tracing::debug!(file = %path.display(), "chunk saved");
+        Ok(())
+    }
+
+    /// Waits for the right to assemble the result; `None` if cancelled.
+    pub fn assembler(&self, cancelled: &dyn Fn() -> bool) -> anyhow::Result<Option<Lock>> {
+        let path = self.dir.join("assemble.lock");
+        wait_for(|| Ok(Lock::try_acquire(&path, Mode::Exclusive)?), cancelled)
+    }
+
+    /// An empty staging folder for the result's files (call as the assembler).
+    pub fn staging(&self) -> anyhow::Result<PathBuf> {
+        let staging = self.dir.join("staging");
+        if staging.exists() {
+            std::fs::remove_dir_all(&staging).map_err(io_at(&staging))?;
+        }
+        std::fs::create_dir_all(&staging).map_err(io_at(&staging))?;
+        Ok(staging)
+    }
+
+    /// Moves the staged `files` into the results folder and writes the manifest last, under
+    /// the result's exclusive lock; returns the manifest. The files are checksummed in
+    /// staging and checked again in place before the manifest says "complete".
+    pub fn commit(&self, files: &[PathBuf], manifest: Manifest) -> anyhow::Result<Manifest> {
+        let mut manifest = manifest;
+        manifest.files = files
+            .iter()
+            .map(|f| StoredFile::of(f).map_err(io_at(f)))
+            .collect::<anyhow::Result<_>>()?;
+        let dir = &self.paths.dir;
+        let _write = Lock::acquire(&self.paths.lock, Mode::Exclusive)?;
+        let previous = Manifest::read(&self.paths.manifest).ok();
+        // the manifest goes first, so no old manifest vouches for half-replaced files
+        match std::fs::remove_file(&self.paths.manifest) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(io_at(&self.paths.manifest)(e));
+            }
+            _ => {}
+        }
+        super::atomic::sync_dir(dir);
+        for (staged, record) in files.iter().zip(&manifest.files) {
+            let target = dir.join(&record.name);
+            std::fs::rename(staged, &target).map_err(io_at(&target))?;
+        }
+        super::atomic::sync_dir(dir);
+        for record in &manifest.files {
+            record
+                .verify(dir)
+                .map_err(|e| anyhow::anyhow!("result not written as computed: {e}"))?;
+        }
+        let json = serde_json::to_vec_pretty(&manifest)?;
+        super::atomic::write_atomic(&self.paths.manifest, &json)
+            .map_err(io_at(&self.paths.manifest))?;
+        // files of the previous result that this one does not have (another kind's tables)
+        if let Some(old) = previous {
+            for f in old.files {
+                if !manifest.files.iter().any(|n| n.name == f.name) {
+                    let _ = std::fs::remove_file(dir.join(&f.name));
+                }
+            }
+        }
+        super::atomic::remove_stale_temporaries(dir, &self.paths.name, Duration::ZERO);
+        tracing::info!(
+            analysis = %self.paths.name,
+            fingerprint = %self.fingerprint,
+            files = manifest.files.len(),
+            "result committed"
+        );
+        Ok(manifest)
+    }
+
+    /// Leaves the work; if the result of this fingerprint is now complete, removes the work
+    /// folders that no run uses any more (this one's, and those of other settings).
+    pub fn retire(self) {
+        let Work {
+            paths,
+            fingerprint,
+            _active,
+            ..
+        } = self;
+        drop(_active);
+        if is_current(&paths, &fingerprint) {
+            remove_unused_work(&paths);
+        }
+    }
+}
+
+/// Removes every work folder under `A.chunks/` that no run has joined (and old-format chunks).
+pub fn remove_unused_work(paths: &ResultPaths) {
+    let Ok(entries) = std::fs::read_dir(&paths.chunks) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !path.is_dir() {
+            // chunks of the unchecked format of earlier builds
+            let _ = std::fs::remove_file(&path);
+            continue;
+        }
+        if name.starts_with(".trash-") {
+            let _ = std::fs::remove_dir_all(&path);
+            continue;
+        }
+        let Ok(Some(_unused)) = Lock::try_acquire(&path.join("active.lock"), Mode::Exclusive)
+        else {
+            continue;
+        };
+        // moved away first: a run that joins now sees the folder gone and makes a new one
+        let Ok(trash) = tempfile::Builder::new()
+            .prefix(".trash-")
+            .tempdir_in(&paths.chunks)
+        else {
+            continue;
+        };
+        if std::fs::rename(&path, trash.path().join(&name)).is_ok() {
+            tracing::debug!(folder = %path.display(), "work folder removed");
+        }
+        drop(trash); // removes what was moved into it
+    }
+    let _ = std::fs::remove_dir(&paths.chunks); // only if empty
+}
+
+/// Polls `attempt` every 20 ms until it gives a lock or `cancelled` says stop.
+fn wait_for(
+    mut attempt: impl FnMut() -> anyhow::Result<Option<Lock>>,
+    cancelled: &dyn Fn() -> bool,
+) -> anyhow::Result<Option<Lock>> {
+    loop {
+        if let Some(lock) = attempt()? {
+            return Ok(Some(lock));
+        }
+        if cancelled() {
+            return Ok(None);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Seconds since 1970, for records.
+pub fn unix_now() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs())
+}

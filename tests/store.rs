@@ -1,0 +1,739 @@
+//! The results store under every fault, driven through the real binary: damaged, empty,
+//! foreign, over-long and copied chunks; a missing or damaged manifest or result; settings or
+//! device changed between runs; two runs of one session at once; four shards at once (also
+//! each in its own PID namespace); `kill -9` at random moments. Every run must end with the
+//! CSV an uninterrupted run writes, byte for byte, or with a non-zero exit and an error naming
+//! the file; never "complete" with a wrong, partial or missing CSV, and no finished chunk lost.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use isola::analysis::SteadyState;
+use isola::session::Session;
+use isola::session::store::ResultPaths;
+use isola::session::store::chunk::{self, ChunkId};
+
+/// A basin of 8 chunks (64 × 64 cells) at the paper's Fig 6A point: 1:1 and 1:2 both present.
+const BASIN: &str = "schema = 1\n[model]\nadr = 0.6\nomega = 3.7\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 64 }\nv = { min = -1.0, max = 1.0, points = 64 }\n";
+const BASIN_CHUNKS: usize = 8;
+
+/// A longer basin for kills at random moments: 32 chunks.
+const LONG_BASIN: &str = "schema = 1\n[model]\nadr = 0.6\nomega = 3.7\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 128 }\nv = { min = -1.0, max = 1.0, points = 128 }\n";
+const LONG_CHUNKS: usize = 32;
+
+/// A frequency response of 12 chunks (one per ω_e), with sweeps and seeding at assembly.
+const RESPONSE: &str = "schema = 1\n[model]\nadr = 0.6\n\n[[analysis]]\nname = \"response\"\nkind = \"frequency_response\"\n[analysis.settings]\nomega = { min = 3.4, max = 4.5, points = 12 }\ndx = { min = -0.6, max = 0.6, points = 5 }\nv = { min = -0.8, max = 0.8, points = 5 }\n";
+
+fn isola() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_isola"))
+}
+
+/// A fresh folder with `s.toml` holding `text`.
+fn session_dir(text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.toml");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+fn spawn_run(session: &Path, extra: &[&str]) -> Child {
+    isola()
+        .arg("run")
+        .arg(session)
+        .args(["--threads", "2"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+fn run(session: &Path, extra: &[&str]) -> Output {
+    spawn_run(session, extra).wait_with_output().unwrap()
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "exit {:?}\nstdout: {}\nstderr: {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+fn run_ok(session: &Path, extra: &[&str]) -> String {
+    let out = run(session, extra);
+    assert!(out.status.success(), "{}", text(&out));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Chunks this run computed, from its report line for `analysis`.
+fn computed(stdout: &str, analysis: &str) -> usize {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with(&format!("{analysis}:")))
+        .unwrap_or_else(|| panic!("no line for {analysis}: {stdout}"));
+    if line.contains("up to date") {
+        return 0;
+    }
+    let number_before = |marker: &str| -> Option<usize> {
+        let head = line.split(marker).next()?;
+        head.rsplit(|c: char| !c.is_ascii_digit())
+            .find(|s| !s.is_empty())?
+            .parse()
+            .ok()
+    };
+    if line.contains("chunks computed now") {
+        number_before(" chunks computed now").unwrap()
+    } else {
+        number_before(" chunks; ").unwrap()
+    }
+}
+
+/// The files of a complete result, by name.
+fn result_files(session: &Path, names: &[&str]) -> Vec<Vec<u8>> {
+    let dir = session.with_file_name("s.results");
+    names
+        .iter()
+        .map(|n| std::fs::read(dir.join(n)).unwrap_or_else(|e| panic!("{n}: {e}")))
+        .collect()
+}
+
+/// What an uninterrupted single run of `text` writes.
+fn reference(text: &str, names: &[&str]) -> Vec<Vec<u8>> {
+    let (_dir, session) = session_dir(text);
+    run_ok(&session, &[]);
+    result_files(&session, names)
+}
+
+const BASIN_FILES: [&str; 2] = ["basin.csv", "basin.attractors.csv"];
+
+fn work_dir(session: &Path, analysis: &str) -> PathBuf {
+    let s = Session::load(session).unwrap();
+    let entry = s.analysis(analysis).unwrap();
+    ResultPaths::new(&s, analysis).work_dir(&s.fingerprint(entry))
+}
+
+fn chunk_files(work: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(work)
+        .map(|d| {
+            d.flatten()
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|e| e == "json"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+fn log(session: &Path) -> String {
+    std::fs::read_to_string(session.with_file_name("s.results").join("run.log")).unwrap_or_default()
+}
+
+/// After a half-done sharded run, chunks damaged in every way are recomputed, never used; each
+/// is named in the log; the good chunks are kept; the CSV is the uninterrupted run's.
+#[test]
+fn damaged_foreign_copied_and_recut_chunks_are_recomputed() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let (_dir, session) = session_dir(BASIN);
+    let out = run_ok(&session, &["--shard", "0/2"]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+    let work = work_dir(&session, "basin");
+    let good = |i: usize| work.join(format!("{i:06}.json"));
+    let s = Session::load(&session).unwrap();
+    let fingerprint = s.fingerprint(&s.analyses[0]);
+    let id = |index| ChunkId {
+        fingerprint: &fingerprint,
+        index,
+        chunks: BASIN_CHUNKS,
+    };
+    let chunk0: Vec<SteadyState> =
+        chunk::decode(&std::fs::read(good(0)).unwrap(), &id(0), |_| Ok(()))
+            .unwrap()
+            .value;
+    // chunk 0 truncated; 2 overwritten with the old unchecked format's `[]`; 4 empty;
+    // 6 made over-long with a valid header and checksum (twice the cells)
+    let bytes0 = std::fs::read(good(0)).unwrap();
+    std::fs::write(good(0), &bytes0[..bytes0.len() / 2]).unwrap();
+    std::fs::write(good(2), "[]").unwrap();
+    std::fs::write(good(4), "").unwrap();
+    let doubled: Vec<SteadyState> = chunk0.iter().chain(&chunk0).cloned().collect();
+    std::fs::write(good(6), chunk::encode(&id(6), &doubled, 0.0).unwrap()).unwrap();
+    // chunk 1 (another shard's) copied from chunk 0's good bytes; chunk 3 a chunk of other
+    // settings (a foreign fingerprint, valid in every other way)
+    std::fs::write(good(1), &bytes0).unwrap();
+    let foreign = ChunkId {
+        fingerprint: "0123456789abcdef0123456789abcdef",
+        ..id(3)
+    };
+    std::fs::write(good(3), chunk::encode(&foreign, &chunk0, 0.0).unwrap()).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(
+        computed(&out, "basin"),
+        BASIN_CHUNKS,
+        "all 4 of shard 0 damaged, all 4 of shard 1 missing or bad: {out}"
+    );
+    assert!(
+        result_files(&session, &BASIN_FILES) == expected,
+        "CSV differs"
+    );
+    let log = log(&session);
+    for i in 0..=6 {
+        if i == 5 {
+            continue;
+        }
+        let name = format!("{i:06}.json");
+        assert!(
+            log.lines()
+                .any(|l| l.contains("chunk rejected") && l.contains(&name)),
+            "{name} not named in the log:\n{log}"
+        );
+    }
+    // a run after the result is complete uses it and leaves no work folder behind
+    assert!(run_ok(&session, &[]).contains("up to date"));
+    assert!(!work.exists(), "work folder kept after completion");
+}
+
+/// Chunks of the other shard survive damage to a few of this shard's: nothing finished is
+/// lost when one chunk is bad.
+#[test]
+fn one_bad_chunk_costs_one_chunk() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let (_dir, session) = session_dir(BASIN);
+    run_ok(&session, &["--shard", "0/2"]);
+    let work = work_dir(&session, "basin");
+    std::fs::write(work.join("000002.json"), "{\"isola_chunk\":1}\n[]").unwrap();
+    let out = run_ok(&session, &["--shard", "1/2"]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+    assert!(
+        out.contains("1 chunks still missing"),
+        "the bad chunk 2 is shard 0's: {out}"
+    );
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin"), 1, "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+}
+
+/// A missing, cut or foreign manifest, or a result file changed after completion: the result
+/// is not used (export refuses, naming the file), and the next run computes it again.
+#[test]
+fn a_result_that_fails_its_checks_is_never_used() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let (dir, session) = session_dir(BASIN);
+    run_ok(&session, &[]);
+    let results = dir.path().join("s.results");
+    let manifest = results.join("basin.manifest.json");
+    let export = |to: &str| {
+        isola()
+            .arg("export")
+            .arg(&session)
+            .args(["--analysis", "basin", "--csv"])
+            .arg(dir.path().join(to))
+            .output()
+            .unwrap()
+    };
+    assert!(export("ok.csv").status.success());
+    type Damage<'a> = Box<dyn Fn() + 'a>;
+    let damage: [(&str, Damage); 5] = [
+        (
+            "manifest removed",
+            Box::new(|| std::fs::remove_file(&manifest).unwrap()),
+        ),
+        (
+            "manifest cut short",
+            Box::new(|| {
+                let m = std::fs::read(&manifest).unwrap();
+                std::fs::write(&manifest, &m[..m.len() / 2]).unwrap()
+            }),
+        ),
+        (
+            "one byte of the CSV changed",
+            Box::new(|| {
+                let path = results.join("basin.csv");
+                let mut csv = std::fs::read(&path).unwrap();
+                let at = csv.len() - 3;
+                csv[at] = if csv[at] == b'0' { b'1' } else { b'0' };
+                std::fs::write(&path, csv).unwrap()
+            }),
+        ),
+        (
+            "attractor table removed",
+            Box::new(|| std::fs::remove_file(results.join("basin.attractors.csv")).unwrap()),
+        ),
+        (
+            "manifest of another analysis",
+            Box::new(|| {
+                let m = std::fs::read_to_string(&manifest).unwrap();
+                std::fs::write(&manifest, m.replace("\"basin\"", "\"other\"")).unwrap()
+            }),
+        ),
+    ];
+    for (what, damage) in damage {
+        damage();
+        let out = export("refused.csv");
+        assert!(!out.status.success(), "{what}: export used it");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("no current result"), "{what}: {err}");
+        if what.contains("CSV") {
+            assert!(
+                err.contains("basin.csv"),
+                "{what}: the file is not named: {err}"
+            );
+        }
+        let out = run_ok(&session, &[]);
+        assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "{what}: {out}");
+        assert!(result_files(&session, &BASIN_FILES) == expected, "{what}");
+        assert!(export("ok.csv").status.success(), "{what}");
+    }
+}
+
+/// Settings or device changed between runs: a partial result of the old settings is never
+/// mixed in, a complete one is kept (as stale) until the new one replaces it.
+#[test]
+fn changed_settings_or_device_are_never_mixed() {
+    let other = BASIN.replace("adr = 0.6", "adr = 1.0");
+    let expected = reference(&other, &BASIN_FILES);
+    let (dir, session) = session_dir(BASIN);
+    run_ok(&session, &["--shard", "0/2"]);
+    std::fs::write(&session, &other).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+    // a complete result of other settings is kept while the new one is under way, and the
+    // new one's saved chunks are kept beside it
+    std::fs::write(&session, BASIN).unwrap();
+    let out = run_ok(&session, &["--shard", "0/2"]);
+    assert!(out.contains("4 chunks still missing"), "{out}");
+    assert!(
+        result_files(&session, &BASIN_FILES) == expected,
+        "stale result kept"
+    );
+    let s = Session::load(&session).unwrap();
+    assert!(!isola::session::run::is_current(&s, &s.analyses[0]));
+    let out = run_ok(&session, &[]);
+    assert_eq!(
+        computed(&out, "basin"),
+        BASIN_CHUNKS / 2,
+        "saved chunks kept: {out}"
+    );
+    assert!(result_files(&session, &BASIN_FILES) == reference(BASIN, &BASIN_FILES));
+    // back to the first settings with the manifest gone: still nothing mixed
+    std::fs::write(&session, BASIN).unwrap();
+    run_ok(&session, &["--shard", "1/2"]);
+    std::fs::remove_file(dir.path().join("s.results/basin.manifest.json")).unwrap();
+    std::fs::write(&session, &other).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+
+    // the device is part of what a result is: a time history's seconds change with the mass
+    let history = "schema = 1\n[[analysis]]\nname = \"o\"\nkind = \"time_history\"\n";
+    let device = "[device]\nmu = 400e3\nj = 16.0\nl1 = 20e-3\nl2 = 200e-3\nl3 = 0.1e-3\nmass = 80e-3\nepsilon = 2.48e-11\n";
+    let with_device = history.replace("schema = 1\n", &format!("schema = 1\n{device}"));
+    let expected = reference(&with_device, &["o.csv"]);
+    let (_dir, session) = session_dir(history);
+    run_ok(&session, &[]);
+    let before = result_files(&session, &["o.csv"]);
+    std::fs::write(&session, &with_device).unwrap();
+    let out = run_ok(&session, &[]);
+    assert!(!out.contains("up to date"), "{out}");
+    let after = result_files(&session, &["o.csv"]);
+    assert!(
+        after == expected && after != before,
+        "time_s follows the device"
+    );
+}
+
+/// The fingerprint holds the numerics version: a build with other numerics never takes this
+/// build's chunks or results.
+#[test]
+fn numerics_version_is_part_of_the_fingerprint() {
+    let s = Session::parse(Path::new("s.toml"), BASIN).unwrap();
+    let entry = &s.analyses[0];
+    let now = isola::analysis::NUMERICS_VERSION;
+    assert_eq!(s.fingerprint(entry), s.fingerprint_with(entry, now));
+    assert_ne!(
+        s.fingerprint_with(entry, now),
+        s.fingerprint_with(entry, now + 1)
+    );
+}
+
+/// Two runs of one session started together, ten times: each chunk is computed once, one run
+/// assembles, both end "done" with the uninterrupted run's CSV.
+#[test]
+fn two_runs_of_one_session_share_the_work() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    for trial in 0..10 {
+        let (_dir, session) = session_dir(BASIN);
+        let (a, b) = (spawn_run(&session, &[]), spawn_run(&session, &[]));
+        let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+        assert!(a.status.success(), "trial {trial}: {}", text(&a));
+        assert!(b.status.success(), "trial {trial}: {}", text(&b));
+        let (sa, sb) = (
+            String::from_utf8_lossy(&a.stdout),
+            String::from_utf8_lossy(&b.stdout),
+        );
+        let total = computed(&sa, "basin") + computed(&sb, "basin");
+        assert_eq!(
+            total, BASIN_CHUNKS,
+            "trial {trial}: each chunk once\n{sa}\n{sb}"
+        );
+        let assembled = [&sa, &sb]
+            .iter()
+            .filter(|s| s.contains("assembled here"))
+            .count();
+        assert!(
+            assembled == 1
+                || (assembled == 0 && (sa.contains("up to date") || sb.contains("up to date"))),
+            "trial {trial}: one assembler\n{sa}\n{sb}"
+        );
+        assert!(
+            result_files(&session, &BASIN_FILES) == expected,
+            "trial {trial}"
+        );
+        assert!(
+            run_ok(&session, &[]).contains("up to date"),
+            "trial {trial}"
+        );
+    }
+}
+
+/// Four shards started at the same moment, five times each way: plainly, and each in its own
+/// PID namespace (where all four are PID 1). One of them assembles; the CSV is the single
+/// run's; every chunk is computed once.
+#[test]
+fn four_shards_at_once_also_in_separate_pid_namespaces() {
+    let expected = reference(RESPONSE, &["response.csv"]);
+    let chunks = 12;
+    let namespaces = Command::new("unshare")
+        .args(["--pid", "--fork", "--kill-child", "true"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !namespaces {
+        eprintln!("unshare --pid --fork refused here: PID-namespace trials skipped");
+    }
+    let ways: &[bool] = if namespaces { &[false, true] } else { &[false] };
+    for &in_namespace in ways {
+        for trial in 0..5 {
+            let (_dir, session) = session_dir(RESPONSE);
+            let children: Vec<Child> = (0..4)
+                .map(|i| {
+                    let shard = format!("{i}/4");
+                    let mut c = if in_namespace {
+                        let mut c = Command::new("unshare");
+                        c.args(["--pid", "--fork", "--kill-child"])
+                            .arg(env!("CARGO_BIN_EXE_isola"));
+                        c
+                    } else {
+                        isola()
+                    };
+                    c.arg("run")
+                        .arg(&session)
+                        .args(["--threads", "1", "--shard", &shard])
+                        .stdout(Stdio::piped())
+                        .stderr(Stdio::piped())
+                        .spawn()
+                        .unwrap()
+                })
+                .collect();
+            let outs: Vec<Output> = children
+                .into_iter()
+                .map(|c| c.wait_with_output().unwrap())
+                .collect();
+            let label = format!("namespace {in_namespace}, trial {trial}");
+            let mut total = 0;
+            let mut assembled = 0;
+            for out in &outs {
+                assert!(out.status.success(), "{label}: {}", text(out));
+                let s = String::from_utf8_lossy(&out.stdout);
+                total += computed(&s, "response");
+                assembled += usize::from(s.contains("assembled here"));
+            }
+            assert_eq!(total, chunks, "{label}: each chunk once");
+            assert_eq!(assembled, 1, "{label}: exactly one assembler");
+            assert!(
+                result_files(&session, &["response.csv"]) == expected,
+                "{label}: CSV differs"
+            );
+            assert!(run_ok(&session, &[]).contains("up to date"), "{label}");
+        }
+    }
+}
+
+/// A small deterministic generator for the kill moments.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `kill -9` at moments spread over a whole run (chunks, assembly, commit), twelve times; the
+/// next run computes exactly the chunks that were not saved and writes the single run's CSV.
+#[test]
+fn kill_at_random_moments_then_resume() {
+    let expected = reference(LONG_BASIN, &BASIN_FILES);
+    let (_dir, probe) = session_dir(LONG_BASIN);
+    let started = Instant::now();
+    run_ok(&probe, &[]);
+    let full = started.elapsed().as_secs_f64();
+    let mut rng = Lcg(2026);
+    let mut outcomes = [0usize; 3]; // before any chunk, mid-way, after completion
+    for trial in 0..12 {
+        let (_dir, session) = session_dir(LONG_BASIN);
+        let mut child = spawn_run(&session, &[]);
+        let at = full * (0.2 + 0.9 * rng.next());
+        std::thread::sleep(Duration::from_secs_f64(at));
+        let _ = child.kill();
+        let _ = child.wait();
+        let work = work_dir(&session, "basin");
+        let saved = chunk_files(&work).len();
+        let out = run_ok(&session, &[]);
+        let label = format!("trial {trial}, killed at {at:.2} s of {full:.2} s, {saved} saved");
+        if out.contains("up to date") {
+            outcomes[2] += 1;
+        } else {
+            assert_eq!(
+                computed(&out, "basin") + saved,
+                LONG_CHUNKS,
+                "{label}: a finished chunk was lost or one computed twice\n{out}"
+            );
+            outcomes[usize::from(saved > 0)] += 1;
+        }
+        assert!(result_files(&session, &BASIN_FILES) == expected, "{label}");
+    }
+    eprintln!("kills: {outcomes:?} (no chunk yet, mid-way, after completion)");
+    assert!(outcomes[1] >= 3, "too few kills mid-way: {outcomes:?}");
+}
+
+/// Start a run, edit the session, start a second run: the stored result is one of the two
+/// settings, whole and with its own fingerprint; a last run makes it the edited one's.
+#[test]
+fn editing_the_session_during_a_run_never_mixes_settings() {
+    let edited = BASIN.replace("adr = 0.6", "adr = 1.0");
+    let expected_first = reference(BASIN, &BASIN_FILES);
+    let expected_edited = reference(&edited, &BASIN_FILES);
+    for trial in 0..5 {
+        let (dir, session) = session_dir(BASIN);
+        let first = spawn_run(&session, &[]);
+        std::thread::sleep(Duration::from_millis(40 * trial));
+        std::fs::write(&session, &edited).unwrap();
+        let second = spawn_run(&session, &[]);
+        for out in [
+            first.wait_with_output().unwrap(),
+            second.wait_with_output().unwrap(),
+        ] {
+            assert!(out.status.success(), "trial {trial}: {}", text(&out));
+        }
+        let stored = result_files(&session, &BASIN_FILES);
+        let manifest =
+            std::fs::read_to_string(dir.path().join("s.results/basin.manifest.json")).unwrap();
+        let s_first = Session::parse(&session, BASIN).unwrap();
+        let s_edited = Session::parse(&session, &edited).unwrap();
+        let fp_first = s_first.fingerprint(&s_first.analyses[0]);
+        let fp_edited = s_edited.fingerprint(&s_edited.analyses[0]);
+        if manifest.contains(&fp_first) {
+            assert!(
+                stored == expected_first,
+                "trial {trial}: first settings, other CSV"
+            );
+        } else {
+            assert!(manifest.contains(&fp_edited), "trial {trial}: {manifest}");
+            assert!(
+                stored == expected_edited,
+                "trial {trial}: edited settings, other CSV"
+            );
+        }
+        run_ok(&session, &[]);
+        assert!(
+            result_files(&session, &BASIN_FILES) == expected_edited,
+            "trial {trial}"
+        );
+    }
+}
+
+/// Temporaries left by killed writers are removed; chunks and results of this build are all
+/// that is left beside the result.
+#[test]
+fn stale_temporaries_are_removed() {
+    let (dir, session) = session_dir(BASIN);
+    run_ok(&session, &["--shard", "0/2"]);
+    let work = work_dir(&session, "basin");
+    let results = dir.path().join("s.results");
+    std::fs::write(work.join(".000001.json.kIlLeD.tmp"), "half").unwrap();
+    std::fs::write(results.join(".basin.csv.kIlLeD.tmp"), "half").unwrap();
+    run_ok(&session, &[]);
+    let left: Vec<String> = std::fs::read_dir(&results)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    assert!(!work.exists());
+}
+
+/// No chunk may hold a non-finite number: saving one fails, naming where it is, and writes
+/// nothing.
+#[test]
+fn a_non_finite_number_never_reaches_a_chunk() {
+    let (_dir, session) = session_dir(BASIN);
+    let s = Session::load(&session).unwrap();
+    let paths = ResultPaths::new(&s, "basin");
+    let fingerprint = s.fingerprint(&s.analyses[0]);
+    std::fs::create_dir_all(&paths.dir).unwrap();
+    let work = isola::session::store::Work::join(&paths, &fingerprint).unwrap();
+    let e = work
+        .save_chunk(0, 1, &vec![1.0, f64::NAN], 0.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("[1] is NaN"), "{e}");
+    assert!(chunk_files(&paths.work_dir(&fingerprint)).is_empty());
+}
+
+/// `export` and `--csv` never replace what is not a regular file, nor the session or its
+/// stored results; a FIFO and a device are written through.
+#[test]
+fn outputs_never_replace_special_files_the_session_or_results() {
+    let (dir, session) = session_dir(BASIN);
+    run_ok(&session, &[]);
+    let d = dir.path();
+    let export = |to: &Path| {
+        isola()
+            .arg("export")
+            .arg(&session)
+            .args(["--analysis", "basin", "--csv"])
+            .arg(to)
+            .output()
+            .unwrap()
+    };
+    let session_text = std::fs::read(&session).unwrap();
+    for to in [
+        session.clone(),
+        d.join("s.results/basin.csv"),
+        d.join("s.results/basin.attractors.csv"),
+        d.join("s.results/new.csv"),
+    ] {
+        let out = export(&to);
+        assert!(!out.status.success(), "{}", to.display());
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("would overwrite"),
+            "{}",
+            text(&out)
+        );
+    }
+    assert_eq!(std::fs::read(&session).unwrap(), session_text);
+    assert!(isola::session::run::is_current(
+        &Session::load(&session).unwrap(),
+        &Session::load(&session).unwrap().analyses[0]
+    ));
+    // a FIFO: written through, still a FIFO
+    let fifo = d.join("pipe.csv");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(&fifo).unwrap())
+    };
+    assert!(export(&fifo).status.success());
+    let through = reader.join().unwrap();
+    assert!(through.starts_with(b"dx_stretch,"));
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    // a character device: written through, still a device
+    assert!(export(Path::new("/dev/null")).status.success());
+    assert!(
+        std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device()
+    );
+    // a link: the file it names is replaced, the link kept
+    let real = d.join("real.csv");
+    std::fs::write(&real, "old").unwrap();
+    let link = d.join("link.csv");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    assert!(export(&link).status.success());
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert!(std::fs::read(&real).unwrap().starts_with(b"dx_stretch,"));
+    // a folder: refused
+    assert!(!export(d).status.success());
+}
+
+/// A tmpfs mounted for a test, unmounted when dropped; `None` where mounting is not allowed.
+struct Mounted(PathBuf);
+
+impl Mounted {
+    fn tmpfs(at: &Path, size: &str) -> Option<Mounted> {
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(at)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        ok.then(|| Mounted(at.to_path_buf()))
+    }
+
+    fn resize(&self, size: &str) {
+        let status = Command::new("mount")
+            .args(["-o", &format!("remount,size={size}")])
+            .arg(&self.0)
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+}
+
+impl Drop for Mounted {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
+/// A disk that fills up mid-run: the run fails naming the file it could not write, leaves no
+/// temporary behind and loses no saved chunk; with space again, the next run computes only the
+/// rest and writes the single run's CSV.
+#[test]
+fn a_full_disk_ends_in_an_error_and_loses_nothing() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let dir = tempfile::tempdir().unwrap();
+    let Some(disk) = Mounted::tmpfs(dir.path(), "600k") else {
+        eprintln!("mounting a tmpfs is not allowed here: full-disk test skipped");
+        return;
+    };
+    let session = dir.path().join("s.toml");
+    std::fs::write(&session, BASIN).unwrap();
+    let out = run(&session, &[]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{}", text(&out));
+    assert!(
+        err.contains("No space left on device") && err.contains(".json"),
+        "the error names the chunk file: {err}"
+    );
+    let work = work_dir(&session, "basin");
+    let saved = chunk_files(&work).len();
+    assert!(saved < BASIN_CHUNKS, "{saved} chunks fit in 600k?");
+    let temporaries: Vec<_> = std::fs::read_dir(&work)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(temporaries.is_empty(), "{temporaries:?}");
+    disk.resize("50m");
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin") + saved, BASIN_CHUNKS, "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+    drop(disk);
+}
