@@ -121,9 +121,56 @@ fn bad_files_get_clear_errors() {
     let e = error_of(&good.replace("kind = \"basin\"", "kind = \"basin\"\nkolor = 2"));
     assert!(e.contains("kolor") && e.contains("line 8"), "{e}");
     let e = error_of(&good.replace("adr = 0.6", "adr = -0.6"));
-    assert!(e.contains("adr = -0.6") && e.contains(">= 0"), "{e}");
+    assert!(
+        e.contains("line 3") && e.contains("adr = -0.6") && e.contains("[0, 1000]"),
+        "{e}"
+    );
     let e = error_of(&good.replace("points = 21", "points = 1000000000"));
-    assert!(e.contains("dx = 1000000000") && e.contains("16384"), "{e}");
+    assert!(
+        e.contains("line 9") && e.contains("dx.points = 1000000000") && e.contains("16384"),
+        "{e}"
+    );
+    // the field as the user wrote it, with its line and its value as written
+    let e = error_of(&good.replace("adr = 0.6", "frequency_hz = -1"));
+    assert!(
+        e.contains("line 3") && e.contains("frequency_hz = -1") && e.contains("Hz"),
+        "{e}"
+    );
+    let e = error_of(&good.replace("adr = 0.6", "phi_dc_ii = -0.1"));
+    assert!(e.contains("phi_dc_ii = -0.1"), "{e}");
+    let e = error_of(&good.replace("adr = 0.6", "adr = nan"));
+    assert!(e.contains("adr = nan"), "{e}");
+    let e = error_of(&good.replace("adr = 0.6", "omega = 1e-9"));
+    assert!(
+        e.contains("omega = 1e-9") && e.contains("[0.01, 100]"),
+        "{e}"
+    );
+    let e = error_of(&good.replace("points = 21", "points = -3"));
+    assert!(
+        e.contains("line 9") && e.contains("dx.points = -3") && e.contains("whole number"),
+        "{e}"
+    );
+    let e = error_of(&good.replace(
+        "[analysis.settings]",
+        "[analysis.settings]
+early_stop = 3",
+    ));
+    assert!(
+        e.contains("line 9") && e.contains("early_stop = 3") && e.contains("true or false"),
+        "{e}"
+    );
+    let e = error_of(&good.replace(
+        "points = 21",
+        "points = 21
+capture = 1e400",
+    ));
+    assert!(
+        e.contains("line 10") && e.contains("capture = 1e400"),
+        "{e}"
+    );
+    let long = "n".repeat(300);
+    let e = error_of(&good.replace("name = \"b\"", &format!("name = \"{long}\"")));
+    assert!(e.contains("line 6") && e.contains("1 to 64"), "{e}");
     let e = error_of(&good.replace("kind = \"basin\"", "kind = \"basins\""));
     assert!(e.contains("unknown kind 'basins'"), "{e}");
     let e = error_of(&good.replace("schema = 1", "schema = 2"));

@@ -702,38 +702,62 @@ impl Drop for Mounted {
     }
 }
 
-/// A disk that fills up mid-run: the run fails naming the file it could not write, leaves no
-/// temporary behind and loses no saved chunk; with space again, the next run computes only the
-/// rest and writes the single run's CSV.
+/// A disk that fills up mid-run (another writer takes the space): the run fails naming the
+/// file it could not write, leaves no temporary behind and loses no saved chunk; with space
+/// again, the next run computes only the rest and writes the single run's CSV. A disk too
+/// small from the start is refused before any work.
 #[test]
 fn a_full_disk_ends_in_an_error_and_loses_nothing() {
-    let expected = reference(BASIN, &BASIN_FILES);
+    let expected = reference(LONG_BASIN, &BASIN_FILES);
     let dir = tempfile::tempdir().unwrap();
-    let Some(disk) = Mounted::tmpfs(dir.path(), "600k") else {
+    let Some(disk) = Mounted::tmpfs(dir.path(), "1m") else {
         eprintln!("mounting a tmpfs is not allowed here: full-disk test skipped");
         return;
     };
     let session = dir.path().join("s.toml");
-    std::fs::write(&session, BASIN).unwrap();
+    std::fs::write(&session, LONG_BASIN).unwrap();
     let out = run(&session, &[]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("of chunks") && err.contains("free"),
+        "refused up front: {}",
+        text(&out)
+    );
+    disk.resize("8m");
+    let work = work_dir(&session, "basin");
+    let child = spawn_run(&session, &[]);
+    let started = Instant::now();
+    while chunk_files(&work).is_empty() {
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "no chunk appeared"
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    // another writer fills the disk
+    let mut filler = std::fs::File::create(dir.path().join("filler")).unwrap();
+    let block = vec![0u8; 64 * 1024];
+    use std::io::Write;
+    while filler.write_all(&block).is_ok() {}
+    drop(filler);
+    let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{}", text(&out));
     assert!(
         err.contains("No space left on device") && err.contains(".json"),
         "the error names the chunk file: {err}"
     );
-    let work = work_dir(&session, "basin");
     let saved = chunk_files(&work).len();
-    assert!(saved < BASIN_CHUNKS, "{saved} chunks fit in 600k?");
+    assert!(saved < LONG_CHUNKS, "{saved} chunks saved on a full disk?");
     let temporaries: Vec<_> = std::fs::read_dir(&work)
         .unwrap()
         .flatten()
         .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
         .collect();
     assert!(temporaries.is_empty(), "{temporaries:?}");
-    disk.resize("50m");
+    std::fs::remove_file(dir.path().join("filler")).unwrap();
     let out = run_ok(&session, &[]);
-    assert_eq!(computed(&out, "basin") + saved, BASIN_CHUNKS, "{out}");
+    assert_eq!(computed(&out, "basin") + saved, LONG_CHUNKS, "{out}");
     assert!(result_files(&session, &BASIN_FILES) == expected);
     drop(disk);
 }

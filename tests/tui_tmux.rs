@@ -161,26 +161,6 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
 }
 
 #[test]
-fn sigterm_gives_the_terminal_back() {
-    let session = session("term");
-    let state = session.with_file_name("state");
-    let command = format!(
-        "XDG_STATE_HOME={} {} tui {} & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo EXITED:$?; sleep 60",
-        state.display(),
-        env!("CARGO_BIN_EXE_isola"),
-        session.display()
-    );
-    let tmux = Tmux::start("isola-term", &command);
-    let screen = tmux.wait_for("the exit", |s| s.contains("EXITED:"));
-    assert!(screen.contains("EXITED:0"), "{screen}");
-    assert_eq!(
-        tmux.run(&["display", "-p", "-t", &tmux.name, "#{alternate_on}"])
-            .trim(),
-        "0"
-    );
-}
-
-#[test]
 fn closing_the_terminal_leaves_no_process_behind() {
     let unique = session("hangup");
     let command = format!("{} tui {}", env!("CARGO_BIN_EXE_isola"), unique.display());

@@ -12,6 +12,7 @@ use super::progress::Progress;
 use super::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::Params;
 use crate::model::error::check;
+use crate::model::limits;
 
 /// Largest grid a basin may ask for (about 16 million cells).
 pub const MAX_CELLS: usize = 1 << 24;
@@ -52,7 +53,9 @@ impl BasinSpec {
     /// radius and the steady-state settings.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
         self.dx.validate("dx", 1 << 14)?;
+        self.dx.check_within("dx", limits::DX)?;
         self.v.validate("v", 1 << 14)?;
+        self.v.check_within("v", limits::V)?;
         let cells = self.dx.points * self.v.points;
         check(
             "cells",
@@ -61,7 +64,7 @@ impl BasinSpec {
             format!("<= {MAX_CELLS}"),
         )?;
         check("capture", self.capture, |c| c > 0.0 && c <= 1.0, "(0, 1]")?;
-        self.steady.validate()
+        self.steady.validate().map_err(|e| e.within("steady"))
     }
 }
 

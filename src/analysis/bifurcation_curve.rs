@@ -75,7 +75,7 @@ impl CurveSpec {
     pub fn validate(&self, base: &Params, first: ContinuationParameter) -> Result<(), ParamError> {
         if self.second == first {
             return Err(ParamError {
-                field: "second",
+                field: "second".into(),
                 value: f64::NAN,
                 allowed: format!("a parameter other than the branch's own ({})", first.name()),
             });
@@ -92,14 +92,16 @@ impl CurveSpec {
             |m| m < self.first_max,
             format!("< first_max = {}", self.first_max),
         )?;
-        for v in [self.min, self.max] {
-            self.second.apply(base, v)?;
+        for (field, v) in [("min", self.min), ("max", self.max)] {
+            self.second
+                .apply(base, v)
+                .map_err(|e| e.as_value_of(field))?;
         }
-        for v in [self.first_min, self.first_max] {
-            first.apply(base, v)?;
+        for (field, v) in [("first_min", self.first_min), ("first_max", self.first_max)] {
+            first.apply(base, v).map_err(|e| e.as_value_of(field))?;
         }
         check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
-        self.shooting.validate()
+        self.shooting.validate().map_err(|e| e.within("shooting"))
     }
 }
 
@@ -176,7 +178,7 @@ pub fn continue_bifurcation(
         BifurcationKind::PeriodDoubling | BifurcationKind::ParentPeriodDoubling => true,
         BifurcationKind::NeimarkSacker => {
             return Err(ContinuationError::Param(ParamError {
-                field: "kind",
+                field: "kind".into(),
                 value: f64::NAN,
                 allowed: "a fold or a period doubling".into(),
             }));

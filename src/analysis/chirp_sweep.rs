@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use serde::{Deserialize, Serialize};
 
 use super::AnalysisError;
-use crate::model::error::check;
+use crate::model::error::{check, check_in};
 use crate::model::{Chirp, Params};
 use crate::solver::{Dopri5, Tolerance};
 
@@ -67,8 +67,9 @@ pub struct ChirpSweep {
 impl ChirpSpec {
     /// Checks every setting; the error names the first bad one.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
-        check("omega_start", self.omega_start, |w| w >= 0.0, ">= 0")?;
-        check("omega_end", self.omega_end, |w| w >= 0.0, ">= 0")?;
+        let omega_max = crate::model::limits::OMEGA.1;
+        check_in("omega_start", self.omega_start, 0.0, omega_max)?;
+        check_in("omega_end", self.omega_end, 0.0, omega_max)?;
         check("span", self.span, |s| s > 0.0 && s <= 1e7, "(0, 1e7]")?;
         check(
             "dt",
@@ -82,7 +83,9 @@ impl ChirpSpec {
             |w| w >= self.dt && w <= self.span,
             "[dt, span]",
         )?;
-        self.tolerance.validate()?;
+        self.tolerance
+            .validate()
+            .map_err(|e| e.within("tolerance"))?;
         Ok(())
     }
 }

@@ -126,10 +126,13 @@ impl ContinuationSpec {
             |m| m < self.max,
             format!("< max = {}", self.max),
         )?;
-        self.parameter.apply(base, self.min)?;
-        self.parameter.apply(base, self.max)?;
+        for (field, v) in [("min", self.min), ("max", self.max)] {
+            self.parameter
+                .apply(base, v)
+                .map_err(|e| e.as_value_of(field))?;
+        }
         check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
-        self.shooting.validate()
+        self.shooting.validate().map_err(|e| e.within("shooting"))
     }
 }
 

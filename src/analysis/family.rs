@@ -90,15 +90,17 @@ impl FamilySpec {
     pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
         if self.values.is_empty() || self.values.len() > 1000 {
             return Err(ParamError {
-                field: "values",
+                field: "values".into(),
                 value: self.values.len() as f64,
                 allowed: "1 to 1000 values".into(),
             });
         }
         for &v in &self.values {
-            self.parameter.apply(base, v)?;
+            self.parameter
+                .apply(base, v)
+                .map_err(|e| e.as_value_of("values"))?;
         }
-        self.response.validate()
+        self.response.validate().map_err(|e| e.within("response"))
     }
 }
 

@@ -2,8 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::error::{ParamError, check};
+use crate::model::error::{ParamError, check, check_in};
 use crate::model::forces::{gent_poles, net_force};
+use crate::model::limits;
 use crate::model::{DriveSpec, ParamSpec};
 
 /// Which curves to draw: one per pre-stretch and per static voltage on membrane I.
@@ -55,13 +56,35 @@ impl ForceCurveSpec {
             |n| (2.0..=1e6).contains(&n),
             "[2, 1000000]",
         )?;
+        let j = check_in("j", self.j, limits::J.0, limits::J.1)?;
+        for (field, list) in [("lambda_p", &self.lambda_p), ("phi_i", &self.phi_i)] {
+            check(
+                field,
+                list.len() as f64,
+                |n| (1.0..=100.0).contains(&n),
+                "1 to 100 values",
+            )?;
+        }
+        let (lo, hi) = gent_poles(j);
+        for &l in &self.lambda_p {
+            check(
+                "lambda_p",
+                l,
+                |l| l > lo && l < hi,
+                format!("({lo:.5}, {hi:.5}), between the Gent poles for J = {j}"),
+            )?;
+        }
+        for &phi in &self.phi_i {
+            check_in("phi_i", phi, limits::PHI_DC.0, limits::PHI_DC.1)?;
+        }
+        check_in("dx_min", self.dx_min, limits::DX.0, limits::DX.1)?;
+        check_in("dx_max", self.dx_max, limits::DX.0, limits::DX.1)?;
         check(
             "dx_min",
             self.dx_min,
             |d| d < self.dx_max,
             format!("< dx_max = {}", self.dx_max),
         )?;
-        check("dx_max", self.dx_max, |_| true, "finite")?;
         Ok(())
     }
 }

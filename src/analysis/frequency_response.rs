@@ -19,9 +19,13 @@ use super::steady_state::{Class, SteadyState, SteadyStateSpec};
 use super::stepped_sweep::{SweepStep, stepped_sweep_over};
 use crate::model::Params;
 use crate::model::error::check;
+use crate::model::limits;
 
 /// Largest number of trajectories one frequency response may ask for.
 pub const MAX_TRAJECTORIES: usize = 1 << 24;
+
+/// Initial states per ω_e at most (128 × 128; the paper's grid is 15 × 15).
+pub const MAX_STARTS: usize = 1 << 14;
 /// Rounds of neighbour seeding at most (each is one pass up and one down).
 const MAX_SEED_ROUNDS: usize = 4;
 /// Poincaré sets of one branch at adjacent ω_e lie within this distance (max-norm), plus
@@ -71,15 +75,22 @@ impl FrequencyResponseSpec {
     /// the capture radius and the steady-state settings.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
         self.omega.validate("omega", 100_000)?;
-        check(
-            "omega",
-            self.omega.min.min(self.omega.max),
-            |w| w > 0.0,
-            "> 0",
-        )?;
         self.dx.validate("dx", 4096)?;
+        self.dx.check_within("dx", limits::DX)?;
         self.v.validate("v", 4096)?;
-        self.steady.validate()?;
+        self.v.check_within("v", limits::V)?;
+        // one ω_e's grid is one chunk of work: keep it to minutes even in the worst case
+        let starts = self.dx.points * self.v.points;
+        check(
+            "dx.points",
+            self.dx.points as f64,
+            |_| starts <= MAX_STARTS,
+            format!(
+                "at most {MAX_STARTS} initial states per ω_e (dx.points × v.points = {starts}); \
+                 a basin maps finer grids"
+            ),
+        )?;
+        self.steady.validate().map_err(|e| e.within("steady"))?;
         check("capture", self.capture, |c| c > 0.0 && c <= 1.0, "(0, 1]")?;
         let total = self.dx.points * self.v.points * self.omega.points;
         check(

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::error::{ParamError, check};
+use crate::model::error::{ParamError, check, check_in};
 
 /// `points` values from `min` to `max` inclusive.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -18,28 +18,42 @@ impl Axis {
         Axis { min, max, points }
     }
 
-    /// Checks the range and that 1 ≤ points ≤ `max_points`; names the axis in the error.
-    pub fn validate(&self, name: &'static str, max_points: usize) -> Result<(), ParamError> {
-        check(name, self.min, |_| true, "a finite number")?;
+    /// Checks the range and that 1 ≤ points ≤ `max_points`; names the axis' field in the
+    /// error (`dx.max`).
+    pub fn validate(&self, name: &str, max_points: usize) -> Result<(), ParamError> {
         check(
-            name,
+            &format!("{name}.min"),
+            self.min,
+            |_| true,
+            "a finite number",
+        )?;
+        check(
+            &format!("{name}.max"),
             self.max,
             |m| m >= self.min,
             format!(">= min = {}", self.min),
         )?;
+        let points = format!("{name}.points");
         check(
-            name,
+            &points,
             self.points as f64,
             |n| n >= 1.0 && n <= max_points as f64,
-            format!("between 1 and {max_points} points"),
+            format!("[1, {max_points}]"),
         )?;
         if self.points == 1 && self.max != self.min {
             return Err(ParamError {
-                field: name,
+                field: points,
                 value: self.points as f64,
                 allowed: "at least 2 points for a range with max > min".into(),
             });
         }
+        Ok(())
+    }
+
+    /// Checks that both ends lie in [`lo`, `hi`] (`dx.min`, `dx.max` named).
+    pub fn check_within(&self, name: &str, (lo, hi): (f64, f64)) -> Result<(), ParamError> {
+        check_in(&format!("{name}.min"), self.min, lo, hi)?;
+        check_in(&format!("{name}.max"), self.max, lo, hi)?;
         Ok(())
     }
 

@@ -34,15 +34,17 @@ pub struct HuntSpec {
 impl HuntSpec {
     /// Checks the response and the continuation, which must run in ω_e.
     pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
-        self.response.validate()?;
+        self.response.validate().map_err(|e| e.within("response"))?;
         if self.continuation.parameter != ContinuationParameter::Omega {
             return Err(ParamError {
-                field: "continuation.parameter",
+                field: "continuation.parameter".into(),
                 value: f64::NAN,
                 allowed: "omega (a hunt continues in the forcing frequency)".into(),
             });
         }
-        self.continuation.validate(base)
+        self.continuation
+            .validate(base)
+            .map_err(|e| e.within("continuation"))
     }
 }
 

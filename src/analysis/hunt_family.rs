@@ -27,13 +27,16 @@ impl HuntFamilySpec {
         let increasing = self.values.windows(2).all(|w| w[1] > w[0]);
         if self.values.is_empty() || self.values.len() > 1000 || !increasing {
             return Err(ParamError {
-                field: "values",
+                field: "values".into(),
                 value: self.values.len() as f64,
                 allowed: "1 to 1000 increasing values".into(),
             });
         }
         for &v in &self.values {
-            let p = self.parameter.apply(base, v)?;
+            let p = self
+                .parameter
+                .apply(base, v)
+                .map_err(|e| e.as_value_of("values"))?;
             self.hunt.validate(&p)?;
         }
         Ok(())

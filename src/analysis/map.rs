@@ -56,7 +56,7 @@ impl MapSpec {
     pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
         if self.x == ContinuationParameter::Model(self.parameter) {
             return Err(ParamError {
-                field: "x",
+                field: "x".into(),
                 value: f64::NAN,
                 allowed: format!(
                     "a parameter other than the rows' ({})",
@@ -65,15 +65,23 @@ impl MapSpec {
             });
         }
         self.values.validate("values", 1000)?;
-        for v in self.values.values() {
-            self.parameter.apply(base, v)?;
+        for (field, v) in [
+            ("values.min", self.values.min),
+            ("values.max", self.values.max),
+        ] {
+            self.parameter
+                .apply(base, v)
+                .map_err(|e| e.as_value_of(field))?;
         }
         if self.x != ContinuationParameter::Omega {
-            for v in [self.response.omega.min, self.response.omega.max] {
-                self.x.apply(base, v)?;
+            for (field, v) in [
+                ("response.omega.min", self.response.omega.min),
+                ("response.omega.max", self.response.omega.max),
+            ] {
+                self.x.apply(base, v).map_err(|e| e.as_value_of(field))?;
             }
         }
-        self.response.validate()
+        self.response.validate().map_err(|e| e.within("response"))
     }
 }
 

@@ -9,6 +9,7 @@ pub mod capture;
 mod capture_cover;
 pub mod chirp_sweep;
 pub mod continuation;
+pub mod cost;
 pub mod family;
 pub mod floquet;
 pub mod force_curve;

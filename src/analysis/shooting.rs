@@ -373,7 +373,7 @@ impl ShootingSpec {
     /// Checks every field.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
         use crate::model::error::check;
-        self.tol.validate()?;
+        self.tol.validate().map_err(|e| e.within("tol"))?;
         check(
             "newton_tol",
             self.newton_tol,

@@ -70,7 +70,9 @@ impl SteadyStateSpec {
             |t| t > 0.0 && t < 1.0,
             "(0, 1)",
         )?;
-        self.resolution.validate()
+        self.resolution
+            .validate()
+            .map_err(|e| e.within("resolution"))
     }
 }
 

@@ -76,8 +76,10 @@ impl TimeHistorySpec {
             |n| (1.0..=1000.0).contains(&n),
             "[1, 1000]",
         )?;
-        self.steady.validate()?;
-        self.tolerance.validate()?;
+        self.steady.validate().map_err(|e| e.within("steady"))?;
+        self.tolerance
+            .validate()
+            .map_err(|e| e.within("tolerance"))?;
         Ok(())
     }
 }

@@ -42,6 +42,8 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
         early_stop: !args.no_early_stop,
         ..BasinSpec::default()
     };
+    spec.validate()?;
+    super::check_memory("basin", isola::analysis::cost::basin(&spec, &params))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();

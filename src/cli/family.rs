@@ -52,6 +52,8 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
             ..FrequencyResponseSpec::default()
         },
     };
+    spec.validate(&params)?;
+    super::check_memory("family", isola::analysis::cost::family(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();

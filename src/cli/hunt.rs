@@ -76,6 +76,7 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
             ..ContinuationSpec::default()
         },
     };
+    super::check_memory("hunt", isola::analysis::cost::hunt(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();

@@ -78,6 +78,8 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         },
         curves: !args.no_curves,
     };
+    spec.validate(&params)?;
+    super::check_memory("map", isola::analysis::cost::map(&spec, &params))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();

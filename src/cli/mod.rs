@@ -62,7 +62,7 @@ enum Command {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let Some(command) = cli.command else {
-        return finish(open_workbench());
+        return open_workbench();
     };
     let result = match command {
         Command::Orbit(args) => orbit::run(&args),
@@ -77,19 +77,30 @@ pub fn run() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
         #[cfg(feature = "tui")]
-        Command::Tui(args) => crate::tui::run(&args),
+        Command::Tui(args) => return finish_with(crate::tui::run(&args)),
     };
     finish(result)
 }
 
 #[cfg(feature = "tui")]
-fn open_workbench() -> anyhow::Result<()> {
-    crate::tui::run(&crate::tui::TuiArgs::default())
+fn open_workbench() -> ExitCode {
+    finish_with(crate::tui::run(&crate::tui::TuiArgs::default()))
 }
 
 #[cfg(not(feature = "tui"))]
-fn open_workbench() -> anyhow::Result<()> {
-    anyhow::bail!("this isola was built without the terminal workbench (feature `tui`); see --help")
+fn open_workbench() -> ExitCode {
+    finish(Err(anyhow::anyhow!(
+        "this isola was built without the terminal workbench (feature `tui`); see --help"
+    )))
+}
+
+/// The exit status a command returned, or 1 with its error on stderr.
+#[cfg(feature = "tui")]
+fn finish_with(result: anyhow::Result<u8>) -> ExitCode {
+    match result {
+        Ok(status) => ExitCode::from(status),
+        Err(e) => finish(Err(e)),
+    }
 }
 
 /// Checks every output path a command was given (`--csv` and the like) before any work
@@ -100,6 +111,17 @@ fn check_outputs<'a>(
     for path in paths.into_iter().flatten() {
         isola::session::output::check_target(path, &isola::session::output::Protected::none())?;
     }
+    Ok(())
+}
+
+/// Refuses a command whose result would not fit in memory (the estimate of
+/// [`isola::analysis::cost`]), before it starts; the time is the user's to spend.
+fn check_memory(
+    what: &str,
+    cost: Result<isola::analysis::cost::Cost, isola::model::ParamError>,
+) -> anyhow::Result<()> {
+    let budget = isola::session::budget::Budget::on_this_machine(1, None, true);
+    budget.check(what, &cost?)?;
     Ok(())
 }
 

@@ -14,28 +14,29 @@ pub struct ModelArgs {
     #[arg(
         long = "lambda-p",
         default_value_t = 1.02,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse::finite
     )]
     pub lambda_p: f64,
     /// Gent constant J.
-    #[arg(long, default_value_t = 16.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 16.0, allow_negative_numbers = true, value_parser = parse::finite)]
     pub j: f64,
     /// Non-dimensional damping c̃.
-    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true, value_parser = parse::finite)]
     pub damping: f64,
     /// Mean-square voltage E_a = φ_DC² + φ_AC²/2.
-    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true,
+    #[arg(long, default_value_t = 0.04, allow_negative_numbers = true, value_parser = parse::finite,
           conflicts_with_all = ["phi_dc", "phi_ac"])]
     pub ea: f64,
     /// AC-to-DC ratio ADR = φ_AC/φ_DC.
-    #[arg(long, default_value_t = 0.6, allow_negative_numbers = true,
+    #[arg(long, default_value_t = 0.6, allow_negative_numbers = true, value_parser = parse::finite,
           conflicts_with_all = ["phi_dc", "phi_ac"])]
     pub adr: f64,
     /// DC voltage φ_DC (non-dimensional); give with --phi-ac instead of --ea/--adr.
-    #[arg(long = "phi-dc", requires = "phi_ac", allow_negative_numbers = true)]
+    #[arg(long = "phi-dc", requires = "phi_ac", allow_negative_numbers = true, value_parser = parse::finite)]
     pub phi_dc: Option<f64>,
     /// AC voltage amplitude φ_AC (non-dimensional).
-    #[arg(long = "phi-ac", requires = "phi_dc", allow_negative_numbers = true)]
+    #[arg(long = "phi-ac", requires = "phi_dc", allow_negative_numbers = true, value_parser = parse::finite)]
     pub phi_ac: Option<f64>,
     /// Forcing frequency ω_e (non-dimensional, default 3.7); commands over many frequencies
     /// take a range START:END:STEP (response, family, stepped sweep) or START:END (chirp).
@@ -45,21 +46,24 @@ pub struct ModelArgs {
     #[arg(
         long = "phi-dc-ii",
         requires = "phi_ac_ii",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse::finite
     )]
     pub phi_dc_ii: Option<f64>,
     /// AC voltage on membrane II, φ_AC,II.
     #[arg(
         long = "phi-ac-ii",
         requires = "phi_dc_ii",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse::finite
     )]
     pub phi_ac_ii: Option<f64>,
     /// Phase lead of membrane II's AC voltage, radians.
     #[arg(
         long = "phase-ii",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse::finite
     )]
     pub phase_ii: f64,
 }
@@ -69,8 +73,8 @@ impl ModelArgs {
     pub fn params(&self) -> anyhow::Result<Params> {
         let omega = match &self.omega {
             None => 3.7,
-            Some(text) => text.trim().parse::<f64>().map_err(|_| {
-                anyhow::anyhow!("--omega '{text}': this command takes one value, e.g. --omega 3.7")
+            Some(text) => parse::finite(text).map_err(|e| {
+                anyhow::anyhow!("--omega: {e}; this command takes one value, e.g. --omega 3.7")
             })?,
         };
         self.params_at(omega)
@@ -107,6 +111,29 @@ impl ModelArgs {
             phase_ii: Some(self.phase_ii),
             ..ModelSection::default()
         };
-        Ok(section.to_spec(&Device::silicone())?.build()?)
+        section
+            .to_spec(&Device::silicone())
+            .and_then(|spec| spec.build())
+            .map_err(|e| anyhow::anyhow!("{}", as_flag(e)))
     }
+}
+
+/// A model error named by the flag that sets the field (`adr` is `--adr`).
+fn as_flag(mut e: isola::model::ParamError) -> isola::model::ParamError {
+    let flag = match e.field.as_str() {
+        "lambda_p" => "--lambda-p",
+        "j" => "--j",
+        "c_tilde" => "--damping",
+        "omega" => "--omega",
+        "e_a" => "--ea",
+        "adr" => "--adr",
+        "phi_dc" => "--phi-dc",
+        "phi_ac" => "--phi-ac",
+        "phi_dc_ii" => "--phi-dc-ii",
+        "phi_ac_ii" => "--phi-ac-ii",
+        "phase_ii" => "--phase-ii",
+        _ => return e,
+    };
+    e.field = flag.into();
+    e
 }

@@ -2,14 +2,19 @@
 
 use isola::analysis::grid::Axis;
 
+/// A finite number (`1e400`, `nan` and `inf` are refused as written).
+pub fn finite(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err(format!("'{s}' is not a finite number")),
+        Err(_) => Err(format!("'{s}' is not a number")),
+    }
+}
+
 /// `START:END:STEP` (inclusive, STEP > 0, either direction) or a single value.
 pub fn range(s: &str) -> Result<Axis, String> {
     let parts: Vec<&str> = s.split(':').collect();
-    let num = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("'{t}' is not a number"))
-    };
+    let num = finite;
     match parts.as_slice() {
         [v] => {
             let v = num(v)?;

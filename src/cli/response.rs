@@ -52,6 +52,8 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
         early_stop: !args.no_early_stop,
         ..FrequencyResponseSpec::default()
     };
+    spec.validate()?;
+    super::check_memory("response", isola::analysis::cost::response(&spec, None))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();

@@ -12,6 +12,7 @@ use clap::Args;
 use isola::analysis::Progress;
 use isola::jobs::JobContext;
 use isola::session::Session;
+use isola::session::budget::{self, Budget};
 use isola::session::output::{Protected, check_target};
 use isola::session::run::{Outcome, Shard, run_analysis};
 use isola::session::store::{self, ResultPaths};
@@ -29,6 +30,21 @@ pub struct RunArgs {
     /// Compute only chunks with index ≡ I mod N (for a cluster): `--shard I/N`.
     #[arg(long, value_parser = parse_shard)]
     shard: Option<Shard>,
+    /// Refuse an analysis whose worst case would take longer than this many seconds
+    /// (default: a day).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    budget: Option<f64>,
+    /// Run even if over the time budget (never over the memory bound).
+    #[arg(long)]
+    force: bool,
+}
+
+/// A positive, finite number of seconds.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("'{s}': a positive number of seconds")),
+    }
 }
 
 fn parse_shard(s: &str) -> Result<Shard, String> {
@@ -65,6 +81,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         None => session.analyses.iter().collect(),
     };
     let shard = args.shard.unwrap_or(Shard::ALL);
+    let threads = isola::jobs::worker_count(args.threads)?;
+    let budget = Budget::on_this_machine(threads, args.budget, args.force);
+    budget::check_all(&session, entries.iter().copied(), &budget)?;
     let total_started = Instant::now();
     for entry in entries {
         let progress = Arc::new(Progress::new(0));

@@ -31,9 +31,9 @@ impl StartRanges {
 #[derive(Debug, Clone, Copy, Args)]
 pub struct Start {
     /// Initial displacement Δλ = λ_I − λ_p at τ = 0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = super::parse::finite)]
     pub x0: f64,
     /// Initial velocity dλ_I/dτ at τ = 0.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = super::parse::finite)]
     pub v0: f64,
 }

@@ -19,6 +19,24 @@ pub enum JobError {
     Failed(String),
 }
 
+/// The cores of this machine (1 if unknown).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The worker count for `threads` (0: one per core); more threads than cores is an error, since
+/// they would only take the machine from everyone else.
+pub fn worker_count(threads: usize) -> Result<usize, JobError> {
+    let cores = cores();
+    match threads {
+        0 => Ok(cores),
+        n if n <= cores => Ok(n),
+        n => Err(JobError::Failed(format!(
+            "--threads {n}: this machine has {cores} cores; give at most {cores} (0: one per core)"
+        ))),
+    }
+}
+
 /// What a running analysis sees: its pool, its progress, and where to send partial results.
 pub struct JobContext<P> {
     pub pool: rayon::ThreadPool,
@@ -58,7 +76,7 @@ impl<P> JobContext<P> {
         progress: Arc<Progress>,
     ) -> Result<(Self, Receiver<P>), JobError> {
         let mut builder = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
+            .num_threads(worker_count(threads)?)
             .thread_name(|i| format!("isola-worker-{i}"));
         if priority == Priority::Background {
             builder = builder.start_handler(|_| lower_this_thread());

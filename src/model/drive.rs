@@ -3,7 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::{ParamError, check};
+use super::error::{ParamError, check_in};
+use super::limits;
 
 /// How a user gives a drive: the paper's (E_a, ADR) or the voltages (φ_DC, φ_AC).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -31,8 +32,8 @@ impl Drive {
 
     /// From E_a = φ_DC² + φ_AC²/2 and ADR = φ_AC/φ_DC.
     pub fn from_ea_adr(e_a: f64, adr: f64) -> Result<Self, ParamError> {
-        let e_a = check("e_a", e_a, |e| e >= 0.0, ">= 0")?;
-        let adr = check("adr", adr, |a| a >= 0.0, ">= 0")?;
+        let e_a = check_in("e_a", e_a, limits::E_A.0, limits::E_A.1)?;
+        let adr = check_in("adr", adr, limits::ADR.0, limits::ADR.1)?;
         let phi_dc = (e_a / (1.0 + 0.5 * adr * adr)).sqrt();
         Ok(Drive {
             phi_dc,
@@ -43,8 +44,8 @@ impl Drive {
     /// From the DC and AC amplitudes of φ.
     pub fn from_phi(phi_dc: f64, phi_ac: f64) -> Result<Self, ParamError> {
         Ok(Drive {
-            phi_dc: check("phi_dc", phi_dc, |p| p >= 0.0, ">= 0")?,
-            phi_ac: check("phi_ac", phi_ac, |p| p >= 0.0, ">= 0")?,
+            phi_dc: check_in("phi_dc", phi_dc, limits::PHI_DC.0, limits::PHI_DC.1)?,
+            phi_ac: check_in("phi_ac", phi_ac, limits::PHI_AC.0, limits::PHI_AC.1)?,
         })
     }
 
@@ -155,7 +156,7 @@ mod tests {
         assert_eq!(e.field, "e_a");
         let e = Drive::from_ea_adr(0.04, f64::NAN).unwrap_err();
         assert_eq!(e.field, "adr");
-        assert!(e.to_string().contains(">= 0"), "{e}");
+        assert!(e.to_string().contains("[0, 1000]"), "{e}");
         assert_eq!(Drive::from_phi(0.1, -1.0).unwrap_err().field, "phi_ac");
     }
 }

@@ -5,6 +5,7 @@ pub mod drive;
 pub mod error;
 pub mod forces;
 pub mod forcing;
+pub mod limits;
 pub mod params;
 pub mod units;
 

@@ -6,8 +6,9 @@ use std::f64::consts::PI;
 use serde::{Deserialize, Serialize};
 
 use super::drive::{Drive, DriveSpec};
-use super::error::{ParamError, check};
+use super::error::{ParamError, check, check_in};
 use super::forces::gent_poles;
+use super::limits;
 
 /// The model parameters as a user writes them (CLI flags, session files). Omitted fields take
 /// the paper's baseline: λ_p = 1.02, J = 16, c̃ = 0.04, E_a = 0.2², ADR = 0.6, ω_e = 3.7.
@@ -50,7 +51,8 @@ impl Default for ParamSpec {
 impl ParamSpec {
     /// Validates every field; the error names the first bad one.
     pub fn build(&self) -> Result<Params, ParamError> {
-        let j = check("j", self.j, |j| j > 0.0, "> 0")?;
+        let in_range = |field, value, (lo, hi): (f64, f64)| check_in(field, value, lo, hi);
+        let j = in_range("j", self.j, limits::J)?;
         let (lo, hi) = gent_poles(j);
         let lambda_p = check(
             "lambda_p",
@@ -58,11 +60,14 @@ impl ParamSpec {
             |l| l > lo && l < hi,
             format!("({lo:.5}, {hi:.5}), between the Gent poles for J = {j}"),
         )?;
-        let c_tilde = check("c_tilde", self.c_tilde, |c| c >= 0.0, ">= 0")?;
-        let omega = check("omega", self.omega, |w| w > 0.0, "> 0")?;
+        let c_tilde = in_range("c_tilde", self.c_tilde, limits::C_TILDE)?;
+        let omega = in_range("omega", self.omega, limits::OMEGA)?;
         let drive_i = Drive::from_spec(self.drive)?;
-        let drive_ii = self.drive_ii.map(Drive::from_spec).transpose()?;
-        let phase_ii = check("phase_ii", self.phase_ii, |_| true, "a finite angle")?;
+        let drive_ii = self
+            .drive_ii
+            .map(|d| Drive::from_spec(d).map_err(|e| e.suffixed("_ii")))
+            .transpose()?;
+        let phase_ii = in_range("phase_ii", self.phase_ii, limits::PHASE)?;
         Ok(Params {
             lambda_p,
             j,
@@ -266,7 +271,31 @@ mod tests {
                     }),
                     ..base
                 },
-                "e_a",
+                "e_a_ii",
+            ),
+            (
+                ParamSpec {
+                    omega: 1e-9,
+                    ..base
+                },
+                "omega",
+            ),
+            (
+                ParamSpec {
+                    c_tilde: 1e100,
+                    ..base
+                },
+                "c_tilde",
+            ),
+            (
+                ParamSpec {
+                    drive: DriveSpec::EaAdr {
+                        e_a: 0.04,
+                        adr: 3e154,
+                    },
+                    ..base
+                },
+                "adr",
             ),
         ];
         for (spec, field) in cases {

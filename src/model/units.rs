@@ -5,7 +5,8 @@ use std::f64::consts::PI;
 
 use serde::{Deserialize, Serialize};
 
-use super::error::{ParamError, check};
+use super::error::{ParamError, check_in};
+use super::limits;
 
 /// A pure-shear device: material and geometry, SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -50,16 +51,16 @@ impl Device {
 
     /// Checks every field is finite and positive.
     pub fn validate(&self) -> Result<(), ParamError> {
-        for (field, value) in [
-            ("mu", self.mu),
-            ("j", self.j),
-            ("l1", self.l1),
-            ("l2", self.l2),
-            ("l3", self.l3),
-            ("mass", self.mass),
-            ("epsilon", self.epsilon),
+        for (field, value, (lo, hi)) in [
+            ("mu", self.mu, limits::MU),
+            ("j", self.j, limits::J),
+            ("l1", self.l1, limits::LENGTH),
+            ("l2", self.l2, limits::LENGTH),
+            ("l3", self.l3, limits::LENGTH),
+            ("mass", self.mass, limits::MASS),
+            ("epsilon", self.epsilon, limits::EPSILON),
         ] {
-            check(field, value, |x| x > 0.0, "> 0")?;
+            check_in(field, value, lo, hi)?;
         }
         Ok(())
     }

@@ -2,7 +2,9 @@
 //! atomic writes and checked output paths.
 
 pub mod atomic;
+pub mod budget;
 pub mod export;
+pub mod locate;
 pub mod model_section;
 pub mod output;
 pub mod results;

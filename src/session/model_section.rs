@@ -3,7 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::error::ParamError;
+use crate::model::error::{ParamError, check};
+use crate::model::limits;
 use crate::model::{Device, DriveSpec, ParamSpec};
 
 /// Model parameters as a session writes them. Every key is optional (the paper's baseline
@@ -31,10 +32,13 @@ pub struct ModelSection {
     pub phase_ii: Option<f64>,
 }
 
+/// A key's range, [lo, hi], and how the error words it.
+type Allowed = (f64, f64, String);
+
 fn one_of(a: Option<f64>, name_a: &'static str, b: Option<f64>) -> Result<Option<f64>, ParamError> {
     match (a, b) {
         (Some(_), Some(v)) => Err(ParamError {
-            field: name_a,
+            field: name_a.into(),
             value: v,
             allowed: "one form only: the non-dimensional value or the physical one".into(),
         }),
@@ -82,8 +86,117 @@ impl ModelSection {
         merged
     }
 
-    /// The non-dimensional parameters, converting physical values with `device`.
+    /// Checks every key that is set against its own range, in its own units (a physical value
+    /// against the non-dimensional range converted with `device`), so that an error names the
+    /// key as written.
+    pub fn check_keys(&self, device: &Device) -> Result<(), ParamError> {
+        // a physical range converted from a non-dimensional one, a hair inside so that the
+        // value converted back is inside the non-dimensional range too
+        let inside = |(lo, hi): (f64, f64)| (lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo));
+        let physical = |(lo, hi): (f64, f64), to: &dyn Fn(f64) -> f64, unit: &str, of: &str| {
+            let (a, b) = (to(lo), to(hi));
+            let (lo_p, hi_p) = if lo == 0.0 {
+                (0.0, inside((a, b)).1)
+            } else {
+                inside((a, b))
+            };
+            (
+                lo_p,
+                hi_p,
+                format!("[{lo_p:.6}, {hi_p:.6}] {unit} ({of} {lo} to {hi} for this device)"),
+            )
+        };
+        let range = |(lo, hi): (f64, f64)| (lo, hi, format!("[{lo}, {hi}]"));
+        let keys: [(&str, Option<f64>, Allowed); 15] = [
+            (
+                "lambda_p",
+                self.lambda_p,
+                (0.0, f64::MAX, "> 0, between the Gent poles".into()),
+            ),
+            ("j", self.j, range(limits::J)),
+            ("c_tilde", self.c_tilde, range(limits::C_TILDE)),
+            (
+                "damping_n_s_per_m",
+                self.damping_n_s_per_m,
+                physical(limits::C_TILDE, &|c| device.damping(c), "N·s/m", "c̃"),
+            ),
+            ("omega", self.omega, range(limits::OMEGA)),
+            (
+                "frequency_hz",
+                self.frequency_hz,
+                physical(limits::OMEGA, &|w| device.hz(w), "Hz", "ω_e"),
+            ),
+            ("e_a", self.e_a, range(limits::E_A)),
+            ("adr", self.adr, range(limits::ADR)),
+            ("phi_dc", self.phi_dc, range(limits::PHI_DC)),
+            ("phi_ac", self.phi_ac, range(limits::PHI_AC)),
+            (
+                "dc_kv",
+                self.dc_kv,
+                physical(limits::PHI_DC, &|p| device.kv(p), "kV", "φ_DC"),
+            ),
+            (
+                "ac_kv",
+                self.ac_kv,
+                physical(limits::PHI_AC, &|p| device.kv(p), "kV", "φ_AC"),
+            ),
+            ("phi_dc_ii", self.phi_dc_ii, range(limits::PHI_DC)),
+            ("phi_ac_ii", self.phi_ac_ii, range(limits::PHI_AC)),
+            ("phase_ii", self.phase_ii, range(limits::PHASE)),
+        ];
+        for (key, value, (lo, hi, allowed)) in keys {
+            if let Some(v) = value {
+                check(
+                    key,
+                    v,
+                    |v| v >= lo && v <= hi && (key != "lambda_p" || v > 0.0),
+                    allowed,
+                )?;
+            }
+        }
+        for (a, b) in [
+            ("omega", "frequency_hz"),
+            ("c_tilde", "damping_n_s_per_m"),
+            ("phi_dc", "dc_kv"),
+            ("phi_ac", "ac_kv"),
+        ] {
+            if let (Some(_), Some(v)) = (self.get(a), self.get(b)) {
+                return Err(ParamError {
+                    field: b.into(),
+                    value: v,
+                    allowed: format!("one form only: {a} or {b}, not both"),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The value of key `key`, if set.
+    pub fn get(&self, key: &str) -> Option<f64> {
+        match key {
+            "lambda_p" => self.lambda_p,
+            "j" => self.j,
+            "c_tilde" => self.c_tilde,
+            "damping_n_s_per_m" => self.damping_n_s_per_m,
+            "omega" => self.omega,
+            "frequency_hz" => self.frequency_hz,
+            "e_a" => self.e_a,
+            "adr" => self.adr,
+            "phi_dc" => self.phi_dc,
+            "phi_ac" => self.phi_ac,
+            "dc_kv" => self.dc_kv,
+            "ac_kv" => self.ac_kv,
+            "phi_dc_ii" => self.phi_dc_ii,
+            "phi_ac_ii" => self.phi_ac_ii,
+            "phase_ii" => self.phase_ii,
+            _ => None,
+        }
+    }
+
+    /// The non-dimensional parameters, converting physical values with `device`; every key
+    /// is checked in its own units first ([`ModelSection::check_keys`]).
     pub fn to_spec(&self, device: &Device) -> Result<ParamSpec, ParamError> {
+        self.check_keys(device)?;
         let base = ParamSpec::default();
         let c_tilde = one_of(
             self.c_tilde,
@@ -108,14 +221,14 @@ impl ModelSection {
         let drive = match (phi_dc, phi_ac, self.e_a, self.adr) {
             (Some(_), _, Some(e), _) | (_, Some(_), Some(e), _) => {
                 return Err(ParamError {
-                    field: "e_a",
+                    field: "e_a".into(),
                     value: e,
                     allowed: "either e_a/adr or phi_dc/phi_ac (or dc_kv/ac_kv), not both".into(),
                 });
             }
             (Some(_), _, _, Some(a)) | (_, Some(_), _, Some(a)) => {
                 return Err(ParamError {
-                    field: "adr",
+                    field: "adr".into(),
                     value: a,
                     allowed: "either e_a/adr or phi_dc/phi_ac (or dc_kv/ac_kv), not both".into(),
                 });

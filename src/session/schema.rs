@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::locate::{Table, locate};
 use super::model_section::ModelSection;
 use crate::analysis::SteadyStateSpec;
 use crate::analysis::basin::BasinSpec;
@@ -28,10 +29,18 @@ use crate::analysis::grid::Axis;
 use crate::analysis::hunt::HuntSpec;
 use crate::analysis::map::MapSpec;
 use crate::analysis::time_history::TimeHistorySpec;
-use crate::model::{Device, ParamSpec, Params};
+use crate::model::error::check_in;
+use crate::model::{Device, ParamError, ParamSpec, Params, limits};
 
 /// The one schema version this build reads and writes.
 pub const SCHEMA: u32 = 1;
+
+/// Longest analysis name: its files (`NAME.attractors.csv` and temporaries beside them) must
+/// stay within a file system's 255-byte names.
+pub const MAX_NAME: usize = 64;
+
+/// Longest session file name (without `.toml`): its results folder is `NAME.results`.
+pub const MAX_STEM: usize = 200;
 
 /// What can go wrong with a session file.
 #[derive(Debug, thiserror::Error)]
@@ -44,13 +53,32 @@ pub enum SessionError {
     /// Malformed TOML or a key/value the schema does not allow; the message has line and column.
     #[error("{path}: {message}")]
     Syntax { path: PathBuf, message: String },
-    /// A value out of range, with where it is.
-    #[error("{path}: {location}: {error}")]
+    /// A value out of range, with where it is: the table (`[model]`, `analysis 'b'
+    /// settings`), the line and the value as written.
+    #[error("{path}: {}{location}: {}", line_prefix(*.line), as_written(error, written.as_deref()))]
     Value {
         path: PathBuf,
         location: String,
-        error: crate::model::ParamError,
+        line: Option<usize>,
+        /// The value's text in the file, when it is written there.
+        written: Option<String>,
+        error: Box<crate::model::ParamError>,
     },
+}
+
+fn line_prefix(line: Option<usize>) -> String {
+    line.map_or(String::new(), |l| format!("line {l}: "))
+}
+
+/// `field = VALUE AS WRITTEN is out of range: allowed ...`.
+fn as_written(error: &crate::model::ParamError, written: Option<&str>) -> String {
+    match written {
+        Some(text) => format!(
+            "{} = {text} is out of range: allowed {}",
+            error.field, error.allowed
+        ),
+        None => error.to_string(),
+    }
 }
 
 /// The file as written.
@@ -122,48 +150,43 @@ pub const KINDS: [&str; 10] = [
 ];
 
 impl Settings {
-    /// Reads the settings table of an analysis of `kind`.
-    pub fn read(kind: &str, table: Option<toml::Table>) -> Result<Settings, String> {
-        fn get<T: serde::de::DeserializeOwned + Default>(
-            t: Option<toml::Table>,
-        ) -> Result<T, String> {
-            match t {
-                None => Ok(T::default()),
-                Some(t) => toml::Value::Table(t)
-                    .try_into()
-                    .map_err(|e: toml::de::Error| e.message().to_string()),
-            }
+    /// Reads the settings table of an analysis of `kind`; an error gives the path of the key
+    /// that failed (`dx.points`), if any, and a message in plain words.
+    pub fn read(kind: &str, table: Option<toml::Table>) -> Result<Settings, SettingsError> {
+        fn get<T: serde::de::DeserializeOwned>(t: toml::Table) -> Result<T, SettingsError> {
+            serde_path_to_error::deserialize(toml::Value::Table(t)).map_err(|e| {
+                let path = e.path().to_string();
+                SettingsError {
+                    path: (path != ".").then_some(path),
+                    message: super::locate::plain(&e.into_inner().to_string()),
+                }
+            })
         }
+        fn or_default<T: serde::de::DeserializeOwned + Default>(
+            t: Option<toml::Table>,
+        ) -> Result<T, SettingsError> {
+            t.map_or_else(|| Ok(T::default()), get)
+        }
+        let needed = |what: &str| SettingsError {
+            path: None,
+            message: format!("a {what} needs settings: parameter and values"),
+        };
         Ok(match kind {
-            "force_curve" => Settings::ForceCurve(get(table)?),
-            "time_history" => Settings::TimeHistory(get(table)?),
-            "chirp_sweep" => Settings::ChirpSweep(get(table)?),
-            "stepped_sweep" => Settings::SteppedSweep(get(table)?),
-            "frequency_response" => Settings::FrequencyResponse(get(table)?),
-            "basin" => Settings::Basin(get(table)?),
-            "continuation" => Settings::Continuation(get(table)?),
-            "hunt" => Settings::Hunt(get(table)?),
-            "map" => {
-                let t = table.ok_or("a map needs settings: parameter and values")?;
-                Settings::Map(
-                    toml::Value::Table(t)
-                        .try_into()
-                        .map_err(|e: toml::de::Error| e.message().to_string())?,
-                )
-            }
-            "family" => {
-                let t = table.ok_or("a family needs settings: parameter and values")?;
-                Settings::Family(
-                    toml::Value::Table(t)
-                        .try_into()
-                        .map_err(|e: toml::de::Error| e.message().to_string())?,
-                )
-            }
+            "force_curve" => Settings::ForceCurve(or_default(table)?),
+            "time_history" => Settings::TimeHistory(or_default(table)?),
+            "chirp_sweep" => Settings::ChirpSweep(or_default(table)?),
+            "stepped_sweep" => Settings::SteppedSweep(or_default(table)?),
+            "frequency_response" => Settings::FrequencyResponse(or_default(table)?),
+            "basin" => Settings::Basin(or_default(table)?),
+            "continuation" => Settings::Continuation(or_default(table)?),
+            "hunt" => Settings::Hunt(or_default(table)?),
+            "map" => Settings::Map(get(table.ok_or_else(|| needed("map"))?)?),
+            "family" => Settings::Family(get(table.ok_or_else(|| needed("family"))?)?),
             other => {
-                return Err(format!(
-                    "unknown kind '{other}': one of {}",
-                    KINDS.join(", ")
-                ));
+                return Err(SettingsError {
+                    path: None,
+                    message: format!("unknown kind '{other}': one of {}", KINDS.join(", ")),
+                });
             }
         })
     }
@@ -198,6 +221,13 @@ impl Settings {
             Settings::Map(_) => "map",
         }
     }
+}
+
+/// Settings that could not be read: the key's path inside the settings, if one failed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SettingsError {
+    pub path: Option<String>,
+    pub message: String,
 }
 
 /// A stepped sweep in a session: its ω grid in order (reverse min and max to step down).
@@ -259,12 +289,23 @@ impl Session {
         }
         let mut analyses = Vec::with_capacity(file.analysis.len());
         for (i, raw) in file.analysis.iter().enumerate() {
-            let settings = Settings::read(&raw.kind, raw.settings.clone()).map_err(|message| {
-                let line = settings_line(text, i, &message)
-                    .map_or(String::new(), |l| format!("line {l}: "));
+            let settings = Settings::read(&raw.kind, raw.settings.clone()).map_err(|e| {
+                let (table, field) = match &e.path {
+                    Some(p) => (Table::AnalysisSettings(i), p.as_str()),
+                    None if e.message.starts_with("unknown kind") => (Table::Analysis(i), "kind"),
+                    None => (Table::Analysis(i), "settings"),
+                };
+                let at = locate(text, table, field);
+                let key = e.path.as_ref().map_or(String::new(), |p| match &at.text {
+                    Some(t) => format!("settings.{p} = {t}: "),
+                    None => format!("settings.{p}: "),
+                });
                 syntax(format!(
-                    "{line}analysis '{}' ({}): {message}",
-                    raw.name, raw.kind
+                    "{}analysis '{}' ({}): {key}{}",
+                    line_prefix(at.line),
+                    raw.name,
+                    raw.kind,
+                    e.message
                 ))
             })?;
             analyses.push(AnalysisEntry {
@@ -272,6 +313,13 @@ impl Session {
                 model: raw.model.clone(),
                 settings,
             });
+        }
+        let stem = path.file_stem().map_or(0, |s| s.len());
+        if stem > MAX_STEM {
+            return Err(syntax(format!(
+                "the file name is {stem} bytes long: at most {MAX_STEM} (without .toml), so that \
+                 its results folder can be named"
+            )));
         }
         let session = Session {
             path: path.to_path_buf(),
@@ -285,16 +333,27 @@ impl Session {
 
     /// Checks the model, every analysis' parameters, and that names are unique.
     fn validate(&self) -> Result<(), SessionError> {
-        let value_error = |location: String, error| SessionError::Value {
-            path: self.path.clone(),
-            location,
-            error,
+        let text = self.document.to_string();
+        // the error located in the first of `tables` that has its field written
+        let value_error = |location: String, tables: &[Table], error: ParamError| {
+            let found = tables
+                .iter()
+                .map(|&t| locate(&text, t, &error.field))
+                .find(|w| w.text.is_some());
+            let at = found.unwrap_or_else(|| locate(&text, tables[0], &error.field));
+            SessionError::Value {
+                path: self.path.clone(),
+                location,
+                line: at.line,
+                written: at.text,
+                error: Box::new(error),
+            }
         };
         self.device()
             .validate()
-            .map_err(|e| value_error("[device]".into(), e))?;
+            .map_err(|e| value_error("[device]".into(), &[Table::Device], e))?;
         self.params(None)
-            .map_err(|e| value_error("[model]".into(), e))?;
+            .map_err(|e| value_error("[model]".into(), &[Table::Model], e))?;
         for (i, entry) in self.analyses.iter().enumerate() {
             if self.analyses[..i].iter().any(|a| a.name == entry.name) {
                 return Err(SessionError::Syntax {
@@ -307,20 +366,37 @@ impl Session {
                     .name
                     .chars()
                     .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
-            if !valid_name {
+            if !valid_name || entry.name.len() > MAX_NAME {
+                let at = locate(&text, Table::Analysis(i), "name");
                 return Err(SessionError::Syntax {
                     path: self.path.clone(),
                     message: format!(
-                        "analysis name '{}': use letters, digits, _ and -",
+                        "{}analysis name '{}': use 1 to {MAX_NAME} letters, digits, _ and -",
+                        line_prefix(at.line),
                         entry.name
                     ),
                 });
             }
-            let location = format!("analysis '{}'", entry.name);
-            let params = self
-                .params(Some(entry))
-                .map_err(|e| value_error(location.clone(), e))?;
-            check_settings(&entry.settings, &params).map_err(|e| value_error(location, e))?;
+            let params = self.params(Some(entry)).map_err(|e| {
+                value_error(
+                    format!("analysis '{}' model", entry.name),
+                    &[Table::AnalysisModel(i), Table::Model],
+                    e,
+                )
+            })?;
+            let in_settings = |e| {
+                value_error(
+                    format!("analysis '{}' settings", entry.name),
+                    &[Table::AnalysisSettings(i)],
+                    e,
+                )
+            };
+            check_settings(&entry.settings, &params).map_err(in_settings)?;
+            // settings the cost model refuses (a step too fine for the forcing period)
+            if let Err(super::budget::BudgetError::Setting(e)) = super::budget::cost_of(self, entry)
+            {
+                return Err(in_settings(e));
+            }
         }
         Ok(())
     }
@@ -520,66 +596,67 @@ impl Session {
 /// An analysis' settings checked by the analysis' own rules, so a session fails at load time
 /// rather than when it runs.
 fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::model::ParamError> {
+    let start = |dx0: f64, v0: f64| -> Result<(), crate::model::ParamError> {
+        check_in("dx0", dx0, limits::DX.0, limits::DX.1)?;
+        check_in("v0", v0, limits::V.0, limits::V.1)?;
+        Ok(())
+    };
     match settings {
         Settings::ForceCurve(s) => s.validate(),
-        Settings::TimeHistory(s) => s.validate(),
-        Settings::ChirpSweep(s) => s.validate(),
+        Settings::TimeHistory(s) => {
+            start(s.dx0, s.v0)?;
+            s.validate()
+        }
+        Settings::ChirpSweep(s) => {
+            start(s.dx0, s.v0)?;
+            s.validate()
+        }
         Settings::SteppedSweep(s) => {
+            start(s.dx0, s.v0)?;
+            s.omega.check_within("omega", limits::OMEGA)?;
             // a sweep down is written with min > max: check the range in increasing order
             let mut range = s.omega;
             if range.min > range.max {
                 std::mem::swap(&mut range.min, &mut range.max);
             }
             range.validate("omega", 100_000)?;
-            s.steady.validate()
+            range.check_within("omega", limits::OMEGA)?;
+            s.steady.validate().map_err(|e| e.within("steady"))
         }
-        Settings::FrequencyResponse(s) => s.validate(),
+        Settings::FrequencyResponse(s) => {
+            s.validate()?;
+            s.omega.check_within("omega", limits::OMEGA)
+        }
         Settings::Basin(s) => s.validate(),
-        Settings::Family(s) => s.validate(params),
+        Settings::Family(s) => {
+            s.validate(params)?;
+            s.response
+                .omega
+                .check_within("response.omega", limits::OMEGA)
+        }
         Settings::Continuation(s) => {
-            s.steady.validate()?;
-            s.continuation.validate(params)
+            start(s.dx0, s.v0)?;
+            s.steady.validate().map_err(|e| e.within("steady"))?;
+            s.continuation
+                .validate(params)
+                .map_err(|e| e.within("continuation"))
         }
-        Settings::Hunt(s) => s.validate(params),
-        Settings::Map(s) => s.validate(params),
-    }
-}
-
-/// The line of the key an error message names (`unknown field `x``, `invalid type ... for key
-/// `x``) inside the settings of analysis `index`, or of that analysis' table.
-fn settings_line(text: &str, index: usize, message: &str) -> Option<usize> {
-    let doc = toml_edit::Document::parse(text.to_string()).ok()?;
-    let entry = doc.get("analysis")?.as_array_of_tables()?.get(index)?;
-    let key = message.split('`').nth(1);
-    let mut span = entry.span();
-    if let (Some(key), Some(settings)) = (key, entry.get("settings")) {
-        if let Some(found) = find_key(settings, key) {
-            span = Some(found);
-        } else if let Some(s) = settings.span() {
-            span = Some(s);
+        Settings::Hunt(s) => {
+            s.validate(params)?;
+            s.response
+                .omega
+                .check_within("response.omega", limits::OMEGA)
         }
-    }
-    let offset = span?.start;
-    Some(text[..offset.min(text.len())].matches('\n').count() + 1)
-}
-
-/// The span of `key` anywhere inside `item`.
-fn find_key(item: &toml_edit::Item, key: &str) -> Option<std::ops::Range<usize>> {
-    let table = item.as_table_like()?;
-    for (k, v) in table.iter() {
-        if k == key {
-            return table.get_key_value(k).and_then(|(k, _)| k.span());
-        }
-        if let Some(span) = find_key(v, key) {
-            return Some(span);
-        }
-        if let Some(inline) = v.as_value().and_then(|v| v.as_inline_table())
-            && let Some((k2, _)) = inline.get_key_value(key)
-        {
-            return k2.span();
+        Settings::Map(s) => {
+            s.validate(params)?;
+            if s.x == crate::analysis::continuation::ContinuationParameter::Omega {
+                s.response
+                    .omega
+                    .check_within("response.omega", limits::OMEGA)?;
+            }
+            Ok(())
         }
     }
-    None
 }
 
 /// The keys a quantity may be written under (its non-dimensional and physical forms).

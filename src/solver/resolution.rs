@@ -28,14 +28,14 @@ impl Resolution {
         check(
             "min_steps_per_period",
             self.min_steps_per_period as f64,
-            |n| (8.0..=1e6).contains(&n),
-            "[8, 1000000]",
+            |n| (8.0..=1e5).contains(&n),
+            "[8, 100000]",
         )?;
         check(
             "max_step",
             self.max_step,
-            |h| h > 0.0 && h <= 10.0,
-            "(0, 10]",
+            |h| (1e-5..=1.0).contains(&h),
+            "[1e-5, 1]",
         )?;
         Ok(())
     }

@@ -113,6 +113,8 @@ pub struct App {
     pub theme: Theme,
     pub keymap: Keymap,
     pub should_quit: bool,
+    /// The process' exit status when the app quits (130 after Ctrl-C, 128 + a signal's number).
+    pub exit_status: u8,
     /// Something changed since the last frame.
     pub dirty: bool,
     last_poll: Instant,
@@ -146,6 +148,7 @@ impl App {
             theme,
             keymap,
             should_quit: false,
+            exit_status: 0,
             dirty: true,
             last_poll: Instant::now(),
             last_full_poll: Instant::now(),
@@ -347,6 +350,7 @@ impl App {
         self.dirty = true;
         if key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL) {
             self.quit_now();
+            self.exit_status = 130; // as a shell reports an interrupted program
             return;
         }
         if self.overlay.is_some() {

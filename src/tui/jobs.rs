@@ -10,6 +10,7 @@ use isola::analysis::time_history::{TimeHistory, TimeHistorySpec, time_history};
 use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;
+use isola::session::budget::{self, Budget};
 use isola::session::run::{Outcome, Shard, run_analysis};
 
 /// What a job computes.
@@ -230,6 +231,10 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
             let entry = session
                 .analysis(&name)
                 .ok_or_else(|| JobError::Failed(format!("no analysis '{name}'")))?;
+            // what `isola run` would refuse, the workbench refuses too (before any work)
+            let budget = Budget::on_this_machine(ctx.pool.current_num_threads(), None, false);
+            budget::check_all(&session, [entry], &budget)
+                .map_err(|e| JobError::Failed(e.to_string()))?;
             let outcome = run_analysis(&session, entry, Shard::ALL, &ctx.progress);
             ctx.check_cancel()?;
             outcome

@@ -106,22 +106,25 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
     Ok(app)
 }
 
-/// Runs the TUI until the user quits or a signal asks it to.
-pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
+/// Runs the TUI until the user quits or a signal asks it to; returns the exit status (0, or
+/// 128 + the signal's number: 130 after Ctrl-C or SIGINT, 131 SIGQUIT, 143 SIGTERM, 129 SIGHUP).
+pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
     // nothing may write to the screen while the TUI runs
     crate::cli::log_to(&config::log_path())?;
     let mut app = build_app(args)?;
     tracing::info!(session = %app.session.path.display(), "tui started");
-    let terminate = terminal::termination_flag()?;
+    let terminate = terminal::termination_signal()?;
     terminal::spawn_watchdog(terminate.clone())?;
     let mut guard = terminal::TerminalGuard::enter()?;
     let frame_time = Duration::from_millis(50);
     let mut last_draw = Instant::now() - frame_time;
     let mut key_pressed = false;
     loop {
-        if terminate.load(Ordering::Relaxed) {
-            tracing::info!("signal: quitting");
+        let signal = terminate.load(Ordering::Relaxed);
+        if signal != 0 && !app.should_quit {
+            tracing::info!(signal, "signal: quitting");
             app.quit_now();
+            app.exit_status = 128 + signal as u8;
         }
         if app.should_quit {
             break;
@@ -153,6 +156,6 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<()> {
         app.tick();
     }
     drop(guard);
-    tracing::info!("tui quit");
-    Ok(())
+    tracing::info!(status = app.exit_status, "tui quit");
+    Ok(app.exit_status)
 }

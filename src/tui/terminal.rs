@@ -1,10 +1,11 @@
 //! The terminal in raw mode on the alternate screen, and its restoration: on drop, on a panic
-//! of the UI thread, and on SIGTERM or SIGHUP (the loop sees the flag and returns). A worker's
-//! panic is logged, never printed over the screen.
+//! of the UI thread, and on SIGINT, SIGQUIT, SIGTERM or SIGHUP (the loop sees which and
+//! returns, and the process exits with 128 + the signal's number). A worker's panic is logged,
+//! never printed over the screen.
 
 use std::io::{Stdout, stdout};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use crossterm::execute;
@@ -61,13 +62,21 @@ fn install_panic_hook() {
     }));
 }
 
-/// A flag raised by SIGTERM or SIGHUP.
-pub fn termination_flag() -> anyhow::Result<Arc<AtomicBool>> {
-    let flag = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
-        signal_hook::flag::register(signal, flag.clone())?;
+/// The signals that end the workbench cleanly.
+const SIGNALS: [i32; 4] = [
+    signal_hook::consts::SIGINT,
+    signal_hook::consts::SIGQUIT,
+    signal_hook::consts::SIGTERM,
+    signal_hook::consts::SIGHUP,
+];
+
+/// Holds the number of the last of SIGINT, SIGQUIT, SIGTERM or SIGHUP received (0: none).
+pub fn termination_signal() -> anyhow::Result<Arc<AtomicUsize>> {
+    let received = Arc::new(AtomicUsize::new(0));
+    for signal in SIGNALS {
+        signal_hook::flag::register_usize(signal, received.clone(), signal as usize)?;
     }
-    Ok(flag)
+    Ok(received)
 }
 
 /// Watches, on a thread of its own, for the terminal going away (a hang-up: the SSH link or
@@ -75,7 +84,7 @@ pub fn termination_flag() -> anyhow::Result<Arc<AtomicBool>> {
 /// `terminate`; if the loop has not returned 3 s after `terminate` was raised, it restores
 /// what it can and exits, so that no orphan is left spinning on a dead terminal. Finished
 /// chunks are already on disk.
-pub fn spawn_watchdog(terminate: Arc<AtomicBool>) -> anyhow::Result<()> {
+pub fn spawn_watchdog(terminate: Arc<AtomicUsize>) -> anyhow::Result<()> {
     std::thread::Builder::new()
         .name("isola-watchdog".into())
         .spawn(move || {
@@ -83,14 +92,20 @@ pub fn spawn_watchdog(terminate: Arc<AtomicBool>) -> anyhow::Result<()> {
             loop {
                 std::thread::sleep(Duration::from_millis(200));
                 if terminal_hung_up() {
-                    terminate.store(true, Ordering::Relaxed);
+                    let _ = terminate.compare_exchange(
+                        0,
+                        signal_hook::consts::SIGHUP as usize,
+                        Ordering::Relaxed,
+                        Ordering::Relaxed,
+                    );
                 }
-                if terminate.load(Ordering::Relaxed) {
+                let signal = terminate.load(Ordering::Relaxed);
+                if signal != 0 {
                     let raised = *raised_at.get_or_insert_with(Instant::now);
                     if raised.elapsed() > Duration::from_secs(3) {
                         tracing::warn!("the terminal is gone and the loop did not return: exiting");
                         restore();
-                        std::process::exit(1);
+                        std::process::exit(128 + signal as i32);
                     }
                 }
             }

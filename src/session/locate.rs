@@ -1,0 +1,172 @@
+//! Where a value is written in a session file: the line of a key and its text as the user
+//! wrote it, for error messages that point at the file.
+
+/// A table of the file: `[model]`, `[device]`, or the model or settings of `[[analysis]]` N.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Table {
+    Model,
+    Device,
+    AnalysisModel(usize),
+    AnalysisSettings(usize),
+    /// The `[[analysis]]` table itself.
+    Analysis(usize),
+}
+
+/// Where a field is written: its line (1-based) and its value's text, if it is written at all.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Written {
+    pub line: Option<usize>,
+    /// The value as written (`1e-9`, `nan`, `{ min = 1, max = 0, points = 3 }`).
+    pub text: Option<String>,
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+/// Finds `field` (a dotted path such as `steady.resolution.max_step`) in `table` of `text`.
+/// If the field itself is not written, the line of its nearest written parent (or of the
+/// table) is given, without a text.
+pub fn locate(text: &str, table: Table, field: &str) -> Written {
+    let Ok(doc) = toml_edit::Document::parse(text.to_string()) else {
+        return Written::default();
+    };
+    let root = doc.as_item();
+    let analysis = |i: usize| {
+        root.get("analysis")
+            .and_then(|a| a.as_array_of_tables())
+            .and_then(|a| a.get(i))
+    };
+    let (start, span): (
+        Option<&dyn toml_edit::TableLike>,
+        Option<std::ops::Range<usize>>,
+    ) = match table {
+        Table::Model => (
+            root.get("model").and_then(|m| m.as_table_like()),
+            root.get("model").and_then(|m| m.span()),
+        ),
+        Table::Device => (
+            root.get("device").and_then(|m| m.as_table_like()),
+            root.get("device").and_then(|m| m.span()),
+        ),
+        Table::AnalysisModel(i) | Table::AnalysisSettings(i) | Table::Analysis(i) => {
+            let key = match table {
+                Table::AnalysisModel(_) => Some("model"),
+                Table::AnalysisSettings(_) => Some("settings"),
+                _ => None,
+            };
+            match (analysis(i), key) {
+                (Some(a), Some(k)) => match a.get(k) {
+                    Some(item) => (item.as_table_like(), item.span().or(a.span())),
+                    None => (None, a.span()),
+                },
+                (Some(a), None) => (Some(a as &dyn toml_edit::TableLike), a.span()),
+                (None, _) => (None, None),
+            }
+        }
+    };
+    let mut best = Written {
+        line: span.map(|s| line_of(text, s.start)),
+        text: None,
+    };
+    let Some(mut table) = start else {
+        return best;
+    };
+    let parts: Vec<&str> = field.split('.').collect();
+    for (depth, part) in parts.iter().enumerate() {
+        let Some((key, item)) = table.get_key_value(part) else {
+            return best;
+        };
+        if let Some(s) = key.span() {
+            best.line = Some(line_of(text, s.start));
+        }
+        if depth + 1 == parts.len() {
+            best.text = item
+                .span()
+                .and_then(|s| text.get(s))
+                .map(|t| t.trim().to_string())
+                .or_else(|| item.as_value().map(|v| v.to_string().trim().to_string()));
+            return best;
+        }
+        match item.as_table_like() {
+            Some(t) => table = t,
+            None => return best,
+        }
+    }
+    best
+}
+
+/// A serde message in a user's words: `invalid value: integer `-3`, expected usize` becomes
+/// `-3 is not allowed: a whole number >= 0 is expected`.
+pub fn plain(message: &str) -> String {
+    // the deserializer's own note of where (`in `dx.points``) is said elsewhere
+    let message = message.lines().next().unwrap_or(message).trim();
+    let quoted = |m: &str| m.split('`').nth(1).map(str::to_string);
+    let expected = message.rsplit("expected ").next().unwrap_or("").trim();
+    let what = match expected {
+        "usize" | "u32" | "u64" | "u16" | "u8" => Some("a whole number >= 0"),
+        "i32" | "i64" | "isize" => Some("a whole number"),
+        "f64" | "f32" => Some("a number"),
+        "a boolean" => Some("true or false"),
+        "a string" => Some("text in quotes"),
+        _ => None,
+    };
+    let found = quoted(message).or_else(|| {
+        // `invalid type: string "x", expected f64`
+        message
+            .split_once("string ")
+            .map(|(_, rest)| rest.split(", expected").next().unwrap_or(rest).to_string())
+    });
+    match (what, found) {
+        (Some(what), Some(found)) if message.starts_with("invalid") => {
+            format!("{found} is not allowed: {what} is expected")
+        }
+        (Some(what), None) if message.starts_with("invalid") => {
+            format!("{what} is expected ({message})")
+        }
+        _ => message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = "schema = 1\n[model]\nadr = 1e-9\n\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = -3 }\n[analysis.settings.steady]\nresolution = { max_step = 1.0e-300 }\n";
+
+    #[test]
+    fn finds_lines_and_text_as_written() {
+        let w = locate(TEXT, Table::Model, "adr");
+        assert_eq!((w.line, w.text.as_deref()), (Some(3), Some("1e-9")));
+        let w = locate(TEXT, Table::AnalysisSettings(0), "dx.points");
+        assert_eq!((w.line, w.text.as_deref()), (Some(9), Some("-3")));
+        let w = locate(
+            TEXT,
+            Table::AnalysisSettings(0),
+            "steady.resolution.max_step",
+        );
+        assert_eq!((w.line, w.text.as_deref()), (Some(11), Some("1.0e-300")));
+        // not written: the line of its nearest parent
+        let w = locate(TEXT, Table::AnalysisSettings(0), "steady.max_period");
+        assert_eq!((w.line, w.text), (Some(10), None));
+        let w = locate(TEXT, Table::Model, "omega");
+        assert_eq!((w.line, w.text), (Some(2), None));
+    }
+
+    #[test]
+    fn serde_messages_in_plain_words() {
+        assert_eq!(
+            plain("invalid value: integer `-3`, expected usize"),
+            "-3 is not allowed: a whole number >= 0 is expected"
+        );
+        assert_eq!(
+            plain("invalid type: integer `3`, expected a boolean"),
+            "3 is not allowed: true or false is expected"
+        );
+        assert_eq!(
+            plain("invalid type: string \"x\", expected f64"),
+            "\"x\" is not allowed: a number is expected"
+        );
+        assert_eq!(plain("unknown field `stpe`"), "unknown field `stpe`");
+    }
+}
