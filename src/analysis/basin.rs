@@ -180,14 +180,14 @@ impl<'a> BasinPlan<'a> {
         )
     }
 
-    /// The basin from every chunk's outcomes, in chunk order.
-    pub fn assemble(&self, chunks: Vec<Vec<SteadyState>>) -> Basin {
+    /// The basin from every chunk's outcomes, in chunk order; the chunks are taken one at a
+    /// time, so only their labels stay in memory.
+    pub fn assemble(&self, chunks: impl IntoIterator<Item = Vec<SteadyState>>) -> Basin {
         let mut table = AttractorTable::default();
-        let labels = chunks
-            .into_iter()
-            .flatten()
-            .map(|s| table.classify(&s, SAME_POINT_TOL))
-            .collect();
+        let mut labels = Vec::with_capacity(self.cells());
+        for chunk in chunks {
+            labels.extend(chunk.iter().map(|s| table.classify(s, SAME_POINT_TOL)));
+        }
         Basin {
             dx: self.spec.dx.values(),
             v: self.spec.v.values(),

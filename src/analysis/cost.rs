@@ -133,7 +133,7 @@ fn lowest(axis: &Axis) -> f64 {
 }
 
 /// Bytes of one steady state in memory, and about as many as JSON in a chunk (its Poincaré
-/// points up to `max_period`): measured, a 1001 × 1001 basin peaks at 251 MB (250 B a cell).
+/// points up to `max_period`; measured, 275 B a cell in a basin's chunks).
 fn steady_bytes(steady: &SteadyStateSpec) -> f64 {
     160.0 + 16.0 * steady.max_period as f64
 }
@@ -164,12 +164,12 @@ pub fn response(spec: &FrequencyResponseSpec, at_omega: Option<f64>) -> Result<C
 pub fn basin(spec: &BasinSpec, params: &Params) -> Result<Cost, ParamError> {
     let steady = steady_cost(&spec.steady, params.omega(), "steady.")?;
     let cells = (spec.dx.points * spec.v.points) as f64;
-    // all outcomes in memory while assembling, and the CSV's rows; the chunks on disk
-    let per_cell = steady_bytes(&spec.steady);
+    // a label and the CSV's row per cell in memory while assembling (the chunks are read one
+    // at a time: a 1001 × 1001 basin peaks at 56 MB); the chunks on disk
     let what = format!("{} cells (dx.points × v.points)", count(cells));
-    let mut cost = Cost::new(cells, "cells (dx.points × v.points)", &steady)
-        .bytes(cells * (per_cell + 40.0), what);
-    cost.disk = cells * per_cell;
+    let mut cost =
+        Cost::new(cells, "cells (dx.points × v.points)", &steady).bytes(cells * 64.0, what);
+    cost.disk = cells * steady_bytes(&spec.steady);
     Ok(cost)
 }
 

@@ -238,6 +238,10 @@ struct Run<'a> {
     chunks: usize,
 }
 
+/// The chunks of a result in index order, read as they are taken; an error names a chunk
+/// that was damaged or removed since it was checked.
+type Chunks<'a, T> = Box<dyn Iterator<Item = anyhow::Result<T>> + 'a>;
+
 /// What became of one chunk in one pass.
 enum Step {
     /// Its file was there and good (or another run finished it while this one waited).
@@ -283,7 +287,12 @@ impl Run<'_> {
                         format!("cells {first}–{last}, {} to {}", at(first), at(last))
                     },
                     |chunks, csv| {
-                        let basin = plan.assemble(chunks);
+                        let mut failed = None;
+                        let basin = plan
+                            .assemble(chunks.map_while(|c| c.map_err(|e| failed = Some(e)).ok()));
+                        if let Some(e) = failed {
+                            return Err(e);
+                        }
                         finite(&basin, "the assembled basin")?;
                         export::basin_csv(&basin, &params, csv)
                     },
@@ -299,7 +308,9 @@ impl Run<'_> {
                     |i| Ok(plan.grid_at(i, progress)),
                     |i, responses: &Vec<Response>| response_content(spec, i, responses),
                     |i| format!("ω_e = {}", spec.omega.at(i)),
-                    |per_omega: Vec<Vec<Response>>, csv| {
+                    |chunks, csv| {
+                        let per_omega: Vec<Vec<Response>> =
+                            chunks.collect::<anyhow::Result<_>>()?;
                         let fr = plan.finish(per_omega, progress).map_err(&named)?;
                         if let Settings::Hunt(hunt) = &entry.settings {
                             let found = hunt_in(&params, fr, &hunt.continuation, progress)
@@ -324,7 +335,8 @@ impl Run<'_> {
                     |i| optional(map_row(&params, spec, i, progress)),
                     |i, row: &MapRow| map_content(spec, i, row),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values.at(i)),
-                    |rows: Vec<MapRow>, csv| {
+                    |chunks, csv| {
+                        let rows: Vec<MapRow> = chunks.collect::<anyhow::Result<_>>()?;
                         let curves = if spec.curves {
                             map_curves(&params, spec, &rows, progress).map_err(&named)?
                         } else {
@@ -347,7 +359,8 @@ impl Run<'_> {
                     |i| optional(family_member(&params, spec, i, progress)),
                     |i, member: &FamilyMember| family_content(spec, i, member),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values[i]),
-                    |members: Vec<FamilyMember>, csv| {
+                    |chunks, csv| {
+                        let members: Vec<FamilyMember> = chunks.collect::<anyhow::Result<_>>()?;
                         let name = spec.parameter.name();
                         export::family_csv(name, &members, csv)?;
                         let responses = export::family_responses_path(csv);
@@ -408,7 +421,7 @@ impl Run<'_> {
         compute: impl Fn(usize) -> anyhow::Result<Option<T>> + Sync,
         content: impl Fn(usize, &T) -> Result<(), String> + Sync,
         describe: impl Fn(usize) -> String + Sync,
-        finish: impl FnOnce(Vec<T>, &Path) -> anyhow::Result<()>,
+        finish: impl FnOnce(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
     ) -> anyhow::Result<Outcome> {
         let n = self.chunks;
         let counted: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
@@ -453,9 +466,9 @@ impl Run<'_> {
             {
                 return Err(self.cancelled_error());
             }
-            let (chunks, seconds, missing) = self.load_all(&content)?;
+            let (seconds, missing) = self.check_all(&content)?;
             if missing.is_empty() {
-                return self.assemble(chunks, seconds, computed, finish);
+                return self.assemble(&content, seconds, computed, finish);
             }
             if missing.iter().all(|&i| !self.shard.owns(i)) {
                 return Ok(Outcome::ShardDone {
@@ -531,23 +544,18 @@ impl Run<'_> {
         Ok(Step::Computed)
     }
 
-    /// Every good chunk in index order, their seconds, and the indices of those missing (a
-    /// chunk found damaged now is moved aside and counted missing).
-    #[allow(clippy::type_complexity)]
-    fn load_all<T: Payload>(
+    /// The seconds the good chunks took, and the indices of those missing (a chunk found
+    /// damaged now is moved aside and counted missing); no chunk is kept in memory.
+    fn check_all<T: Payload>(
         &self,
         content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
-    ) -> anyhow::Result<(Vec<T>, f64, Vec<usize>)> {
+    ) -> anyhow::Result<(f64, Vec<usize>)> {
         let (work, n) = (self.work, self.chunks);
-        let mut chunks = Vec::with_capacity(n);
         let mut seconds = 0.0;
         let mut missing = Vec::new();
         for i in 0..n {
             match work.read_chunk::<T>(i, n, |v| content(i, v)) {
-                Ok(Some(d)) => {
-                    seconds += d.seconds;
-                    chunks.push(d.value);
-                }
+                Ok(Some(d)) => seconds += d.seconds,
                 Ok(None) => missing.push(i),
                 Err(_) => {
                     if let Some(_claim) = work.try_claim(i)?
@@ -559,17 +567,17 @@ impl Run<'_> {
                 }
             }
         }
-        Ok((chunks, seconds, missing))
+        Ok((seconds, missing))
     }
 
     /// Assembles the result from every chunk, unless another run has just done so; only one
     /// run assembles at a time.
     fn assemble<T: Payload>(
         &self,
-        chunks: Vec<T>,
+        content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
         chunk_seconds: f64,
         computed: usize,
-        finish: impl FnOnce(Vec<T>, &Path) -> anyhow::Result<()>,
+        finish: impl FnOnce(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
     ) -> anyhow::Result<Outcome> {
         let Some(_assembler) = self.work.assembler(&|| self.cancelled())? else {
             return Err(self.cancelled_error());
@@ -586,7 +594,18 @@ impl Run<'_> {
         let started = Instant::now();
         let staging = self.work.staging()?;
         let csv = staging.join(file_name(&self.work.paths.csv));
-        finish(chunks, &csv)?;
+        // each chunk read (and checked) again as the assembly takes it, one at a time
+        let (work, n) = (self.work, self.chunks);
+        let chunks = (0..n).map(
+            move |i| match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+                Ok(Some(d)) => Ok(d.value),
+                Ok(None) => {
+                    anyhow::bail!("{}: gone while assembling", work.chunk_path(i).display())
+                }
+                Err(why) => anyhow::bail!("{}: {why}", work.chunk_path(i).display()),
+            },
+        );
+        finish(Box::new(chunks), &csv)?;
         if self.cancelled() {
             return Err(self.cancelled_error());
         }
