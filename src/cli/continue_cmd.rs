@@ -29,7 +29,7 @@ pub struct ContinueArgs {
     #[arg(long, default_value = "0.2:6.0", value_parser = parse::interval)]
     range: (f64, f64),
     /// Largest arclength step.
-    #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max)]
+    #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max, value_parser = super::parse::finite)]
     step_max: f64,
     /// At each period doubling, switch to the branch of twice the period born there and
     /// continue it too.

@@ -20,7 +20,7 @@ pub struct ForceArgs {
     #[arg(long = "phi", value_delimiter = ',', default_value = "0")]
     phi: Vec<f64>,
     /// Gent constant J.
-    #[arg(long, default_value_t = 16.0)]
+    #[arg(long, default_value_t = 16.0, value_parser = super::parse::finite)]
     j: f64,
     /// Range of Δλ.
     #[arg(long = "dx-range", default_value = "-0.8:0.8", value_parser = parse::interval, allow_hyphen_values = true)]

@@ -41,7 +41,7 @@ pub struct HuntArgs {
     #[arg(long, value_parser = parse::interval)]
     range: Option<(f64, f64)>,
     /// Largest arclength step of the continuation.
-    #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max)]
+    #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max, value_parser = super::parse::finite)]
     step_max: f64,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]

@@ -29,7 +29,7 @@ pub struct OrbitArgs {
     #[arg(long)]
     reference: bool,
     /// Relative tolerance of the reference integrator.
-    #[arg(long, default_value_t = 1e-10, requires = "reference")]
+    #[arg(long, default_value_t = 1e-10, requires = "reference", value_parser = super::parse::finite)]
     rtol: f64,
     /// Print one JSON object instead of a summary.
     #[arg(long)]

@@ -20,13 +20,13 @@ pub struct SweepArgs {
     #[command(flatten)]
     model: ModelArgs,
     /// Duration of the chirp in τ.
-    #[arg(long, default_value_t = 12000.0)]
+    #[arg(long, default_value_t = 12000.0, value_parser = super::parse::finite)]
     span: f64,
     /// Step through the frequencies, settling to steady state at each (instead of a chirp).
     #[arg(long)]
     stepped: bool,
     /// Envelope window of the chirp, in τ.
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(long, default_value_t = 20.0, value_parser = super::parse::finite)]
     window: f64,
     /// Write the samples with their envelope (chirp) or the steps (stepped) to this CSV file.
     #[arg(long)]

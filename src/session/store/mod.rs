@@ -91,12 +91,26 @@ pub fn with_verified<R>(
     if !paths.dir.is_dir() {
         return Err(Unverified::Missing);
     }
-    let _read = Lock::acquire(&paths.lock, Mode::Shared).map_err(|e| Unverified::Unreadable {
-        file: paths.lock.display().to_string(),
-        why: e.to_string(),
-    })?;
+    let _read = match Lock::acquire(&paths.lock, Mode::Shared) {
+        Ok(lock) => Some(lock),
+        // a folder no one may write to (results copied read-only): nothing can change it
+        Err(e) if read_only(&e) && !paths.lock.exists() => None,
+        Err(e) => {
+            return Err(Unverified::Unreadable {
+                file: paths.lock.display().to_string(),
+                why: e.to_string(),
+            });
+        }
+    };
     let m = verified_unlocked(paths)?;
     Ok(read(&m))
+}
+
+fn read_only(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem
+    )
 }
 
 fn verified_unlocked(paths: &ResultPaths) -> Result<Manifest, Unverified> {
