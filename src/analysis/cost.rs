@@ -37,6 +37,15 @@ pub struct Cost {
     pub memory: Vec<String>,
     /// Bytes of chunks written beside the result while it is computed.
     pub disk: f64,
+    /// Steps of the largest chunk, the work a kill can lose (`None`: the analysis is one).
+    pub chunk: Option<f64>,
+}
+
+impl Cost {
+    /// Steps of the largest unit of work saved at once.
+    pub fn chunk_steps(&self) -> f64 {
+        self.chunk.unwrap_or(self.steps)
+    }
 }
 
 impl Cost {
@@ -47,6 +56,7 @@ impl Cost {
             factors: vec![format!("{} {what}", count(trajectories))],
             memory: Vec::new(),
             disk: 0.0,
+            chunk: None,
         }
         .with_steady(steady)
     }
@@ -158,6 +168,7 @@ pub fn response(spec: &FrequencyResponseSpec, at_omega: Option<f64>) -> Result<C
     let what = format!("{} ω_e values (omega.points)", spec.omega.points);
     let mut cost = grid.plus(sweeps).plus(seeding).bytes(bytes, what);
     cost.disk = bytes;
+    cost.chunk = Some(starts * steady.steps);
     Ok(cost)
 }
 
@@ -170,12 +181,18 @@ pub fn basin(spec: &BasinSpec, params: &Params) -> Result<Cost, ParamError> {
     let mut cost =
         Cost::new(cells, "cells (dx.points × v.points)", &steady).bytes(cells * 64.0, what);
     cost.disk = cells * steady_bytes(&spec.steady);
+    cost.chunk = Some(cells.min(super::basin::CHUNK_CELLS as f64) * steady.steps);
     Ok(cost)
 }
 
 pub fn family(spec: &FamilySpec) -> Result<Cost, ParamError> {
     let n = spec.values.len() as f64;
-    Ok(response(&spec.response, None)?.times(n, format!("{} members (values)", count(n))))
+    let member = response(&spec.response, None)?;
+    let mut cost = member
+        .clone()
+        .times(n, format!("{} members (values)", count(n)));
+    cost.chunk = Some(member.steps);
+    Ok(cost)
 }
 
 pub fn map(spec: &MapSpec, params: &Params) -> Result<Cost, ParamError> {
@@ -219,6 +236,7 @@ pub fn continuation(
         steps: one.steps + points * per_point * per_period,
         bytes: points * 400.0,
         disk: 0.0,
+            chunk: None,
         memory: vec![format!("{} points (2 × continuation.max_points)", count(points))],
         factors: vec![format!(
             "{} points (2 × continuation.max_points) × {} Newton iterations (continuation.shooting.max_iterations)",
@@ -247,6 +265,7 @@ pub fn time_history(spec: &TimeHistorySpec, params: &Params) -> Result<Cost, Par
         factors: vec![what.clone()],
         memory: vec![what],
         disk: 0.0,
+        chunk: None,
     }))
 }
 
@@ -267,6 +286,7 @@ pub fn chirp(spec: &ChirpSpec) -> Result<Cost, ParamError> {
         ],
         memory: vec![what],
         disk: 0.0,
+        chunk: None,
     })
 }
 
@@ -288,6 +308,7 @@ pub fn force(spec: &ForceCurveSpec) -> Cost {
         factors: vec![what.clone()],
         memory: vec![what],
         disk: 0.0,
+        chunk: None,
     }
 }
 

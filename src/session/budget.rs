@@ -14,6 +14,10 @@ pub const STEPS_PER_SECOND: f64 = 2e7;
 /// The time budget when none is given: a day of worst-case computing.
 pub const DEFAULT_SECONDS: f64 = 86_400.0;
 
+/// The longest a chunk may take in the worst case (about a minute in a typical one, whose
+/// trajectories settle some fifty times sooner than their `max_forcing_periods`).
+pub const CHUNK_SECONDS: f64 = 3600.0;
+
 /// What a run may spend.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Budget {
@@ -39,6 +43,16 @@ pub enum BudgetError {
         seconds: f64,
         threads: usize,
         budget: f64,
+        factors: Vec<String>,
+    },
+    #[error(
+        "one chunk of analysis '{name}' could take up to {} on a thread (worst case), more than \
+         {}: a kill would lose all of it; make it smaller ({}), or give --force",
+        duration(*seconds), duration(CHUNK_SECONDS), factors.join(" × ")
+    )]
+    Chunk {
+        name: String,
+        seconds: f64,
         factors: Vec<String>,
     },
     #[error(
@@ -129,13 +143,23 @@ impl Budget {
                 factors: cost.memory.clone(),
             });
         }
-        let seconds = cost.steps / (STEPS_PER_SECOND * self.threads as f64);
+        let rate = STEPS_PER_SECOND * self.threads as f64;
+        let seconds = cost.steps / rate;
         if seconds > self.seconds && !self.force {
             return Err(BudgetError::Time {
                 name: name.into(),
                 seconds,
                 threads: self.threads,
                 budget: self.seconds,
+                factors: cost.factors.clone(),
+            });
+        }
+        // a chunk runs on one thread (a family's member or a map's row on all: this errs safe)
+        let chunk = cost.chunk_steps() / STEPS_PER_SECOND;
+        if chunk > CHUNK_SECONDS && cost.chunk.is_some() && !self.force {
+            return Err(BudgetError::Chunk {
+                name: name.into(),
+                seconds: chunk,
                 factors: cost.factors.clone(),
             });
         }
