@@ -49,7 +49,7 @@ impl Device {
         }
     }
 
-    /// Checks every field is finite and positive.
+    /// Checks every field against its range ([`super::limits`]).
     pub fn validate(&self) -> Result<(), ParamError> {
         for (field, value, (lo, hi)) in [
             ("mu", self.mu, limits::MU),

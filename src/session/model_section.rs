@@ -35,17 +35,6 @@ pub struct ModelSection {
 /// A key's range, [lo, hi], and how the error words it.
 type Allowed = (f64, f64, String);
 
-fn one_of(a: Option<f64>, name_a: &'static str, b: Option<f64>) -> Result<Option<f64>, ParamError> {
-    match (a, b) {
-        (Some(_), Some(v)) => Err(ParamError {
-            field: name_a.into(),
-            value: v,
-            allowed: "one form only: the non-dimensional value or the physical one".into(),
-        }),
-        (a, b) => Ok(a.or(b)),
-    }
-}
-
 impl ModelSection {
     /// These values over `base` (a session's model under an analysis' overrides). A quantity
     /// with two forms (`omega` or `frequency_hz`, ...) is taken whole from whichever sets it,
@@ -198,26 +187,15 @@ impl ModelSection {
     pub fn to_spec(&self, device: &Device) -> Result<ParamSpec, ParamError> {
         self.check_keys(device)?;
         let base = ParamSpec::default();
-        let c_tilde = one_of(
-            self.c_tilde,
-            "c_tilde",
-            self.damping_n_s_per_m.map(|c| device.c_tilde(c)),
-        )?;
-        let omega = one_of(
-            self.omega,
-            "omega",
-            self.frequency_hz.map(|f| device.omega_from_hz(f)),
-        )?;
-        let phi_dc = one_of(
-            self.phi_dc,
-            "phi_dc",
-            self.dc_kv.map(|v| device.phi_from_kv(v)),
-        )?;
-        let phi_ac = one_of(
-            self.phi_ac,
-            "phi_ac",
-            self.ac_kv.map(|v| device.phi_from_kv(v)),
-        )?;
+        // one form of each quantity at most (checked above): the one given
+        let c_tilde = self
+            .c_tilde
+            .or(self.damping_n_s_per_m.map(|c| device.c_tilde(c)));
+        let omega = self
+            .omega
+            .or(self.frequency_hz.map(|f| device.omega_from_hz(f)));
+        let phi_dc = self.phi_dc.or(self.dc_kv.map(|v| device.phi_from_kv(v)));
+        let phi_ac = self.phi_ac.or(self.ac_kv.map(|v| device.phi_from_kv(v)));
         let drive = match (phi_dc, phi_ac, self.e_a, self.adr) {
             (Some(_), _, Some(e), _) | (_, Some(_), Some(e), _) => {
                 return Err(ParamError {
