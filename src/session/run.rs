@@ -200,12 +200,12 @@ pub fn run_analysis(
     let fingerprint = session.fingerprint(entry);
     std::fs::create_dir_all(&paths.dir)
         .with_context(|| format!("results folder {}", paths.dir.display()))?;
-    if store::is_current(&paths, &fingerprint) {
-        tracing::info!(analysis = %entry.name, "up to date");
-        store::remove_unused_work(&paths);
-        return Ok(Outcome::UpToDate);
-    }
     match store::verified(&paths) {
+        Ok(m) if m.fingerprint == fingerprint => {
+            tracing::info!(analysis = %entry.name, "up to date");
+            store::remove_unused_work(&paths);
+            return Ok(Outcome::UpToDate);
+        }
         Ok(m) => tracing::info!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint,
             "stored result is stale: kept until the new one is complete"),
         Err(why) => tracing::info!(analysis = %entry.name, reason = %why, "no usable result"),
