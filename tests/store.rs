@@ -761,3 +761,109 @@ fn a_full_disk_ends_in_an_error_and_loses_nothing() {
     assert!(result_files(&session, &BASIN_FILES) == expected);
     drop(disk);
 }
+
+/// Cluster workers (`--worker`) started together never wait for each other's chunks: each
+/// chunk is computed once, and the last to finish assembles.
+#[test]
+fn workers_share_the_chunks_and_the_last_assembles() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    for trial in 0..3 {
+        let (_dir, session) = session_dir(BASIN);
+        let runs: Vec<Child> = (0..3).map(|_| spawn_run(&session, &["--worker"])).collect();
+        let outs: Vec<Output> = runs
+            .into_iter()
+            .map(|c| c.wait_with_output().unwrap())
+            .collect();
+        let mut total = 0;
+        for out in &outs {
+            assert!(out.status.success(), "trial {trial}: {}", text(out));
+            total += computed(&String::from_utf8_lossy(&out.stdout), "basin");
+        }
+        assert_eq!(total, BASIN_CHUNKS, "trial {trial}: each chunk once");
+        if !run_ok(&session, &[]).contains("up to date") {
+            panic!("trial {trial}: no worker assembled");
+        }
+        assert!(
+            result_files(&session, &BASIN_FILES) == expected,
+            "trial {trial}"
+        );
+    }
+}
+
+/// `isola status` while work is under way: chunks done, claimed and missing, by host; and
+/// `--verify` fails until the result is complete.
+#[test]
+fn status_shows_the_work_by_host_and_verifies() {
+    let (_dir, session) = session_dir(BASIN);
+    let status = |verify: bool| {
+        let mut c = isola();
+        c.arg("status").arg(&session);
+        if verify {
+            c.arg("--verify");
+        }
+        c.output().unwrap()
+    };
+    run_ok(&session, &["--shard", "0/2"]);
+    let out = status(false);
+    let text_out = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(
+        text_out.contains("4 of 8 done, 0 claimed, 4 missing"),
+        "{text_out}"
+    );
+    let host = isola::session::store::lock::host_name();
+    assert!(
+        text_out
+            .lines()
+            .any(|l| l.trim_start().starts_with(&host) && l.contains(" 4 ")),
+        "{text_out}"
+    );
+    assert!(!status(true).status.success());
+    run_ok(&session, &[]);
+    let out = status(true);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("complete, verified"));
+}
+
+/// `isola slurm` writes a job array and an assembly job that run this isola on the session,
+/// quoted so that any path works, and refuses options that would break the script.
+#[test]
+fn slurm_scripts_are_valid_shell_and_quote_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("it's a folder");
+    std::fs::create_dir_all(&folder).unwrap();
+    let session = folder.join("s.toml");
+    std::fs::write(&session, BASIN).unwrap();
+    let out = isola()
+        .arg("slurm")
+        .arg(&session)
+        .args(["--tasks", "3", "--cpus-per-task", "2", "--time", "1:00:00"])
+        .arg("--sbatch-arg=--account=proj42")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out));
+    for script in ["work.sh", "assemble.sh"] {
+        let path = folder.join("s.results/slurm").join(script);
+        let body = std::fs::read_to_string(&path).unwrap();
+        assert!(body.contains("#SBATCH --cpus-per-task=2"), "{body}");
+        assert!(
+            body.contains("#SBATCH --time=1:00:00") && body.contains("#SBATCH --account=proj42")
+        );
+        let syntax = Command::new("bash").arg("-n").arg(&path).status().unwrap();
+        assert!(syntax.success(), "{script} is not valid shell");
+        // the session path, quoted, reaches isola intact
+        let quoted_path = format!("'{}'", session.display().to_string().replace('\'', "'\\''"));
+        assert!(body.contains(&quoted_path), "{body}");
+    }
+    let work = std::fs::read_to_string(folder.join("s.results/slurm/work.sh")).unwrap();
+    assert!(work.contains("#SBATCH --array=0-2") && work.contains("--worker"));
+    for bad in ["--time=1 2", "--sbatch-arg=account", "--partition=a#b"] {
+        let out = isola()
+            .arg("slurm")
+            .arg(&session)
+            .args(["--tasks", "2", bad])
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{bad} accepted");
+    }
+}

@@ -11,7 +11,9 @@ mod orbit;
 mod parse;
 mod response;
 mod run;
+mod slurm;
 mod start_ranges;
+mod status;
 mod sweep;
 
 use std::process::ExitCode;
@@ -53,6 +55,12 @@ enum Command {
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
     Export(run::ExportArgs),
+    /// Where each analysis of a session stands: its result, and the chunks done, claimed and
+    /// missing, by host, with rates (while runs compute it, here or on a cluster).
+    Status(status::StatusArgs),
+    /// Write (and with --submit, submit) a Slurm job array that computes a session's analyses
+    /// on many nodes, and a job that assembles and verifies them.
+    Slurm(slurm::SlurmArgs),
     /// The terminal workbench (also what a bare `isola` opens).
     #[cfg(feature = "tui")]
     Tui(crate::tui::TuiArgs),
@@ -76,6 +84,8 @@ pub fn run() -> ExitCode {
         Command::Map(args) => map::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Export(args) => run::export(&args),
+        Command::Status(args) => status::run(&args),
+        Command::Slurm(args) => slurm::run(&args),
         #[cfg(feature = "tui")]
         Command::Tui(args) => return finish_with(crate::tui::run(&args)),
     };

@@ -14,7 +14,7 @@ use isola::jobs::JobContext;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
 use isola::session::output::{Protected, check_target};
-use isola::session::run::{Outcome, Shard, run_analysis};
+use isola::session::run::{Outcome, Role, Shard, run_analysis_as};
 use isola::session::store::{self, ResultPaths};
 
 #[derive(Debug, Args)]
@@ -37,6 +37,11 @@ pub struct RunArgs {
     /// Run even if over the time budget (never over the memory bound).
     #[arg(long)]
     force: bool,
+    /// Be one worker of a cluster job: compute the chunks no other run has claimed until
+    /// none is left, never wait for chunks claimed elsewhere (the last worker, or the job's
+    /// assembly step, assembles).
+    #[arg(long)]
+    worker: bool,
 }
 
 /// A positive, finite number of seconds.
@@ -47,7 +52,7 @@ pub fn parse_seconds(s: &str) -> Result<f64, String> {
     }
 }
 
-fn parse_shard(s: &str) -> Result<Shard, String> {
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
     let (i, n) = s.split_once('/').ok_or("expected I/N, e.g. 0/4")?;
     let (index, count): (usize, usize) = (
         i.parse().map_err(|_| format!("'{i}' is not a number"))?,
@@ -57,6 +62,24 @@ fn parse_shard(s: &str) -> Result<Shard, String> {
         return Err(format!("'{s}': need 0 <= I < N"));
     }
     Ok(Shard { index, count })
+}
+
+/// The analyses `--only NAME` picks (all without it); an unknown name lists the others.
+pub fn selected<'a>(
+    session: &'a Session,
+    only: Option<&str>,
+) -> anyhow::Result<Vec<&'a isola::session::AnalysisEntry>> {
+    Ok(match only {
+        Some(name) => vec![session.analysis(name).ok_or_else(|| {
+            let names: Vec<&str> = session.analyses.iter().map(|a| a.name.as_str()).collect();
+            anyhow::anyhow!(
+                "no analysis '{name}' in {}: one of {}",
+                session.path.display(),
+                names.join(", ")
+            )
+        })?],
+        None => session.analyses.iter().collect(),
+    })
 }
 
 /// Sends tracing events to `run.log` in the session's results directory (never to the
@@ -69,17 +92,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
     log_to_file(&session)?;
     tracing::info!(session = %args.session.display(), "run started");
-    let entries: Vec<_> = match &args.only {
-        Some(name) => vec![session.analysis(name).ok_or_else(|| {
-            let names: Vec<&str> = session.analyses.iter().map(|a| a.name.as_str()).collect();
-            anyhow::anyhow!(
-                "no analysis '{name}' in {}: one of {}",
-                args.session.display(),
-                names.join(", ")
-            )
-        })?],
-        None => session.analyses.iter().collect(),
-    };
+    let entries = selected(&session, args.only.as_deref())?;
     let shard = args.shard.unwrap_or(Shard::ALL);
     let threads = isola::jobs::worker_count(args.threads)?;
     let budget = Budget::on_this_machine(threads, args.budget, args.force);
@@ -91,7 +104,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         let done = Arc::new(AtomicBool::new(false));
         let reporter = spawn_reporter(entry.name.clone(), progress.clone(), done.clone());
         let started = Instant::now();
-        let outcome = ctx.run(|| run_analysis(&session, entry, shard, &progress));
+        let role = Role {
+            shard,
+            worker: args.worker,
+        };
+        let outcome = ctx.run(|| run_analysis_as(&session, entry, role, &progress));
         done.store(true, Ordering::Relaxed);
         let _ = reporter.join();
         let outcome = outcome??;
@@ -114,6 +131,13 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
                     "assembled by another run"
                 },
                 csv.display()
+            ),
+            Outcome::ShardDone {
+                chunks_computed,
+                missing,
+            } if shard == Shard::ALL => println!(
+                "{}: this run computed {} chunks; {} chunks still missing (other runs have them)",
+                entry.name, chunks_computed, missing
             ),
             Outcome::ShardDone {
                 chunks_computed,

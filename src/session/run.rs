@@ -15,6 +15,7 @@ use super::schema::{AnalysisEntry, Session, Settings};
 use super::store::chunk::Payload;
 use super::store::finite::first_non_finite;
 use super::store::manifest::{MANIFEST_FORMAT, Manifest};
+use super::store::survey::{Survey, survey};
 use super::store::{self, ResultPaths, Work, lock, unix_now};
 use crate::analysis::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::branch_from_state::branch_from_state;
@@ -116,6 +117,37 @@ impl Payload for FamilyMember {
     }
 }
 
+/// The work under way on `entry` for the session's current settings: chunks done (by which
+/// host), claimed, missing.
+pub fn survey_of(session: &Session, entry: &AnalysisEntry) -> Survey {
+    let paths = ResultPaths::new(session, &entry.name);
+    let fingerprint = session.fingerprint(entry);
+    let n = chunk_count(&entry.settings);
+    match &entry.settings {
+        Settings::Basin(spec) => survey(&paths, &fingerprint, n, |i, o: &Vec<SteadyState>| {
+            basin_content(spec, i, o)
+        }),
+        Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
+            survey(&paths, &fingerprint, n, |i, r: &Vec<Response>| {
+                response_content(spec, i, r)
+            })
+        }
+        Settings::Map(spec) => survey(&paths, &fingerprint, n, |i, r: &MapRow| {
+            map_content(spec, i, r)
+        }),
+        Settings::Family(spec) => survey(&paths, &fingerprint, n, |i, m: &FamilyMember| {
+            family_content(spec, i, m)
+        }),
+        // computed whole: no chunk file, only a claim while it runs
+        _ => survey(
+            &paths,
+            &fingerprint,
+            n,
+            |_, _: &Vec<f64>| Err("none".into()),
+        ),
+    }
+}
+
 /// What chunk `i` of a basin must hold: one outcome per cell of the chunk.
 pub fn basin_content(spec: &BasinSpec, i: usize, outcomes: &[SteadyState]) -> Result<(), String> {
     let cells = spec.dx.points * spec.v.points;
@@ -187,6 +219,27 @@ pub fn family_content(spec: &FamilySpec, i: usize, member: &FamilyMember) -> Res
     Ok(())
 }
 
+/// How a run takes part in computing an analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Role {
+    /// The chunks it may compute.
+    pub shard: Shard,
+    /// A worker of a cluster job: it computes the chunks nobody has claimed, again and again
+    /// until none is left, and never waits for chunks claimed by other runs (a whole run
+    /// waits for them, and computes those whose claimer died).
+    pub worker: bool,
+}
+
+impl Role {
+    /// A run that computes, or waits for, every chunk of `shard`.
+    pub fn whole(shard: Shard) -> Role {
+        Role {
+            shard,
+            worker: false,
+        }
+    }
+}
+
 /// Runs one analysis of `session`: returns at once if its stored result is current, else
 /// computes the chunks this shard owns that no other run has done or is doing, and
 /// assembles the result once every chunk is there.
@@ -194,6 +247,16 @@ pub fn run_analysis(
     session: &Session,
     entry: &AnalysisEntry,
     shard: Shard,
+    progress: &Progress,
+) -> anyhow::Result<Outcome> {
+    run_analysis_as(session, entry, Role::whole(shard), progress)
+}
+
+/// [`run_analysis`] in a given role.
+pub fn run_analysis_as(
+    session: &Session,
+    entry: &AnalysisEntry,
+    role: Role,
     progress: &Progress,
 ) -> anyhow::Result<Outcome> {
     let paths = ResultPaths::new(session, &entry.name);
@@ -214,7 +277,8 @@ pub fn run_analysis(
     let run = Run {
         session,
         entry,
-        shard,
+        shard: role.shard,
+        worker: role.worker,
         progress,
         work: &work,
         chunks: chunk_count(&entry.settings),
@@ -233,6 +297,7 @@ struct Run<'a> {
     session: &'a Session,
     entry: &'a AnalysisEntry,
     shard: Shard,
+    worker: bool,
     progress: &'a Progress,
     work: &'a Work,
     chunks: usize,
@@ -382,8 +447,20 @@ impl Run<'_> {
             });
         }
         progress.grow_total(1);
-        let Some(_claim) = self.work.claim(0, &|| self.cancelled())? else {
-            return Err(self.cancelled_error());
+        let claim = if self.worker {
+            self.work.try_claim(0)?
+        } else {
+            match self.work.claim(0, &|| self.cancelled())? {
+                Some(c) => Some(c),
+                None => return Err(self.cancelled_error()),
+            }
+        };
+        let Some(_claim) = claim else {
+            // another run computes it
+            return Ok(Outcome::ShardDone {
+                chunks_computed: 0,
+                missing: 1,
+            });
         };
         if let Ok(m) = store::verified(&self.work.paths)
             && m.fingerprint == self.work.fingerprint
@@ -438,19 +515,43 @@ impl Run<'_> {
             let one = |i: usize, wait: bool| -> anyhow::Result<Step> {
                 self.one_chunk(i, wait, &existing, &compute, &content, &describe)
             };
-            let steps: Vec<(usize, Step)> = mine
+            let mut steps: Vec<(usize, Step)> = mine
                 .par_iter()
                 .map(|&i| one(i, false).map(|s| (i, s)))
                 .collect::<anyhow::Result<_>>()?;
-            let waiting: Vec<usize> = steps
-                .iter()
-                .filter(|(_, s)| matches!(s, Step::Claimed))
-                .map(|(i, _)| *i)
-                .collect();
-            let waited: Vec<Step> = waiting
-                .par_iter()
-                .map(|&i| one(i, true))
-                .collect::<anyhow::Result<_>>()?;
+            let claimed = |steps: &[(usize, Step)]| -> Vec<usize> {
+                steps
+                    .iter()
+                    .filter(|(_, s)| matches!(s, Step::Claimed))
+                    .map(|(i, _)| *i)
+                    .collect()
+            };
+            // a worker goes round the chunks claimed elsewhere while that finds work (their
+            // claimer may have died); a whole run waits for each of them
+            let mut waited: Vec<Step> = Vec::new();
+            loop {
+                let waiting = claimed(&steps);
+                if waiting.is_empty() {
+                    break;
+                }
+                if !self.worker {
+                    waited = waiting
+                        .par_iter()
+                        .map(|&i| one(i, true))
+                        .collect::<anyhow::Result<_>>()?;
+                    break;
+                }
+                let again: Vec<(usize, Step)> = waiting
+                    .par_iter()
+                    .map(|&i| one(i, false).map(|s| (i, s)))
+                    .collect::<anyhow::Result<_>>()?;
+                let found_work = again.iter().any(|(_, s)| matches!(s, Step::Computed));
+                steps.retain(|(_, s)| !matches!(s, Step::Claimed));
+                steps.extend(again);
+                if !found_work {
+                    break;
+                }
+            }
             computed += steps
                 .iter()
                 .map(|(_, s)| s)
@@ -470,7 +571,8 @@ impl Run<'_> {
             if missing.is_empty() {
                 return self.assemble(&content, seconds, computed, finish);
             }
-            if missing.iter().all(|&i| !self.shard.owns(i)) {
+            // missing: other shards' chunks, or (for a worker) chunks other runs compute
+            if self.worker || missing.iter().all(|&i| !self.shard.owns(i)) {
                 return Ok(Outcome::ShardDone {
                     chunks_computed: computed,
                     missing: missing.len(),

@@ -21,6 +21,7 @@ pub mod chunk;
 pub mod finite;
 pub mod lock;
 pub mod manifest;
+pub mod survey;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;

@@ -1,0 +1,232 @@
+//! `isola slurm`: a session's analyses as a Slurm job array whose tasks share the work chunk
+//! by chunk (each claims what nobody has; slow and fast nodes balance), and a job that starts
+//! when the array has ended, computes whatever is left (a task that died), assembles and
+//! verifies. A task that fails is requeued, twice at most; a pre-empted one is requeued by
+//! Slurm. No finished chunk is ever lost: chunks are saved whole as they finish.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use clap::Args;
+use isola::session::Session;
+use isola::session::budget::{self, Budget};
+
+#[derive(Debug, Args)]
+pub struct SlurmArgs {
+    /// The session file (on a folder every node sees).
+    session: PathBuf,
+    /// Only this analysis.
+    #[arg(long)]
+    only: Option<String>,
+    /// Tasks of the array.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10000))]
+    tasks: u32,
+    /// CPUs per task (each task runs that many worker threads).
+    #[arg(long = "cpus-per-task", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    cpus_per_task: u32,
+    /// Time limit of each task, as Slurm writes it (`30`, `2:00:00`, `1-00:00:00`).
+    #[arg(long)]
+    time: Option<String>,
+    /// Partition to run in.
+    #[arg(long)]
+    partition: Option<String>,
+    /// Another `#SBATCH` option for both jobs, e.g. `--sbatch-arg=--account=proj42`.
+    #[arg(long = "sbatch-arg", allow_hyphen_values = true)]
+    sbatch_args: Vec<String>,
+    /// Submit the two jobs with `sbatch` and print their ids.
+    #[arg(long)]
+    submit: bool,
+    /// The isola the tasks run (default: this one).
+    #[arg(long)]
+    isola: Option<PathBuf>,
+}
+
+/// A value put in a shell script between single quotes.
+fn quoted(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+/// A Slurm option value must not break the `#SBATCH` line it is on.
+fn sbatch_value(what: &str, value: &str) -> anyhow::Result<String> {
+    if value.is_empty() || value.chars().any(|c| c.is_whitespace() || c == '#') {
+        anyhow::bail!("{what} '{value}': no spaces or '#' in a Slurm option");
+    }
+    Ok(value.to_string())
+}
+
+/// The `#SBATCH` lines both jobs share.
+fn common_options(args: &SlurmArgs) -> anyhow::Result<String> {
+    let mut lines = format!("#SBATCH --cpus-per-task={}\n", args.cpus_per_task);
+    if let Some(t) = &args.time {
+        lines.push_str(&format!("#SBATCH --time={}\n", sbatch_value("--time", t)?));
+    }
+    if let Some(p) = &args.partition {
+        lines.push_str(&format!(
+            "#SBATCH --partition={}\n",
+            sbatch_value("--partition", p)?
+        ));
+    }
+    for a in &args.sbatch_args {
+        let a = sbatch_value("--sbatch-arg", a)?;
+        if !a.starts_with('-') {
+            anyhow::bail!("--sbatch-arg '{a}': an sbatch option starts with '-'");
+        }
+        lines.push_str(&format!("#SBATCH {a}\n"));
+    }
+    Ok(lines)
+}
+
+/// The job-array script: each task is a worker (`isola run --worker`).
+fn work_script(
+    name: &str,
+    out: &Path,
+    isola: &str,
+    run: &str,
+    args: &SlurmArgs,
+) -> anyhow::Result<String> {
+    Ok(format!(
+        "#!/bin/bash
+# The work of {name}: one task of a job array, written by `isola slurm`. Each task computes the
+# chunks no other task has claimed; chunks are saved whole as they finish, so a task killed,
+# pre-empted or requeued loses none.
+#SBATCH --job-name=isola-{name}
+#SBATCH --array=0-{last}
+#SBATCH --output={out}/work-%A_%a.out
+#SBATCH --open-mode=append
+#SBATCH --requeue
+{common}
+echo \"task ${{SLURM_ARRAY_TASK_ID:-?}} of job ${{SLURM_ARRAY_JOB_ID:-?}} on $(hostname), start ${{SLURM_RESTART_COUNT:-0}}, $(date -u +%FT%TZ)\"
+{isola} run {run} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --worker --force
+status=$?
+# a task that failed (rather than one cancelled or killed by Slurm) is tried again, twice at most
+if [ \"$status\" -ne 0 ] && [ \"${{SLURM_RESTART_COUNT:-0}}\" -lt 2 ]; then
+  echo \"isola exited with $status: requeueing this task\"
+  scontrol requeue \"${{SLURM_ARRAY_JOB_ID}}_${{SLURM_ARRAY_TASK_ID}}\"
+fi
+exit \"$status\"
+",
+        last = args.tasks - 1,
+        out = out.display(),
+        common = common_options(args)?,
+    ))
+}
+
+/// The job that runs after the array: computes what is left, assembles, verifies.
+fn assemble_script(
+    name: &str,
+    out: &Path,
+    isola: &str,
+    run: &str,
+    args: &SlurmArgs,
+) -> anyhow::Result<String> {
+    Ok(format!(
+        "#!/bin/bash
+# Assembles and verifies {name} once its job array has ended (written by `isola slurm`): chunks a
+# task left undone are computed here, the result is written and checked against its manifest.
+#SBATCH --job-name=isola-{name}-assemble
+#SBATCH --output={out}/assemble-%j.out
+#SBATCH --open-mode=append
+#SBATCH --requeue
+{common}
+set -e
+{isola} run {run} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --force
+{isola} status {run} --verify
+",
+        out = out.display(),
+        common = common_options(args)?,
+    ))
+}
+
+pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
+    let session = Session::load(&args.session)?;
+    let entries = super::run::selected(&session, args.only.as_deref())?;
+    // the time budget of the whole array (each task then runs with --force); memory and disk
+    // are checked again by every task on its own node
+    let threads = (args.tasks * args.cpus_per_task) as usize;
+    budget::check_all(
+        &session,
+        entries.iter().copied(),
+        &Budget::on_this_machine(threads, None, false),
+    )?;
+    let session_path = args
+        .session
+        .canonicalize()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.session.display()))?;
+    let isola = match &args.isola {
+        Some(p) => p.clone(),
+        None => std::env::current_exe()?,
+    };
+    let isola = isola
+        .canonicalize()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", isola.display()))?;
+    let name = session_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let out = session_path
+        .with_file_name(format!("{name}.results"))
+        .join("slurm");
+    std::fs::create_dir_all(&out).map_err(|e| anyhow::anyhow!("{}: {e}", out.display()))?;
+    let mut run_args = quoted(&session_path.to_string_lossy());
+    if let Some(only) = &args.only {
+        run_args.push_str(&format!(" --only {}", quoted(only)));
+    }
+    let isola = quoted(&isola.to_string_lossy());
+    let scripts = [
+        (
+            "work.sh",
+            work_script(&name, &out, &isola, &run_args, args)?,
+        ),
+        (
+            "assemble.sh",
+            assemble_script(&name, &out, &isola, &run_args, args)?,
+        ),
+    ];
+    for (file, text) in &scripts {
+        let path = out.join(file);
+        isola::session::atomic::write_atomic(&path, text.as_bytes())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    let (work, assemble) = (out.join("work.sh"), out.join("assemble.sh"));
+    if !args.submit {
+        println!(
+            "submit with:\n  jobid=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$jobid {}\nwatch with:\n  isola status {}",
+            work.display(),
+            assemble.display(),
+            session_path.display()
+        );
+        return Ok(());
+    }
+    let array = sbatch(&[work.as_os_str()])?;
+    let dependency = format!("--dependency=afterany:{array}");
+    let after = sbatch(&[std::ffi::OsStr::new(&dependency), assemble.as_os_str()])?;
+    println!(
+        "submitted job array {array} ({} tasks) and assembly job {after}",
+        args.tasks
+    );
+    println!("watch with: isola status {}", session_path.display());
+    Ok(())
+}
+
+/// Runs `sbatch --parsable ARGS` and returns the job id it prints.
+fn sbatch(args: &[&std::ffi::OsStr]) -> anyhow::Result<String> {
+    let out = Command::new("sbatch")
+        .arg("--parsable")
+        .args(args)
+        .output()
+        .map_err(|e| anyhow::anyhow!("sbatch: {e} (is Slurm installed here?)"))?;
+    if !out.status.success() {
+        anyhow::bail!(
+            "sbatch failed: {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    // `jobid` or `jobid;cluster`
+    let id = text.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
+        anyhow::bail!("sbatch printed no job id: {text}");
+    }
+    Ok(id)
+}
