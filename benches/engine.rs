@@ -10,18 +10,20 @@ use std::sync::atomic::AtomicBool;
 use isola::analysis::batch::steady_states;
 use isola::analysis::{SteadyStateSpec, steady_state};
 use isola::model::{DriveSpec, ParamSpec, Params};
+use isola::solver::isa::Isa;
 use isola::solver::{Resolution, Rk4};
 
 const PERIODS: usize = 200;
 
-/// `L` lanes started near `dx` around λ_p, advanced `PERIODS` forcing periods.
-fn run_lanes<const L: usize>(rk: &Rk4, dx: f64) -> f64 {
+/// `L` lanes started near `dx` around λ_p, advanced `PERIODS` forcing periods in the code
+/// compiled for `isa`.
+fn run_lanes<const L: usize>(rk: &Rk4, isa: Isa, dx: f64) -> f64 {
     let p = rk.params();
     let x: [f64; L] = std::array::from_fn(|i| p.lambda_p() + dx * (i as f64 / L as f64 - 0.5));
     let v: [f64; L] = std::array::from_fn(|i| 0.01 * i as f64 / L as f64);
     let mut lanes = rk.start(x, v);
     for _ in 0..PERIODS {
-        rk.advance_period(&mut lanes, |_, _, _| {});
+        rk.advance_period_in(isa, &mut lanes, |_, _, _| {});
     }
     lanes.x.iter().sum()
 }
@@ -45,14 +47,19 @@ fn rk4_steps(c: &mut Criterion) {
     for (name, p) in [("taut", &taut), ("slack", &slack)] {
         let rk = Rk4::new(p, &Resolution::default());
         let steps = (PERIODS * rk.steps_per_period()) as u64;
-        g.throughput(Throughput::Elements(steps));
-        g.bench_function(format!("{name}/1_lane"), |b| {
-            b.iter(|| run_lanes::<1>(&rk, black_box(0.01)))
-        });
-        g.throughput(Throughput::Elements(16 * steps));
-        g.bench_function(format!("{name}/16_lanes"), |b| {
-            b.iter(|| run_lanes::<16>(&rk, black_box(0.01)))
-        });
+        // every instruction set this CPU has, side by side (the release build chooses the
+        // widest)
+        for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+            let isa_name = isa.name();
+            g.throughput(Throughput::Elements(steps));
+            g.bench_function(format!("{name}/1_lane/{isa_name}"), |b| {
+                b.iter(|| run_lanes::<1>(&rk, isa, black_box(0.01)))
+            });
+            g.throughput(Throughput::Elements(16 * steps));
+            g.bench_function(format!("{name}/16_lanes/{isa_name}"), |b| {
+                b.iter(|| run_lanes::<16>(&rk, isa, black_box(0.01)))
+            });
+        }
     }
     g.finish();
 }

@@ -69,6 +69,9 @@ enum Command {
 /// Parses the command line and runs the command; errors go to stderr with exit code 1.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = isola::solver::isa::choose() {
+        return finish(Err(e.into()));
+    }
     let Some(command) = cli.command else {
         return open_workbench();
     };
@@ -152,6 +155,8 @@ pub fn log_to(path: &std::path::Path) -> anyhow::Result<()> {
         .with_ansi(false)
         .with_max_level(tracing::Level::INFO)
         .try_init();
+    let isa = isola::solver::isa::chosen().name();
+    tracing::info!("isola {} on {isa} instructions", isola::BUILD);
     Ok(())
 }
 

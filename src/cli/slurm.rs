@@ -46,12 +46,39 @@ fn quoted(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
 }
 
+/// A path as a word to paste into a shell: as it is if it is plain, quoted otherwise.
+fn shell_word(path: &Path) -> String {
+    let text = path.to_string_lossy();
+    let plain = |c: char| c.is_ascii_alphanumeric() || "/._-+,:@=".contains(c);
+    if !text.is_empty() && text.chars().all(plain) {
+        text.into_owned()
+    } else {
+        quoted(&text)
+    }
+}
+
 /// A Slurm option value must not break the `#SBATCH` line it is on.
 fn sbatch_value(what: &str, value: &str) -> anyhow::Result<String> {
     if value.is_empty() || value.chars().any(|c| c.is_whitespace() || c == '#') {
         anyhow::bail!("{what} '{value}': no spaces or '#' in a Slurm option");
     }
     Ok(value.to_string())
+}
+
+/// A folder as an `#SBATCH` line takes it between double quotes: refused if it holds what
+/// such a line cannot carry (`"`, `\\`, a line break) or what Slurm would expand (`%`).
+fn sbatch_path(path: &Path) -> anyhow::Result<String> {
+    let text = path.to_string_lossy();
+    match text
+        .chars()
+        .find(|c| matches!(c, '"' | '\\' | '%' | '\n' | '\r'))
+    {
+        Some(c) => anyhow::bail!(
+            "{text}: Slurm cannot write its output in a folder whose path holds {c:?}; \
+             move the session"
+        ),
+        None => Ok(text.into_owned()),
+    }
 }
 
 /// The `#SBATCH` lines both jobs share.
@@ -91,7 +118,7 @@ fn work_script(
 # pre-empted or requeued loses none.
 #SBATCH --job-name=isola-{name}
 #SBATCH --array=0-{last}
-#SBATCH --output={out}/work-%A_%a.out
+#SBATCH --output=\"{out}/work-%A_%a.out\"
 #SBATCH --open-mode=append
 #SBATCH --requeue
 {common}
@@ -106,7 +133,7 @@ fi
 exit \"$status\"
 ",
         last = args.tasks - 1,
-        out = out.display(),
+        out = sbatch_path(out)?,
         common = common_options(args)?,
     ))
 }
@@ -124,7 +151,7 @@ fn assemble_script(
 # Assembles and verifies {name} once its job array has ended (written by `isola slurm`): chunks a
 # task left undone are computed here, the result is written and checked against its manifest.
 #SBATCH --job-name=isola-{name}-assemble
-#SBATCH --output={out}/assemble-%j.out
+#SBATCH --output=\"{out}/assemble-%j.out\"
 #SBATCH --open-mode=append
 #SBATCH --requeue
 {common}
@@ -132,7 +159,7 @@ set -e
 {isola} run {run} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --force
 {isola} status {run} --verify
 ",
-        out = out.display(),
+        out = sbatch_path(out)?,
         common = common_options(args)?,
     ))
 }
@@ -192,9 +219,9 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
     if !args.submit {
         println!(
             "submit with:\n  jobid=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$jobid {}\nwatch with:\n  isola status {}",
-            work.display(),
-            assemble.display(),
-            session_path.display()
+            shell_word(&work),
+            shell_word(&assemble),
+            shell_word(&session_path)
         );
         return Ok(());
     }
@@ -205,7 +232,7 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
         "submitted job array {array} ({} tasks) and assembly job {after}",
         args.tasks
     );
-    println!("watch with: isola status {}", session_path.display());
+    println!("watch with: isola status {}", shell_word(&session_path));
     Ok(())
 }
 

@@ -2,9 +2,8 @@
 //! the nodes of a cluster) compute it: the stored result, and the chunks done, claimed and
 //! missing, by host, with rates.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::time::{Duration, SystemTime};
+use std::time::SystemTime;
 
 use clap::Args;
 use isola::session::Session;
@@ -24,51 +23,43 @@ pub struct StatusArgs {
     verify: bool,
 }
 
-/// Rates are taken over the chunks saved in this last stretch of time.
-const RATE_WINDOW: Duration = Duration::from_secs(300);
-
 pub fn run(args: &StatusArgs) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
     let mut incomplete = Vec::new();
     for entry in super::run::selected(&session, args.only.as_deref())? {
         let paths = ResultPaths::new(&session, &entry.name);
         let fingerprint = session.fingerprint(entry);
-        let result = match store::verified(&paths) {
-            Ok(m) if m.fingerprint == fingerprint => format!(
+        let result = || match store::verified(&paths) {
+            Ok(m) if m.fingerprint == fingerprint => Ok(format!(
                 "complete, verified ({} files, assembled by {})",
                 m.files.len(),
                 host_of(&m.assembled_by)
-            ),
-            Ok(_) => "stale (computed for other settings, device or numerics)".into(),
-            Err(why) => format!("none ({why})"),
+            )),
+            Ok(_) => Err("stale (computed for other settings, device or numerics)".to_string()),
+            Err(why) => Err(format!("none ({why})")),
         };
-        let current = result.starts_with("complete");
-        if !current {
-            incomplete.push(entry.name.clone());
-        }
-        println!(
-            "{} ({}): result {result}",
-            entry.name,
-            entry.settings.kind()
-        );
-        if current {
+        let (kind, name) = (entry.settings.kind(), &entry.name);
+        let not_current = match result() {
+            Ok(complete) => {
+                println!("{name} ({kind}): result {complete}");
+                continue;
+            }
+            Err(why) => why,
+        };
+        let survey = survey_of(&session, entry);
+        // a run may have committed the result (and begun to remove its chunks) meanwhile
+        if let Ok(complete) = result() {
+            println!("{name} ({kind}): result {complete}");
             continue;
         }
-        print_survey(&survey_of(&session, entry));
+        incomplete.push(name.clone());
+        println!("{name} ({kind}): result {not_current}");
+        print_survey(&survey);
     }
     if args.verify && !incomplete.is_empty() {
         anyhow::bail!("no complete, current result for {}", incomplete.join(", "));
     }
     Ok(())
-}
-
-/// One host's part.
-#[derive(Default)]
-struct Host {
-    done: usize,
-    claimed: usize,
-    seconds: f64,
-    recent: Vec<SystemTime>,
 }
 
 fn print_survey(s: &Survey) {
@@ -84,22 +75,7 @@ fn print_survey(s: &Survey) {
             format!(" ({} damaged, to be recomputed)", s.bad.len())
         }
     );
-    let now = SystemTime::now();
-    let mut hosts: BTreeMap<String, Host> = BTreeMap::new();
-    for d in &s.done {
-        let h = hosts.entry(d.host.clone()).or_default();
-        h.done += 1;
-        h.seconds += d.seconds;
-        if now.duration_since(d.saved).unwrap_or_default() <= RATE_WINDOW {
-            h.recent.push(d.saved);
-        }
-    }
-    for (_, holder) in &s.claimed {
-        hosts
-            .entry(host_of(holder).to_string())
-            .or_default()
-            .claimed += 1;
-    }
+    let hosts = s.by_host(SystemTime::now());
     if hosts.is_empty() {
         return;
     }
@@ -107,37 +83,19 @@ fn print_survey(s: &Survey) {
         "  {:<24} {:>6} {:>8} {:>11} {:>9}",
         "host", "done", "claimed", "chunks/min", "s/chunk"
     );
-    let mut total_rate = 0.0;
-    for (name, h) in &hosts {
-        let rate = rate_per_minute(&h.recent, now);
-        total_rate += rate;
+    for h in &hosts {
         let per_chunk = if h.done > 0 {
             format!("{:.2}", h.seconds / h.done as f64)
         } else {
             "-".into()
         };
         println!(
-            "  {name:<24} {:>6} {:>8} {:>11.1} {per_chunk:>9}",
-            h.done, h.claimed, rate
+            "  {:<24} {:>6} {:>8} {:>11.1} {per_chunk:>9}",
+            h.host, h.done, h.claimed, h.per_minute
         );
     }
-    if total_rate > 0.0 && s.missing() > 0 {
-        println!(
-            "  at {total_rate:.1} chunks/min: about {:.0} s to go",
-            60.0 * s.missing() as f64 / total_rate
-        );
+    if let Some(left) = s.seconds_left(&hosts).filter(|_| s.missing() > 0) {
+        let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+        println!("  at {rate:.1} chunks/min: about {left:.0} s to go");
     }
-}
-
-/// Chunks a minute over those saved in the last [`RATE_WINDOW`] (0 if none).
-fn rate_per_minute(saved: &[SystemTime], now: SystemTime) -> f64 {
-    let Some(first) = saved.iter().min() else {
-        return 0.0;
-    };
-    let span = now
-        .duration_since(*first)
-        .unwrap_or_default()
-        .max(Duration::from_secs(1))
-        .min(RATE_WINDOW);
-    saved.len() as f64 * 60.0 / span.as_secs_f64()
 }

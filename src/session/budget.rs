@@ -93,7 +93,8 @@ pub fn free_space(path: &std::path::Path) -> Option<f64> {
         .then_some(s.f_bavail as f64 * s.f_frsize as f64)
 }
 
-fn duration(seconds: f64) -> String {
+/// Seconds as a person reads them: `40 s`, `5 min`, `2.5 h`, `3 days`.
+pub fn duration(seconds: f64) -> String {
     if seconds < 120.0 {
         format!("{seconds:.0} s")
     } else if seconds < 7200.0 {

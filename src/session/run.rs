@@ -117,6 +117,17 @@ impl Payload for FamilyMember {
     }
 }
 
+/// [`survey_of`] from the chunks' header lines only
+/// ([`crate::session::store::survey::glance`]): progress for the workbench.
+pub fn glance_of(session: &Session, entry: &AnalysisEntry) -> Survey {
+    let paths = ResultPaths::new(session, &entry.name);
+    crate::session::store::survey::glance(
+        &paths,
+        &session.fingerprint(entry),
+        chunk_count(&entry.settings),
+    )
+}
+
 /// The work under way on `entry` for the session's current settings: chunks done (by which
 /// host), claimed, missing.
 pub fn survey_of(session: &Session, entry: &AnalysisEntry) -> Survey {

@@ -30,7 +30,7 @@ impl DriveTable {
     }
 
     /// The drive anchored at the start of step `k`.
-    #[inline]
+    #[inline(always)]
     pub fn step_start(&self, k: usize) -> &LocalDrive {
         &self.step_starts[k]
     }
@@ -74,14 +74,14 @@ impl LocalDrive {
     }
 
     /// (φ_I², φ_II²) at τ₀ + `delta`, for |ω·δ| ≤ π/4 (a step of 8 or more per period).
-    #[inline]
+    #[inline(always)]
     pub fn phi_sq(&self, delta: f64) -> (f64, f64) {
         // the unused rates are optimised away
         self.phi_sq_with_rate(delta).0
     }
 
     /// (φ_I², φ_II²) and their rates d(φ²)/dτ at τ₀ + `delta`, for |ω·δ| ≤ π/4.
-    #[inline]
+    #[inline(always)]
     pub fn phi_sq_with_rate(&self, delta: f64) -> ((f64, f64), (f64, f64)) {
         let (sd, cd) = small_sin_cos(self.omega * delta);
         let at = |m: usize| {
@@ -97,7 +97,7 @@ impl LocalDrive {
 
 /// sin and cos of |x| ≤ π/4 by their Taylor series to x¹⁷ / x¹⁶ (error < 1e-17), in
 /// Horner form on x² with fused multiply-adds (the split steps' latency is in this chain).
-#[inline]
+#[inline(always)]
 fn small_sin_cos(x: f64) -> (f64, f64) {
     let x2 = x * x;
     let mut s = INVERSE_FACTORIALS[17];

@@ -47,7 +47,7 @@ impl Mode {
 
     /// Membrane `m`'s `value` signed to be positive where it agrees with this mode: negated
     /// for a slack membrane. Turns a tension into a switching function.
-    #[inline]
+    #[inline(always)]
     pub fn oriented(self, m: Membrane, value: f64) -> f64 {
         if m.of((self.taut_i, self.taut_ii)) {
             value
@@ -135,7 +135,7 @@ impl Field {
     /// Acceleration on one smooth piece: taut membranes pull with p even where p < 0. This
     /// smooth extension keeps an integrator's order up to a located switch. Below a lower
     /// Gent pole a taut membrane pulls with p = −1, as [`Self::tension_of`] says.
-    #[inline]
+    #[inline(always)]
     pub fn accel_in_mode(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64, mode: Mode) -> f64 {
         let mut t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
         if t.den_i <= 0.0 {
@@ -177,7 +177,7 @@ impl Field {
     }
 
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
-    #[inline]
+    #[inline(always)]
     pub fn tension_of(&self, m: Membrane, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> f64 {
         let (lambda, sign) = self.stretch_of(m, x);
         let (phi_sq, lambda_dot) = (m.of((phi_sq_i, phi_sq_ii)), sign * v);
@@ -192,7 +192,7 @@ impl Field {
     /// One membrane's switching function without a division: its tension p times its Gent
     /// denominator (the sign of p between the poles), −1 below its lower pole as in
     /// [`Self::tension_of`].
-    #[inline]
+    #[inline(always)]
     pub fn scaled_tension_of(
         &self,
         m: Membrane,
@@ -209,7 +209,7 @@ impl Field {
     /// The rate d/dτ of [`Self::scaled_tension_of`] along a trajectory at (`x`, `v`) with
     /// acceleration `a`, under drive `phi_sq` changing at `phi_sq_rate` (both as (I, II));
     /// 0 below the lower pole, where the switching function is the constant −1.
-    #[inline]
+    #[inline(always)]
     pub fn scaled_tension_rate(
         &self,
         m: Membrane,

@@ -2,7 +2,7 @@
 //! Used to locate switches inside an RK4 step and to refine extrema between steps.
 
 /// Value at fraction `s` ∈ [0, 1] of a step of length `h`.
-#[inline]
+#[inline(always)]
 pub fn value(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
     let s2 = s * s;
     let s3 = s2 * s;
@@ -13,7 +13,7 @@ pub fn value(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
 }
 
 /// Slope dy/ds at fraction `s` ∈ [0, 1] of a step of length `h` (dy/dτ = slope / h).
-#[inline]
+#[inline(always)]
 pub fn slope(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
     let s2 = s * s;
     (6.0 * s2 - 6.0 * s) * (y0 - y1)
@@ -24,6 +24,7 @@ pub fn slope(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
 /// A root of the cubic in (0, 1], given y0 ≥ 0 > y1: Newton's method kept inside the shrinking
 /// sign-change bracket (bisection where a Newton step leaves it), from the secant estimate,
 /// stopped when successive estimates agree to `tolerance`.
+#[inline(always)]
 pub fn crossing(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, tolerance: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, 1.0);
     let mut s = y0 / (y0 - y1);

@@ -11,6 +11,7 @@ pub(crate) mod dopri_tableau;
 pub mod drive_table;
 pub mod field;
 pub mod hermite;
+pub mod isa;
 pub mod resolution;
 pub mod rk4;
 

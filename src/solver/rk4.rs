@@ -13,6 +13,7 @@ use super::Collision;
 use super::drive_table::{DriveTable, LocalDrive};
 use super::field::{Field, Membrane, Mode};
 use super::hermite;
+use super::isa::{self, Isa};
 use super::resolution::Resolution;
 use crate::model::Params;
 
@@ -118,12 +119,100 @@ impl Rk4 {
 
     /// Advances every lane one forcing period. After each step `observe(k, before, after)`
     /// sees step `k`'s end points as (x, v, a) arrays, for recording; pass `|_, _, _| {}` to
-    /// skip.
+    /// skip. Runs the version compiled for this process's instruction set ([`isa::chosen`]).
     #[inline]
     pub fn advance_period<const L: usize>(
         &self,
         lanes: &mut Lanes<L>,
+        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
+        self.advance_period_in(isa::chosen(), lanes, observe);
+    }
+
+    /// [`Self::advance_period`] in the version compiled for `isa` (to compare them).
+    ///
+    /// # Panics
+    /// If this CPU lacks `isa`'s instructions.
+    #[inline]
+    pub fn advance_period_in<const L: usize>(
+        &self,
+        isa: Isa,
+        lanes: &mut Lanes<L>,
+        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
+        assert!(
+            isa.available(),
+            "{} instructions on a CPU without them",
+            isa.name()
+        );
+        match isa {
+            // SAFETY: the CPU has the instructions (asserted above)
+            #[cfg(target_arch = "x86_64")]
+            Isa::X86_64V4 => unsafe { self.advance_period_v4(lanes, observe) },
+            #[cfg(target_arch = "x86_64")]
+            Isa::X86_64V3 => unsafe { self.advance_period_v3(lanes, observe) },
+            _ => self.advance_period_body(lanes, observe, |k, start, unsplit| {
+                self.split_step_baseline(k, start, unsplit)
+            }),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
+    fn advance_period_v3<const L: usize>(
+        &self,
+        lanes: &mut Lanes<L>,
+        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
+        // a closure here has these instructions too
+        self.advance_period_body(lanes, observe, |k, start, unsplit| {
+            self.split_step_v3(k, start, unsplit)
+        });
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
+    fn split_step_v3(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(
+        enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c,avx512f,avx512bw,avx512cd,avx512dq,avx512vl"
+    )]
+    fn advance_period_v4<const L: usize>(
+        &self,
+        lanes: &mut Lanes<L>,
+        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
+        // a closure here has these instructions too
+        self.advance_period_body(lanes, observe, |k, start, unsplit| {
+            self.split_step_v4(k, start, unsplit)
+        });
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(
+        enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c,avx512f,avx512bw,avx512cd,avx512dq,avx512vl"
+    )]
+    fn split_step_v4(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
+    }
+
+    #[inline(never)]
+    fn split_step_baseline(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
+    }
+
+    /// The one body of every version of [`Self::advance_period`], inlined into each so that
+    /// each is compiled for its instruction set; `split` is [`Self::split_step`] compiled for
+    /// the same (out of line: a lane switches in few steps).
+    #[inline(always)]
+    fn advance_period_body<const L: usize>(
+        &self,
+        lanes: &mut Lanes<L>,
         mut observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+        split: impl Fn(usize, StepStart, StepEnd) -> StepEnd3,
     ) {
         let (h, f) = (self.h, &self.field);
         let half = 0.5 * h;
@@ -192,7 +281,7 @@ impl Rk4 {
                     if switched[i] {
                         let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
                         let unsplit = ([lanes.x[i], lanes.v[i]], lanes.a[i]);
-                        let (end, a_end, mode_end) = self.split_step(k, start, unsplit);
+                        let (end, a_end, mode_end) = split(k, start, unsplit);
                         [lanes.x[i], lanes.v[i]] = end;
                         (lanes.a[i], lanes.mode[i]) = (a_end, Mode::code(mode_end));
                     }
@@ -245,6 +334,7 @@ impl Rk4 {
 
     /// One RK4 step of length `h` on the smooth piece `mode` from `y`, where the acceleration
     /// is `a`; `phi_mid` and `phi_end` are (φ_I², φ_II²) half-way and at the end.
+    #[inline(always)]
     fn step_in_mode(
         &self,
         (y, a): ([f64; 2], f64),
@@ -274,12 +364,8 @@ impl Rk4 {
     /// and a switch misplaced by δ costs only O(δ²), so two sub-steps finish the job. Anything
     /// less simple (no sign change on that interpolant, or another switch after the first)
     /// goes to [`Self::split_from`]. Returns the end state, its acceleration and mode.
-    fn split_step(
-        &self,
-        k: usize,
-        (start, a0, mode0): ([f64; 2], f64, Mode),
-        unsplit: ([f64; 2], f64),
-    ) -> ([f64; 2], f64, Mode) {
+    #[inline(always)]
+    fn split_step(&self, k: usize, (start, a0, mode0): StepStart, unsplit: StepEnd) -> StepEnd3 {
         let (f, h) = (&self.field, self.h);
         let drive = self.table.step_start(k);
         let phi_end = self.table.at(2 * k + 2);
@@ -306,6 +392,7 @@ impl Rk4 {
 
     /// The careful split: from time `t` of a step of length `h`, take trial steps on the
     /// current piece, locate the first switch on each, and go on from it.
+    #[inline(always)]
     fn split_from(&self, drive: &LocalDrive, y: [f64; 2], t: f64, h: f64, mode: Mode) -> [f64; 2] {
         let f = &self.field;
         let (mut y, mut t, mut mode) = (y, t, mode);
@@ -344,7 +431,7 @@ impl Rk4 {
 
     /// Both membranes' switching functions at a state, positive while `mode` holds (each
     /// tension times its Gent denominator, so without a division).
-    #[inline]
+    #[inline(always)]
     fn switching(&self, [x, v]: [f64; 2], (pi, pii): (f64, f64), mode: Mode) -> [f64; 2] {
         let g = |m| mode.oriented(m, self.field.scaled_tension_of(m, x, v, pi, pii));
         [g(Membrane::I), g(Membrane::Ii)]
@@ -356,6 +443,7 @@ impl Rk4 {
     /// is the root of the switching function's cubic Hermite interpolant from its values and
     /// rates at both ends (O(h³), like the state's own interpolant); otherwise the switching
     /// functions are scanned along the state's interpolant for a brief excursion.
+    #[inline(always)]
     fn first_switch(
         &self,
         drive: &LocalDrive,
@@ -430,6 +518,13 @@ impl Rk4 {
     }
 }
 
+/// A step's start: state, acceleration and mode.
+type StepStart = ([f64; 2], f64, Mode);
+/// A step's end: state and acceleration.
+type StepEnd = ([f64; 2], f64);
+/// A step's end: state, acceleration and mode.
+type StepEnd3 = ([f64; 2], f64, Mode);
+
 /// A located switch inside a step.
 #[derive(Debug, Clone, Copy)]
 struct Switch {
@@ -450,6 +545,7 @@ pub struct StepEnds<const L: usize> {
 /// too, lo itself): regula falsi with the Anderson–Björck correction, stopped when successive
 /// estimates agree to [`SWITCH_TOLERANCE`] of the step. A switch misplaced by δ costs only
 /// O(δ²), and the interpolant itself is good to O(h³), so more digits would buy nothing.
+#[inline(always)]
 fn crossing(g: impl Fn(f64) -> f64, (lo, g_lo): (f64, f64), (hi, g_hi): (f64, f64)) -> f64 {
     let (mut a, mut b) = (lo, hi);
     let (mut ga, mut gb) = (g_lo, g_hi);
@@ -510,6 +606,55 @@ mod tests {
             assert_eq!(one.x[0].to_bits(), batch.x[i].to_bits(), "lane {i}");
             assert_eq!(one.v[0].to_bits(), batch.v[i].to_bits(), "lane {i}");
         }
+    }
+
+    /// Every instruction set computes the same bits, on orbits that switch between taut and
+    /// slack (split steps) and in a lane that collides.
+    #[test]
+    fn every_instruction_set_computes_the_same_bits() {
+        let p = Params::baseline();
+        let rk = Rk4::new(&p, &Resolution::default());
+        let x0 = [1.02, 1.32, 1.02 + 0.8, 0.7, 1.1, 1.5, 0.9, 1.25];
+        let v0 = [0.0, 0.0, 3.0, -0.5, 0.2, -0.1, 0.05, 0.0];
+        let run = |isa: Isa| {
+            let mut lanes = rk.start(x0, v0);
+            let (mut switches, mut mode) = (0, [Mode::default(); 8]);
+            for _ in 0..60 {
+                rk.advance_period_in(isa, &mut lanes, |k, _, end| {
+                    let (phi_i, phi_ii) = rk.table.at(2 * k + 2);
+                    for (i, mode) in mode.iter_mut().enumerate() {
+                        let (_, m) = rk.field.accel(end.x[i], end.v[i], phi_i, phi_ii);
+                        switches += usize::from(m != *mode);
+                        *mode = m;
+                    }
+                });
+            }
+            (lanes, switches)
+        };
+        let (reference, switches) = run(Isa::Baseline);
+        assert!(switches > 200, "the orbits switch ({switches} switches)");
+        assert!(reference.collision[2].is_some());
+        let available: Vec<Isa> = Isa::ALL.into_iter().filter(|isa| isa.available()).collect();
+        for isa in &available[1..] {
+            let (lanes, _) = run(*isa);
+            for i in 0..8 {
+                assert_eq!(
+                    lanes.x[i].to_bits(),
+                    reference.x[i].to_bits(),
+                    "{isa:?} lane {i}"
+                );
+                assert_eq!(
+                    lanes.v[i].to_bits(),
+                    reference.v[i].to_bits(),
+                    "{isa:?} lane {i}"
+                );
+                assert_eq!(
+                    lanes.collision[i], reference.collision[i],
+                    "{isa:?} lane {i}"
+                );
+            }
+        }
+        eprintln!("compared {available:?}");
     }
 
     /// A start outside the model is a collision at τ = 0, not a NaN.

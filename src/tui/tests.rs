@@ -605,6 +605,29 @@ fn a_headless_run_is_watched_live() {
         panic!("no partial view");
     };
     assert!(!points.is_empty());
+    // the plot title says how far the work is, and that nothing computes it now
+    let screen = draw(&app, 120, 40);
+    assert!(
+        screen.contains("16/31 chunks · nothing computing"),
+        "{screen}"
+    );
+    // a run on another host claims chunk 1 (its claim is a lock this process holds here)
+    use isola::session::store::lock::{Lock, Mode};
+    let work = isola::session::store::ResultPaths::new(&session, &session.analyses[0].name)
+        .work_dir(&session.fingerprint(&session.analyses[0]));
+    let mut claim = Lock::try_acquire(&work.join("000001.claim"), Mode::Exclusive)
+        .unwrap()
+        .unwrap();
+    claim.describe("node9 pid 4242").unwrap();
+    std::thread::sleep(Duration::from_millis(250));
+    app.tick();
+    app.sync_results();
+    let screen = draw(&app, 120, 40);
+    assert!(
+        screen.contains("16/31 chunks · computing on node9 (1)"),
+        "{screen}"
+    );
+    drop(claim);
     isola::session::run::run_analysis(
         &session,
         &session.analyses[0],

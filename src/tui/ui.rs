@@ -11,7 +11,9 @@ use super::app::{App, Focus};
 use super::panes::{self, params::ParamsPane};
 use super::plots::{self, PlotContext};
 use isola::session::Settings;
+use isola::session::budget;
 use isola::session::results::{ResultStatus, ResultView};
+use isola::session::store::survey::Survey;
 
 /// The smallest terminal the layout is drawn in.
 pub const MIN_WIDTH: u16 = 60;
@@ -63,17 +65,44 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
 }
 
+/// Work under way on an analysis, here or on other hosts, as the plot title says it:
+/// `40/99 chunks · computing on node1 (4), node2 (4) · 12/min, about 5 min left`.
+fn work_state(work: &Survey) -> String {
+    let mut text = format!("{}/{} chunks", work.done.len(), work.chunks);
+    let hosts = work.by_host(std::time::SystemTime::now());
+    let busy: Vec<String> = hosts
+        .iter()
+        .filter(|h| h.claimed > 0)
+        .map(|h| format!("{} ({})", h.host, h.claimed))
+        .collect();
+    if busy.is_empty() {
+        text.push_str(" · nothing computing");
+        return text;
+    }
+    text.push_str(&format!(" · computing on {}", busy.join(", ")));
+    let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+    if let Some(left) = work.seconds_left(&hosts) {
+        text.push_str(&format!(
+            " · {rate:.0}/min, about {} left",
+            budget::duration(left)
+        ));
+    }
+    text
+}
+
 /// The plot pane: the selected analysis' view, or the picked orbit.
 fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let entry = app.session.analyses.get(app.selected);
     let name = entry.map_or("", |e| e.name.as_str());
     let status = app.status_of(app.selected);
-    let state = match status {
-        ResultStatus::Complete => "done".to_string(),
-        ResultStatus::Partial { done, total } => format!("running {done}/{total}"),
-        ResultStatus::Stale => "stale: model or settings changed".into(),
-        ResultStatus::Missing => "not run".into(),
+    let work = app.stored.get(app.selected).and_then(|s| s.work.as_deref());
+    let state = match (status, work) {
+        (ResultStatus::Complete, _) => "done".to_string(),
+        (_, Some(work)) => work_state(work),
+        (ResultStatus::Partial { done, total }, None) => format!("{done}/{total} chunks"),
+        (ResultStatus::Stale, None) => "stale: model or settings changed".into(),
+        (ResultStatus::Missing, None) => "not run".into(),
     };
     let title = match &app.picked {
         Some(p) => format!(

@@ -8,6 +8,8 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 
 use isola::session::Session;
 use isola::session::results::{ResultReader, ResultStatus, ResultView};
+use isola::session::run::glance_of;
+use isola::session::store::survey::Survey;
 
 /// What the app knows of one analysis' stored result.
 #[derive(Debug, Clone)]
@@ -15,6 +17,9 @@ pub struct Stored {
     pub status: ResultStatus,
     pub view: Option<Arc<ResultView>>,
     pub error: Option<String>,
+    /// The chunks done and claimed, by host, while no current result is stored: work under
+    /// way here or elsewhere (another terminal, the nodes of a cluster).
+    pub work: Option<Arc<Survey>>,
 }
 
 impl Default for Stored {
@@ -23,6 +28,7 @@ impl Default for Stored {
             status: ResultStatus::Missing,
             view: None,
             error: None,
+            work: None,
         }
     }
 }
@@ -116,20 +122,31 @@ impl Watcher {
 
 fn read_loop(requests: Receiver<Request>, replies: Sender<Reply>) {
     // by session file and analysis name: opening another session starts afresh
-    let mut readers: HashMap<(std::path::PathBuf, String), ResultReader> = HashMap::new();
+    // each analysis' reader and the work last seen on it
+    type Followed = (ResultReader, Option<Arc<Survey>>);
+    let mut readers: HashMap<(std::path::PathBuf, String), Followed> = HashMap::new();
     while let Ok(request) = requests.recv() {
         for index in request.which {
             let Some(entry) = request.session.analyses.get(index) else {
                 continue;
             };
-            let reader = readers
+            let (reader, work) = readers
                 .entry((request.session.path.clone(), entry.name.clone()))
-                .or_insert_with(|| ResultReader::new(entry));
-            if reader.poll(&request.session, entry) || request.resend {
+                .or_insert_with(|| (ResultReader::new(entry), None));
+            let changed = reader.poll(&request.session, entry);
+            let now_work = (reader.status != ResultStatus::Complete)
+                .then(|| glance_of(&request.session, entry))
+                .filter(|s| !(s.done.is_empty() && s.claimed.is_empty()));
+            let work_changed = now_work.as_ref() != work.as_deref();
+            if work_changed {
+                *work = now_work.map(Arc::new);
+            }
+            if changed || work_changed || request.resend {
                 let stored = Stored {
                     status: reader.status,
                     view: reader.view.clone().map(Arc::new),
                     error: reader.error.clone(),
+                    work: work.clone(),
                 };
                 let update = Reply::Update {
                     index,

@@ -142,26 +142,7 @@ pub fn decode<T: Payload>(
         .iter()
         .position(|&b| b == b'\n')
         .ok_or(ChunkError::NoHeader)?;
-    let header: Header = serde_json::from_slice(&bytes[..newline])
-        .map_err(|e| ChunkError::BadHeader(e.to_string()))?;
-    if header.isola_chunk != CHUNK_FORMAT {
-        return Err(ChunkError::Format {
-            found: header.isola_chunk,
-        });
-    }
-    if header.fingerprint != id.fingerprint {
-        return Err(ChunkError::Foreign {
-            found: header.fingerprint,
-        });
-    }
-    if header.index != id.index || header.chunks != id.chunks {
-        return Err(ChunkError::WrongIndex {
-            found: header.index,
-            found_of: header.chunks,
-            expected: id.index,
-            expected_of: id.chunks,
-        });
-    }
+    let header = header_of(&bytes[..newline], id)?;
     let payload = &bytes[newline + 1..];
     if payload.len() != header.payload_bytes {
         return Err(ChunkError::Length {
@@ -186,6 +167,38 @@ pub fn decode<T: Payload>(
         host: header.host,
         seconds: header.seconds,
     })
+}
+
+/// What a chunk's header line (without its line break) says of its making, if it names chunk
+/// `id`: a look at a chunk without reading its payload, for progress, never for a result.
+pub fn made_by(line: &[u8], id: &ChunkId) -> Result<(String, f64), ChunkError> {
+    let header = header_of(line, id)?;
+    Ok((header.host, header.seconds))
+}
+
+/// The header line parsed and checked against `id`.
+fn header_of(line: &[u8], id: &ChunkId) -> Result<Header, ChunkError> {
+    let header: Header =
+        serde_json::from_slice(line).map_err(|e| ChunkError::BadHeader(e.to_string()))?;
+    if header.isola_chunk != CHUNK_FORMAT {
+        return Err(ChunkError::Format {
+            found: header.isola_chunk,
+        });
+    }
+    if header.fingerprint != id.fingerprint {
+        return Err(ChunkError::Foreign {
+            found: header.fingerprint,
+        });
+    }
+    if header.index != id.index || header.chunks != id.chunks {
+        return Err(ChunkError::WrongIndex {
+            found: header.index,
+            found_of: header.chunks,
+            expected: id.index,
+            expected_of: id.chunks,
+        });
+    }
+    Ok(header)
 }
 
 #[cfg(test)]

@@ -2,10 +2,13 @@
 //! workbench: chunks done (by which host, when), claimed (by whom), missing. Read only: it
 //! takes no lock a run would wait for, but a claim's lock for an instant.
 
+use std::collections::BTreeMap;
 use std::path::Path;
-use std::time::SystemTime;
+use std::time::{Duration, SystemTime};
 
-use super::chunk::Payload;
+use std::io::{BufRead, Read};
+
+use super::chunk::{ChunkError, ChunkId, Payload};
 use super::lock::{Lock, Mode};
 use super::{ResultPaths, chunk_name};
 
@@ -32,10 +35,68 @@ pub struct Survey {
     pub bad: Vec<usize>,
 }
 
+/// One host's part of the work.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct HostWork {
+    pub host: String,
+    pub done: usize,
+    pub claimed: usize,
+    /// Compute seconds of its chunks done.
+    pub seconds: f64,
+    /// Chunks a minute it saved over the last [`RATE_WINDOW`].
+    pub per_minute: f64,
+}
+
+/// Rates are taken over the chunks saved in this last stretch of time.
+pub const RATE_WINDOW: Duration = Duration::from_secs(300);
+
 impl Survey {
     pub fn missing(&self) -> usize {
         self.chunks - self.done.len()
     }
+
+    /// Each host's chunks done and claimed, and its rate at `now`, by host name.
+    pub fn by_host(&self, now: SystemTime) -> Vec<HostWork> {
+        let mut hosts: BTreeMap<&str, (HostWork, Vec<SystemTime>)> = BTreeMap::new();
+        for d in &self.done {
+            let (h, recent) = hosts.entry(&d.host).or_default();
+            h.done += 1;
+            h.seconds += d.seconds;
+            if now.duration_since(d.saved).unwrap_or_default() <= RATE_WINDOW {
+                recent.push(d.saved);
+            }
+        }
+        for (_, holder) in &self.claimed {
+            hosts.entry(host_of(holder)).or_default().0.claimed += 1;
+        }
+        hosts
+            .into_iter()
+            .map(|(name, (mut h, recent))| {
+                h.host = name.to_string();
+                h.per_minute = rate_per_minute(&recent, now);
+                h
+            })
+            .collect()
+    }
+
+    /// Seconds left at the hosts' rates (`None` if none saved a chunk lately).
+    pub fn seconds_left(&self, hosts: &[HostWork]) -> Option<f64> {
+        let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+        (rate > 0.0).then(|| 60.0 * self.missing() as f64 / rate)
+    }
+}
+
+/// Chunks a minute over those saved in the last [`RATE_WINDOW`] (0 if none).
+fn rate_per_minute(saved: &[SystemTime], now: SystemTime) -> f64 {
+    let Some(first) = saved.iter().min() else {
+        return 0.0;
+    };
+    let span = now
+        .duration_since(*first)
+        .unwrap_or_default()
+        .max(Duration::from_secs(1))
+        .min(RATE_WINDOW);
+    saved.len() as f64 * 60.0 / span.as_secs_f64()
 }
 
 /// The host part of `host pid N`.
@@ -51,6 +112,36 @@ pub fn survey<T: Payload>(
     chunks: usize,
     content: impl Fn(usize, &T) -> Result<(), String>,
 ) -> Survey {
+    walk(paths, fingerprint, chunks, |id, file| {
+        let bytes = std::fs::read(file).ok()?;
+        Some(
+            super::chunk::decode::<T>(&bytes, id, |v| content(id.index, v))
+                .map(|d| (d.host, d.seconds)),
+        )
+    })
+}
+
+/// [`survey`] from the chunks' header lines alone (their fingerprint and index checked, not
+/// their payload): cheap enough for the workbench to repeat every few seconds, for progress
+/// only.
+pub fn glance(paths: &ResultPaths, fingerprint: &str, chunks: usize) -> Survey {
+    walk(paths, fingerprint, chunks, |id, file| {
+        let mut line = Vec::new();
+        let mut reader = std::io::BufReader::new(std::fs::File::open(file).ok()?).take(64 * 1024);
+        reader.read_until(b'\n', &mut line).ok()?;
+        let line = line.strip_suffix(b"\n").unwrap_or(&line);
+        Some(super::chunk::made_by(line, id))
+    })
+}
+
+/// The chunks of `fingerprint`'s work folder: each existing chunk file checked by `check`
+/// (who made it and in how long, or why it is bad), and the claims of the others.
+fn walk(
+    paths: &ResultPaths,
+    fingerprint: &str,
+    chunks: usize,
+    check: impl Fn(&ChunkId, &Path) -> Option<Result<(String, f64), ChunkError>>,
+) -> Survey {
     let dir = paths.work_dir(fingerprint);
     let mut s = Survey {
         chunks,
@@ -59,29 +150,28 @@ pub fn survey<T: Payload>(
     if !dir.is_dir() {
         return s;
     }
-    for i in 0..chunks {
-        let file = dir.join(chunk_name(i));
-        if let Ok(bytes) = std::fs::read(&file) {
-            let id = super::chunk::ChunkId {
-                fingerprint,
-                index: i,
-                chunks,
-            };
-            match super::chunk::decode::<T>(&bytes, &id, |v| content(i, v)) {
-                Ok(d) => {
-                    s.done.push(Done {
-                        index: i,
-                        host: host_of(&d.host).to_string(),
-                        seconds: d.seconds,
-                        saved: modified(&file),
-                    });
-                    continue;
-                }
-                Err(_) => s.bad.push(i),
+    for index in 0..chunks {
+        let file = dir.join(chunk_name(index));
+        let id = ChunkId {
+            fingerprint,
+            index,
+            chunks,
+        };
+        match check(&id, &file) {
+            Some(Ok((host, seconds))) => {
+                s.done.push(Done {
+                    index,
+                    host: host_of(&host).to_string(),
+                    seconds,
+                    saved: modified(&file),
+                });
+                continue;
             }
+            Some(Err(_)) => s.bad.push(index),
+            None => {}
         }
-        if let Some(holder) = claimed_by(&dir, i) {
-            s.claimed.push((i, holder));
+        if let Some(holder) = claimed_by(&dir, index) {
+            s.claimed.push((index, holder));
         }
     }
     s
