@@ -138,28 +138,6 @@ fn check_memory(
     Ok(())
 }
 
-/// Sends tracing events to the file `path` (appended; its folder made if needed), never to the
-/// terminal, where progress bars and the workbench live.
-pub fn log_to(path: &std::path::Path) -> anyhow::Result<()> {
-    use anyhow::Context;
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .with_context(|| format!("log file {}", path.display()))?;
-    let _ = tracing_subscriber::fmt()
-        .with_writer(std::sync::Mutex::new(file))
-        .with_ansi(false)
-        .with_max_level(tracing::Level::INFO)
-        .try_init();
-    let isa = isola::solver::isa::chosen().name();
-    tracing::info!("isola {} on {isa} instructions", isola::BUILD);
-    Ok(())
-}
-
 fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -85,7 +85,7 @@ pub fn selected<'a>(
 /// Sends tracing events to `run.log` in the session's results directory (never to the
 /// terminal, where the progress bar lives).
 fn log_to_file(session: &Session) -> anyhow::Result<()> {
-    super::log_to(&session.results_dir().join("run.log"))
+    isola::logging::log_to(&session.results_dir().join("run.log"))
 }
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {

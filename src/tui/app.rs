@@ -56,6 +56,22 @@ pub enum Overlay {
         files: Vec<PathBuf>,
         selected: usize,
     },
+    /// A question before something that cannot be undone: `y` does it.
+    Confirm {
+        question: String,
+        then: Confirmed,
+    },
+}
+
+/// What a confirmation does when the answer is yes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Confirmed {
+    /// Open this session, dropping unsaved edits.
+    Open(PathBuf),
+    /// Save the session over this existing file.
+    SaveAs(PathBuf),
+    /// Export the result over this existing file.
+    Export(PathBuf),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -802,9 +818,9 @@ impl App {
                 KeyCode::Enter => {
                     let path = PathBuf::from(text.trim());
                     match purpose {
-                        InputPurpose::SaveAs => self.save(Some(path)),
-                        InputPurpose::Export => self.export(&path),
-                        InputPurpose::Open => self.open(&path),
+                        InputPurpose::SaveAs => self.save_as_asking(path),
+                        InputPurpose::Export => self.export_asking(path),
+                        InputPurpose::Open => self.open_asking(path),
                     }
                 }
                 KeyCode::Backspace => {
@@ -821,7 +837,7 @@ impl App {
                 (KeyCode::Esc, _) => {}
                 (KeyCode::Enter, _) => {
                     if let Some(f) = files.get(selected).cloned() {
-                        self.open(&f);
+                        self.open_asking(f);
                     }
                 }
                 (KeyCode::Char('/'), _) => {
@@ -842,6 +858,65 @@ impl App {
                 }
                 _ => self.overlay = Some(Overlay::Picker { files, selected }),
             },
+            Overlay::Confirm { question, then } => match key.code {
+                KeyCode::Char('y') | KeyCode::Char('Y') => match then {
+                    Confirmed::Open(path) => self.open(&path),
+                    Confirmed::SaveAs(path) => self.save(Some(path)),
+                    Confirmed::Export(path) => self.export(&path),
+                },
+                KeyCode::Char('n') | KeyCode::Char('N') | KeyCode::Esc => {
+                    self.say("nothing done", false)
+                }
+                _ => self.overlay = Some(Overlay::Confirm { question, then }),
+            },
+        }
+    }
+
+    /// Opens `path`, asking first if that would drop unsaved edits.
+    fn open_asking(&mut self, path: PathBuf) {
+        if self.modified {
+            let question = format!(
+                "{} has unsaved changes: drop them and open {}?",
+                file_name(&self.session.path),
+                file_name(&path)
+            );
+            self.overlay = Some(Overlay::Confirm {
+                question,
+                then: Confirmed::Open(path),
+            });
+        } else {
+            self.open(&path);
+        }
+    }
+
+    /// Saves the session as `path`, asking first if that replaces another file.
+    fn save_as_asking(&mut self, path: PathBuf) {
+        let same = |a: &Path, b: &Path| a.canonicalize().ok() == b.canonicalize().ok();
+        if path.exists() && !same(&path, &self.session.path) {
+            self.overlay = Some(Overlay::Confirm {
+                question: format!("{} exists: replace it with this session?", path.display()),
+                then: Confirmed::SaveAs(path),
+            });
+        } else {
+            self.save(Some(path));
+        }
+    }
+
+    /// Exports the result to `path`, asking first if that replaces a file.
+    fn export_asking(&mut self, path: PathBuf) {
+        let table = path.with_extension("attractors.csv");
+        let existing: Vec<String> = [&path, &table]
+            .into_iter()
+            .filter(|p| p.exists())
+            .map(|p| p.display().to_string())
+            .collect();
+        if existing.is_empty() {
+            self.export(&path);
+        } else {
+            self.overlay = Some(Overlay::Confirm {
+                question: format!("{} exists: replace it?", existing.join(" and ")),
+                then: Confirmed::Export(path),
+            });
         }
     }
 
@@ -851,4 +926,12 @@ impl App {
         self.jobs.wait_idle(Duration::from_secs(2));
         self.should_quit = true;
     }
+}
+
+/// A path's last part, for a message.
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }

@@ -110,7 +110,7 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
 /// 128 + the signal's number: 130 after Ctrl-C or SIGINT, 131 SIGQUIT, 143 SIGTERM, 129 SIGHUP).
 pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
     // nothing may write to the screen while the TUI runs
-    crate::cli::log_to(&config::log_path())?;
+    isola::logging::log_to(&config::log_path())?;
     let mut app = build_app(args)?;
     tracing::info!(session = %app.session.path.display(), "tui started");
     let terminate = terminal::termination_signal()?;

@@ -68,7 +68,8 @@ fn draw(app: &App, w: u16, h: u16) -> String {
 macro_rules! snapshot {
     ($name:expr, $value:expr) => {
         insta::with_settings!({filters => vec![
-            (r"\d+(\.\d+)?s\b", "[time]"),
+            // a time and the padding after it, whose width varies with it
+            (r"\d+(\.\d+)?s\b *", "[time] "),
             (r"[\d.]+ s in all", "[time] in all"),
             (r"in \S+config\.toml *", "in [config file] "),
             (r"log: \S+ *", "log: [log file] "),
@@ -471,7 +472,31 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     let stored = ResultPaths::new(&app.session, "response").csv;
     assert_eq!(
         std::fs::read(&target).unwrap(),
-        std::fs::read(stored).unwrap()
+        std::fs::read(&stored).unwrap()
+    );
+    // exporting over an existing file asks first: n leaves it, y replaces it
+    std::fs::write(&target, "mine").unwrap();
+    let export_again = |app: &mut App| {
+        key(app, KeyCode::Char('e'));
+        for _ in 0.."response.csv".len() {
+            key(app, KeyCode::Backspace);
+        }
+        keys(app, &target.display().to_string());
+        key(app, KeyCode::Enter);
+        assert!(
+            matches!(app.overlay, Some(Overlay::Confirm { .. })),
+            "no question"
+        );
+    };
+    export_again(&mut app);
+    assert!(draw(&app, 80, 24).contains("exists: replace it?"));
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(std::fs::read(&target).unwrap(), b"mine");
+    export_again(&mut app);
+    key(&mut app, KeyCode::Char('y'));
+    assert_eq!(
+        std::fs::read(&target).unwrap(),
+        std::fs::read(&stored).unwrap()
     );
     // saving keeps the result on view (it used to show "not run" until a restart)
     key(&mut app, KeyCode::Char('s'));
@@ -489,6 +514,61 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Stale);
     assert!(draw(&app, 80, 24).contains("stale"));
+}
+
+/// `o` with unsaved edits and `S` over another file ask first; `n` changes nothing.
+#[test]
+fn opening_over_edits_and_saving_over_a_file_ask_first() {
+    let path = fixture("ask", RESPONSE);
+    let other = path.with_file_name("other.toml");
+    std::fs::write(&other, OTHERS).unwrap();
+    let mut app = app(&path, ColorMode::Truecolor);
+    app.param_row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
+    app.commit_edit("0.05");
+    assert!(app.modified);
+    // o, then Enter on other.toml (the picker lists it first)
+    key(&mut app, KeyCode::Char('o'));
+    let Some(Overlay::Picker { files, .. }) = &app.overlay else {
+        panic!("no picker");
+    };
+    let at = files.iter().position(|f| *f == other).unwrap();
+    if let Some(Overlay::Picker { selected, .. }) = &mut app.overlay {
+        *selected = at;
+    }
+    key(&mut app, KeyCode::Enter);
+    let Some(Overlay::Confirm { question, .. }) = &app.overlay else {
+        panic!("opened without asking: {:?}", app.overlay);
+    };
+    assert!(question.contains("unsaved changes"), "{question}");
+    snapshot!("confirm_open_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(app.session.path, path);
+    assert!(app.modified, "the edit is kept");
+    // S over other.toml asks; n leaves it as it was
+    let save_as = |app: &mut App| {
+        key(app, KeyCode::Char('S'));
+        let Some(Overlay::Input { text, .. }) = &mut app.overlay else {
+            panic!("no save-as prompt");
+        };
+        *text = other.display().to_string();
+        key(app, KeyCode::Enter);
+    };
+    save_as(&mut app);
+    assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(std::fs::read_to_string(&other).unwrap(), OTHERS);
+    save_as(&mut app);
+    key(&mut app, KeyCode::Char('y'));
+    assert!(!app.modified);
+    assert_eq!(
+        Session::load(&other).unwrap().file.model.c_tilde,
+        Some(0.05)
+    );
+    // with nothing unsaved, o opens at once
+    app.open(&path);
+    key(&mut app, KeyCode::Char('o'));
+    key(&mut app, KeyCode::Enter);
+    assert!(app.overlay.is_none());
 }
 
 #[test]

@@ -79,6 +79,13 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             lines.push(Line::styled("Quit? y / n", t.key()));
             (" Quit ", lines, 60)
         }
+        Overlay::Confirm { question, .. } => {
+            let lines = vec![
+                Line::raw(question.clone()),
+                Line::styled("y: yes   n / Esc: no", t.key()),
+            ];
+            (" Confirm ", lines, 64)
+        }
         Overlay::Input { purpose, text } => {
             let what = match purpose {
                 InputPurpose::SaveAs => "Save session as:",
