@@ -867,3 +867,62 @@ fn slurm_scripts_are_valid_shell_and_quote_paths() {
         assert!(!out.status.success(), "{bad} accepted");
     }
 }
+
+/// Every analysis but the time history sweeps its own ω or ignores the model (force curves):
+/// editing the model's ω_e leaves their results current, and a fresh run at the new ω_e
+/// computes the same bytes (the proof that they do not use it); the time history goes stale.
+#[test]
+fn an_edit_of_what_an_analysis_does_not_use_keeps_it_current() {
+    let response = "[analysis.settings.response]\nomega = { min = 3.5, max = 4.0, points = 3 }\ndx = { min = -0.6, max = 0.6, points = 3 }\nv = { min = -0.8, max = 0.8, points = 2 }\n";
+    let session = |omega: &str| {
+        format!(
+            "schema = 1\n[model]\nadr = 0.6\nomega = {omega}\n\n\
+             [[analysis]]\nname = \"response\"\nkind = \"frequency_response\"\n[analysis.settings]\nomega = {{ min = 3.5, max = 4.0, points = 3 }}\ndx = {{ min = -0.6, max = 0.6, points = 3 }}\nv = {{ min = -0.8, max = 0.8, points = 2 }}\n\n\
+             [[analysis]]\nname = \"stepped\"\nkind = \"stepped_sweep\"\n[analysis.settings]\nomega = {{ min = 3.0, max = 4.0, points = 5 }}\ndx0 = 0.3\n\n\
+             [[analysis]]\nname = \"family\"\nkind = \"family\"\n[analysis.settings]\nparameter = \"c_tilde\"\nvalues = [0.04, 0.06]\n{response}\n\
+             [[analysis]]\nname = \"hunt\"\nkind = \"hunt\"\n[analysis.settings]\n{response}[analysis.settings.continuation]\nmin = 3.0\nmax = 6.0\n\n\
+             [[analysis]]\nname = \"map\"\nkind = \"map\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = {{ min = 0.5, max = 0.7, points = 2 }}\ncurves = false\n{response}\n\
+             [[analysis]]\nname = \"force\"\nkind = \"force_curve\"\n\n\
+             [[analysis]]\nname = \"orbit\"\nkind = \"time_history\"\n[analysis.settings]\ndx0 = 0.3\n"
+        )
+    };
+    let unused = ["response", "stepped", "family", "hunt", "map", "force"];
+    let files = |s: &Path, name: &str| -> Vec<Vec<u8>> {
+        let dir = s.with_file_name("s.results");
+        let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| {
+                let f = p.file_name().unwrap().to_string_lossy();
+                f.starts_with(&format!("{name}.")) && f.ends_with(".csv")
+            })
+            .collect();
+        names.sort();
+        assert!(!names.is_empty(), "no CSV for {name}");
+        names.iter().map(|p| std::fs::read(p).unwrap()).collect()
+    };
+    let (_a, at_3_7) = session_dir(&session("3.7"));
+    run_ok(&at_3_7, &[]);
+    let before: Vec<_> = unused.iter().map(|n| files(&at_3_7, n)).collect();
+    let orbit_before = files(&at_3_7, "orbit");
+    // the model's ω_e edited
+    std::fs::write(&at_3_7, session("2.9")).unwrap();
+    let out = run_ok(&at_3_7, &[]);
+    for name in unused {
+        assert_eq!(computed(&out, name), 0, "{name} was recomputed:\n{out}");
+    }
+    assert!(
+        computed(&out, "orbit") > 0,
+        "the time history is stale:\n{out}"
+    );
+    assert_ne!(files(&at_3_7, "orbit"), orbit_before);
+    // what a fresh run at the new ω_e computes is what was kept
+    let (_b, at_2_9) = session_dir(&session("2.9"));
+    run_ok(&at_2_9, &[]);
+    for (name, kept) in unused.iter().zip(&before) {
+        assert!(
+            files(&at_2_9, name) == *kept,
+            "{name} depends on the model's ω_e"
+        );
+    }
+}

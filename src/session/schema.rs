@@ -221,6 +221,41 @@ impl Settings {
             Settings::Map(_) => "map",
         }
     }
+
+    /// What of the model an analysis with these settings uses. Its fingerprint leaves out the
+    /// rest, so an edit of something it does not use leaves its result current.
+    pub fn model_use(&self) -> ModelUse {
+        use crate::analysis::continuation::ContinuationParameter;
+        match self {
+            // the force curves take λ_p, φ and J from their own settings
+            Settings::ForceCurve(_) => ModelUse::Nothing,
+            // each sweeps its own ω grid: the model's ω_e is never read
+            Settings::FrequencyResponse(_)
+            | Settings::SteppedSweep(_)
+            | Settings::Family(_)
+            | Settings::Hunt(_) => ModelUse::AllButOmega,
+            Settings::Map(spec) if spec.x == ContinuationParameter::Omega => ModelUse::AllButOmega,
+            // a chirp's integrator is set up from the model's period; a basin and a time
+            // history run at the model's ω_e, a continuation starts there, and a map along
+            // another parameter holds it. (A family or map over a parameter still keys on
+            // that parameter's model value: the members' E_a is derived from the model's
+            // drive, to the last bit.)
+            Settings::Map(_)
+            | Settings::ChirpSweep(_)
+            | Settings::TimeHistory(_)
+            | Settings::Basin(_)
+            | Settings::Continuation(_) => ModelUse::All,
+        }
+    }
+}
+
+/// What of the model an analysis uses (see [`Settings::model_use`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelUse {
+    All,
+    /// Everything but the forcing frequency ω_e (it sweeps its own).
+    AllButOmega,
+    Nothing,
 }
 
 /// Settings that could not be read: the key's path inside the settings, if one failed.
@@ -429,9 +464,10 @@ impl Session {
         self.analyses.iter().find(|a| a.name == name)
     }
 
-    /// A stable fingerprint of what `entry` computes: its kind and settings, the model, the
-    /// device (physical columns) and the numerics version of this build. A result or chunk
-    /// with another fingerprint is stale and never mixed in.
+    /// A stable fingerprint of what `entry` computes: its kind and settings, the model (what of
+    /// it the analysis uses: [`Settings::model_use`]), the device (physical columns) and the
+    /// numerics version of this build. A result or chunk with another fingerprint is stale and
+    /// never mixed in.
     pub fn fingerprint(&self, entry: &AnalysisEntry) -> String {
         self.fingerprint_with(entry, crate::analysis::NUMERICS_VERSION)
     }
@@ -439,11 +475,21 @@ impl Session {
     /// The fingerprint `entry` has under numerics version `numerics`.
     pub fn fingerprint_with(&self, entry: &AnalysisEntry, numerics: u32) -> String {
         use sha2::Digest;
-        let spec = self.param_spec(Some(entry)).ok();
+        let mut model = serde_json::to_value(self.param_spec(Some(entry)).ok())
+            .unwrap_or(serde_json::Value::Null);
+        match entry.settings.model_use() {
+            ModelUse::All => {}
+            ModelUse::AllButOmega => {
+                if let Some(object) = model.as_object_mut() {
+                    object.remove("omega");
+                }
+            }
+            ModelUse::Nothing => model = serde_json::Value::Null,
+        }
         let what = serde_json::json!({
             "numerics": numerics,
             "device": self.device(),
-            "model": spec,
+            "model": model,
             "settings": &entry.settings,
         });
         let digest = sha2::Sha256::digest(what.to_string().as_bytes());

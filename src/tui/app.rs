@@ -125,6 +125,8 @@ pub struct App {
     scalogram_jobs: HashMap<usize, String>,
     pub show_scalogram: bool,
     pub zoom: bool,
+    /// The pane that had the keys before the plot was zoomed, to give them back after.
+    focus_before_zoom: Option<Focus>,
     pub message: Option<Message>,
     pub theme: Theme,
     pub keymap: Keymap,
@@ -160,6 +162,7 @@ impl App {
             scalogram_jobs: HashMap::new(),
             show_scalogram: false,
             zoom: false,
+            focus_before_zoom: None,
             message: None,
             theme,
             keymap,
@@ -394,8 +397,10 @@ impl App {
                 }
             }
             Action::Help => self.overlay = Some(Overlay::Help),
-            Action::FocusNext => self.focus = self.focus.step(1),
-            Action::FocusPrev => self.focus = self.focus.step(-1),
+            // a zoomed plot is the only pane on screen: it keeps the keys
+            Action::FocusNext if !self.zoom => self.focus = self.focus.step(1),
+            Action::FocusPrev if !self.zoom => self.focus = self.focus.step(-1),
+            Action::FocusNext | Action::FocusPrev => {}
             Action::Up => self.move_by(0, -1),
             Action::Down => self.move_by(0, 1),
             Action::Left => self.move_by(-1, 0),
@@ -407,7 +412,7 @@ impl App {
             Action::Edit => self.enter(),
             Action::Back => {
                 if self.picked.take().is_none() {
-                    self.zoom = false;
+                    self.set_zoom(false);
                 }
             }
             Action::Run => self.run_selected(),
@@ -421,9 +426,24 @@ impl App {
             }
             Action::Open => self.open_picker(),
             Action::Export => self.export_prompt(),
-            Action::Zoom => self.zoom = !self.zoom,
+            Action::Zoom => self.set_zoom(!self.zoom),
             Action::Scalogram => self.toggle_scalogram(),
         }
+    }
+
+    /// Zooms the plot to the whole window (it takes the keys) or back (the keys go back to the
+    /// pane that had them).
+    fn set_zoom(&mut self, on: bool) {
+        if on == self.zoom {
+            return;
+        }
+        if on {
+            self.focus_before_zoom = Some(self.focus);
+            self.focus = Focus::Plot;
+        } else if let Some(focus) = self.focus_before_zoom.take() {
+            self.focus = focus;
+        }
+        self.zoom = on;
     }
 
     fn move_by(&mut self, dx: isize, dy: isize) {

@@ -192,9 +192,47 @@ impl Keymap {
                 .iter()
                 .map(|k| Key::parse(k).map_err(|e| format!("[keys] {name}: {e}")))
                 .collect::<Result<Vec<_>, _>>()?;
+            if keys.is_empty() {
+                return Err(format!(
+                    "[keys] {name}: no key (the action would be unreachable)"
+                ));
+            }
             map.bindings.insert(action, keys);
         }
+        map.check_conflicts(overrides)?;
         Ok(map)
+    }
+
+    /// One action per key: a key bound twice (by the config, or by the config and a default
+    /// it did not change) is an error naming both actions.
+    fn check_conflicts(&self, overrides: &BTreeMap<String, Vec<String>>) -> Result<(), String> {
+        let name_of = |action: Action| {
+            Action::ALL
+                .iter()
+                .find(|(a, _, _)| *a == action)
+                .map_or("?", |(_, n, _)| *n)
+        };
+        let mut seen: BTreeMap<(String, bool), Action> = BTreeMap::new();
+        for (&action, keys) in &self.bindings {
+            for key in keys {
+                let id = (format!("{:?}", key.code), key.ctrl);
+                if let Some(&other) = seen.get(&id) {
+                    let (a, b) = (name_of(other), name_of(action));
+                    let changed = |n: &str| overrides.contains_key(n);
+                    let fix = match (changed(a), changed(b)) {
+                        (true, true) => format!("give {a} or {b} another key"),
+                        (true, false) => format!("{b} has it by default: give {b} another key too"),
+                        _ => format!("{a} has it by default: give {a} another key too"),
+                    };
+                    return Err(format!(
+                        "[keys]: {} is the key of both {a} and {b}; {fix}",
+                        key.label()
+                    ));
+                }
+                seen.insert(id, action);
+            }
+        }
+        Ok(())
     }
 
     /// The action of a key press, if any (Ctrl-C is not here: it always quits).
@@ -234,6 +272,10 @@ mod tests {
     #[test]
     fn defaults_and_overrides() {
         let map = Keymap::default();
+        assert!(
+            map.check_conflicts(&BTreeMap::new()).is_ok(),
+            "the defaults clash"
+        );
         assert_eq!(map.action(&press(KeyCode::Char('r'))), Some(Action::Run));
         assert_eq!(map.action(&press(KeyCode::Char('j'))), Some(Action::Down));
         let overrides = BTreeMap::from([("run".to_string(), vec!["f5".to_string()])]);
@@ -245,6 +287,28 @@ mod tests {
             Keymap::with_overrides(&bad)
                 .unwrap_err()
                 .contains("not an action")
+        );
+        // a key taken from another action (here save's s) is refused, naming both
+        let clash = BTreeMap::from([("run".to_string(), vec!["s".to_string()])]);
+        let error = Keymap::with_overrides(&clash).unwrap_err();
+        assert!(
+            error.contains("s is the key of both")
+                && error.contains("run")
+                && error.contains("save"),
+            "{error}"
+        );
+        // unless that action moves too
+        let moved = BTreeMap::from([
+            ("run".to_string(), vec!["s".to_string()]),
+            ("save".to_string(), vec!["ctrl-s".to_string()]),
+        ]);
+        let map = Keymap::with_overrides(&moved).unwrap();
+        assert_eq!(map.action(&press(KeyCode::Char('s'))), Some(Action::Run));
+        let none = BTreeMap::from([("run".to_string(), vec![])]);
+        assert!(
+            Keymap::with_overrides(&none)
+                .unwrap_err()
+                .contains("no key")
         );
         let bad = BTreeMap::from([("run".to_string(), vec!["hyper-x".to_string()])]);
         assert!(

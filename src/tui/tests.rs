@@ -157,10 +157,25 @@ fn a_basin_draws_live_and_in_monochrome() {
     let shares: f64 = b.attractors.iter().map(|a| a.fraction).sum();
     assert!((shares - 1.0).abs() < 1e-5, "fractions sum to {shares}");
     snapshot!("basin_mono_80x24", draw(&app, 80, 24));
+    // z from the analyses list gives the keys to the zoomed plot (arrows move its cursor,
+    // Tab stays), and unzooming gives them back
+    assert_eq!(app.focus, Focus::Analyses);
     key(&mut app, KeyCode::Char('z'));
+    assert_eq!(app.focus, Focus::Plot);
+    let cursor = app.cursor;
+    key(&mut app, KeyCode::Right);
+    assert_ne!(
+        app.cursor, cursor,
+        "the arrows move the zoomed plot's cursor"
+    );
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(app.focus, Focus::Plot, "no hidden pane takes the keys");
+    key(&mut app, KeyCode::Char('z'));
+    assert_eq!((app.zoom, app.focus), (false, Focus::Analyses));
+    key(&mut app, KeyCode::Char('z'));
+    key(&mut app, KeyCode::Left);
     snapshot!("basin_mono_zoom_120x40", draw(&app, 120, 40));
     // the cell under the cursor integrates to its attractor
-    app.focus = Focus::Plot;
     key(&mut app, KeyCode::Enter);
     settle(&mut app);
     assert!(
