@@ -185,3 +185,75 @@ fn closing_the_terminal_leaves_no_process_behind() {
         std::thread::sleep(Duration::from_millis(100));
     }
 }
+
+/// The work of a session made in the workbench survives it: `:add basin b2`, `:set`, `:run`,
+/// `s`; the result stays drawn and exports; after quitting and reopening it is there, current.
+/// Then `o` over unsaved edits and `S` over an existing file ask first.
+#[test]
+fn an_analysis_made_in_the_workbench_is_saved_run_and_found_again() {
+    let session = session("make");
+    let state = session.with_file_name("state");
+    let open = || {
+        format!(
+            "XDG_STATE_HOME={} {} tui {}; echo EXITED:$?; sleep 60",
+            state.display(),
+            env!("CARGO_BIN_EXE_isola"),
+            session.display()
+        )
+    };
+    let tmux = Tmux::start("isola-make", &open());
+    tmux.wait_for("the workbench", |s| s.contains("Analyses"));
+    let command = |tmux: &Tmux, line: &str| {
+        tmux.keys(&[":"]);
+        tmux.wait_for("the command line", |s| s.contains("Command"));
+        tmux.keys(&["-l", line]);
+        tmux.keys(&["Enter"]);
+    };
+    command(&tmux, "add basin b2");
+    tmux.wait_for("b2 added", |s| s.contains("added b2 (basin)"));
+    command(&tmux, "set adr 1.0");
+    command(&tmux, "set dx.points 21");
+    command(&tmux, "set v.points 21");
+    tmux.wait_for("the last edit", |s| s.contains("v.points = 21"));
+    command(&tmux, "run");
+    let screen = tmux.wait_for("b2 to finish", |s| s.contains("b2 · done"));
+    assert!(screen.contains("1:1"), "a basin legend: {screen}");
+    tmux.keys(&["s"]);
+    tmux.wait_for("the save", |s| s.contains("saved"));
+    let screen = tmux.wait_for("b2 still drawn", |s| s.contains("b2 · done"));
+    assert!(screen.contains("✓ b2"), "{screen}");
+    let csv = session.with_file_name("b2.csv");
+    command(&tmux, &format!("export {}", csv.display()));
+    tmux.wait_for("the export", |s| s.contains("exported"));
+    assert!(std::fs::read_to_string(&csv).unwrap().lines().count() > 400);
+    tmux.keys(&["q"]);
+    tmux.wait_for("the exit", |s| s.contains("EXITED:0"));
+    drop(tmux);
+    // reopened: b2 is in the file, its result current
+    let tmux = Tmux::start("isola-make2", &open());
+    tmux.wait_for("the workbench", |s| s.contains("Analyses"));
+    command(&tmux, "select b2");
+    tmux.wait_for("b2, done", |s| s.contains("b2 · done"));
+    // an unsaved edit, then o: asked first, n keeps it
+    command(&tmux, "set adr 0.8");
+    tmux.keys(&["o"]);
+    tmux.wait_for("the picker", |s| s.contains("Open session"));
+    tmux.keys(&["Enter"]);
+    tmux.wait_for("the question", |s| s.contains("unsaved changes"));
+    tmux.keys(&["n"]);
+    tmux.wait_for("nothing done", |s| s.contains("nothing done"));
+    // S onto an existing file: asked first
+    let other = session.with_file_name("other.toml");
+    std::fs::write(&other, "schema = 1\n").unwrap();
+    tmux.keys(&["S"]);
+    tmux.wait_for("save as", |s| s.contains("Save session as"));
+    // the prompt holds the session's path: replace it with the other file's
+    for _ in 0..session.display().to_string().chars().count() {
+        tmux.keys(&["BSpace"]);
+    }
+    tmux.keys(&["-l", &other.display().to_string()]);
+    tmux.keys(&["Enter"]);
+    tmux.wait_for("the question", |s| s.contains("exists: replace it"));
+    tmux.keys(&["Escape"]);
+    assert_eq!(std::fs::read_to_string(&other).unwrap(), "schema = 1\n");
+}

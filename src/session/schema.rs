@@ -293,7 +293,7 @@ pub struct Session {
     pub path: PathBuf,
     pub file: SessionFile,
     pub analyses: Vec<AnalysisEntry>,
-    document: toml_edit::DocumentMut,
+    pub(super) document: toml_edit::DocumentMut,
 }
 
 impl Session {
@@ -605,7 +605,10 @@ impl Session {
     }
 
     /// Re-reads and validates an edited document; on error the session is left as it was.
-    fn replace_document(&mut self, document: toml_edit::DocumentMut) -> Result<(), SessionError> {
+    pub(super) fn replace_document(
+        &mut self,
+        document: toml_edit::DocumentMut,
+    ) -> Result<(), SessionError> {
         let reparsed = Session::parse(&self.path, &document.to_string())?;
         *self = reparsed;
         Ok(())

@@ -16,9 +16,10 @@ use isola::session::run::Outcome;
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
+use super::command::{self, Command, Which};
 use super::jobs::{JobList, Output, Work};
 use super::keymap::{Action, Keymap};
-use super::panes::params::{self, Edit, Row};
+use super::panes::params::{self, Edit, Row, Target};
 use super::plots::{self, Pick, Start};
 use super::theme::Theme;
 use super::watcher::{Stored, Watcher};
@@ -72,6 +73,8 @@ pub enum Confirmed {
     SaveAs(PathBuf),
     /// Export the result over this existing file.
     Export(PathBuf),
+    /// Delete analysis number `0` (called `1`) from the session.
+    Delete(usize, String),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,6 +82,8 @@ pub enum InputPurpose {
     SaveAs,
     Export,
     Open,
+    /// A command line (`:`).
+    Command,
 }
 
 /// An orbit picked off a plot, being computed or shown.
@@ -333,9 +338,8 @@ impl App {
         }
     }
 
-    /// Waits until every poll asked for is answered (tests, and before a frame that must be
-    /// complete).
-    #[cfg(test)]
+    /// Waits until every poll asked for is answered (10 s at most): for tests, and for a
+    /// command that must know what is stored (`run stale`).
     pub fn sync_results(&mut self) {
         let start = Instant::now();
         while self.watcher.busy() && start.elapsed() < Duration::from_secs(10) {
@@ -428,6 +432,156 @@ impl App {
             Action::Export => self.export_prompt(),
             Action::Zoom => self.set_zoom(!self.zoom),
             Action::Scalogram => self.toggle_scalogram(),
+            Action::Command => {
+                self.overlay = Some(Overlay::Input {
+                    purpose: InputPurpose::Command,
+                    text: String::new(),
+                })
+            }
+        }
+    }
+
+    /// Runs a command line (`:`); what it did or why it could not goes to the status bar.
+    pub fn execute(&mut self, line: &str) {
+        let command = match command::parse(line) {
+            Ok(c) => c,
+            Err(e) => return self.say(e, true),
+        };
+        match command {
+            Command::Run(which) => self.run_which(which),
+            Command::Add { kind, name } => {
+                let result = self.session.add_analysis(&kind, &name);
+                self.after_structure_edit(result, format!("added {name} ({kind})"));
+            }
+            Command::Duplicate { name } => {
+                let result = self.session.duplicate_analysis(self.selected, &name);
+                self.after_structure_edit(result, format!("copied as {name}"));
+            }
+            Command::Rename { name } => {
+                let index = self.selected;
+                let result = self.session.rename_analysis(index, &name).map(|()| index);
+                self.after_structure_edit(result, format!("renamed {name}"));
+            }
+            Command::Delete { name } => {
+                let index = match &name {
+                    Some(n) => self.session.analyses.iter().position(|a| a.name == *n),
+                    None => (!self.session.analyses.is_empty()).then_some(self.selected),
+                };
+                let Some(index) = index else {
+                    return self.say(format!("no analysis {}", name.unwrap_or_default()), true);
+                };
+                let name = self.session.analyses[index].name.clone();
+                self.overlay = Some(Overlay::Confirm {
+                    question: format!("delete {name} from the session? (its results stay on disk)"),
+                    then: Confirmed::Delete(index, name),
+                });
+            }
+            Command::Set { field, value } => self.set_field(&field, &value),
+            Command::Select { name } => {
+                match self.session.analyses.iter().position(|a| a.name == name) {
+                    Some(i) => self.select(i),
+                    None => self.say(format!("no analysis {name}"), true),
+                }
+            }
+            Command::Save(None) => self.save(None),
+            Command::Save(Some(path)) => self.save_as_asking(path),
+            Command::Open(path) => self.open_asking(path),
+            Command::Export(path) => {
+                if self.status_of(self.selected) == ResultStatus::Complete {
+                    self.export_asking(path);
+                } else {
+                    self.say("no complete result to export (r runs it)", true);
+                }
+            }
+            Command::Help => self.overlay = Some(Overlay::Help),
+            Command::Quit => self.act(Action::Quit),
+        }
+    }
+
+    /// Selects analysis `i`, as moving to it in the list does.
+    fn select(&mut self, i: usize) {
+        self.selected = i;
+        self.param_error = None;
+        self.refresh_rows();
+        self.poll_results(true);
+        self.reset_cursor();
+        self.show_scalogram = false;
+    }
+
+    /// After an analysis was added, copied, renamed or deleted: the new session shown with
+    /// analysis `Ok(index)` selected, or the error said and nothing changed.
+    fn after_structure_edit(
+        &mut self,
+        result: Result<usize, isola::session::SessionError>,
+        done: String,
+    ) {
+        match result {
+            Ok(index) => {
+                self.modified = true;
+                self.selected = index;
+                self.reload_session_state();
+                self.say(done, false);
+            }
+            Err(e) => self.say(one_line(&e.to_string()), true),
+        }
+    }
+
+    fn delete_analysis(&mut self, index: usize, name: &str) {
+        let result = self
+            .session
+            .delete_analysis(index)
+            .map(|()| index.min(self.session.analyses.len().saturating_sub(1)));
+        self.after_structure_edit(result, format!("deleted {name}"));
+    }
+
+    /// `set FIELD VALUE` on the selected analysis: FIELD as the parameter pane labels it
+    /// (`ADR`, `omega.points`) or as the session file writes it (`adr`, `omega`, `c_tilde`).
+    fn set_field(&mut self, field: &str, value: &str) {
+        let row = self.param_rows.iter().position(|r| {
+            r.label.eq_ignore_ascii_case(field)
+                || matches!(&r.target, Target::Model { key, .. } if *key == field)
+        });
+        let Some(row) = row else {
+            return self.say(
+                format!("{field}: not a parameter of this analysis (see the Parameters pane)"),
+                true,
+            );
+        };
+        self.param_row = row;
+        self.commit_edit(value);
+        if let Some(e) = self.param_error.take() {
+            self.say(e, true);
+        }
+    }
+
+    /// Runs the analyses `which` names.
+    fn run_which(&mut self, which: Which) {
+        let indices: Vec<usize> = match which {
+            Which::Selected => vec![self.selected],
+            Which::All => (0..self.session.analyses.len()).collect(),
+            Which::Stale => {
+                // what the stored results are now, not what was last read of them
+                self.sync_results();
+                (0..self.session.analyses.len())
+                    .filter(|&i| self.status_of(i) != ResultStatus::Complete)
+                    .collect()
+            }
+            Which::Named(name) => match self.session.analyses.iter().position(|a| a.name == name) {
+                Some(i) => vec![i],
+                None => return self.say(format!("no analysis {name}"), true),
+            },
+        };
+        if indices.is_empty() {
+            return self.say("every result is current: nothing to run", false);
+        }
+        let selected = self.selected;
+        for &i in &indices {
+            self.selected = i;
+            self.run_selected();
+        }
+        self.selected = selected;
+        if indices.len() > 1 {
+            self.say(format!("{} analyses queued", indices.len()), false);
         }
     }
 
@@ -841,7 +995,20 @@ impl App {
                         InputPurpose::SaveAs => self.save_as_asking(path),
                         InputPurpose::Export => self.export_asking(path),
                         InputPurpose::Open => self.open_asking(path),
+                        InputPurpose::Command => self.execute(&text),
                     }
+                }
+                KeyCode::Tab if purpose == InputPurpose::Command => {
+                    let names: Vec<String> = self
+                        .session
+                        .analyses
+                        .iter()
+                        .map(|a| a.name.clone())
+                        .collect();
+                    if let Some(completed) = command::complete(&text, &names) {
+                        text = completed;
+                    }
+                    self.overlay = Some(Overlay::Input { purpose, text });
                 }
                 KeyCode::Backspace => {
                     text.pop();
@@ -883,6 +1050,7 @@ impl App {
                     Confirmed::Open(path) => self.open(&path),
                     Confirmed::SaveAs(path) => self.save(Some(path)),
                     Confirmed::Export(path) => self.export(&path),
+                    Confirmed::Delete(index, name) => self.delete_analysis(index, &name),
                 },
                 KeyCode::Char('n') | KeyCode::Char('N') | KeyCode::Esc => {
                     self.say("nothing done", false)
@@ -954,4 +1122,9 @@ fn file_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+/// A message on one line (a session error may carry a caret under its line).
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }

@@ -31,11 +31,13 @@ pub enum Action {
     Export,
     Zoom,
     Scalogram,
+    /// The command line (`:`).
+    Command,
 }
 
 impl Action {
     /// Every action with its config name and a few words for the help overlay.
-    pub const ALL: [(Action, &'static str, &'static str); 22] = [
+    pub const ALL: [(Action, &'static str, &'static str); 23] = [
         (Action::Quit, "quit", "quit (asks if jobs run)"),
         (Action::Help, "help", "this help"),
         (Action::FocusNext, "focus_next", "next pane"),
@@ -58,6 +60,7 @@ impl Action {
         (Action::Export, "export", "export result to CSV"),
         (Action::Zoom, "zoom", "plot full screen"),
         (Action::Scalogram, "scalogram", "sweep: envelope/scalogram"),
+        (Action::Command, "command", "command line (below)"),
     ];
 
     fn parse(name: &str) -> Option<Action> {
@@ -146,7 +149,7 @@ pub struct Keymap {
 
 impl Default for Keymap {
     fn default() -> Self {
-        let defaults: [(Action, &[&str]); 22] = [
+        let defaults: [(Action, &[&str]); 23] = [
             (Action::Quit, &["q"]),
             (Action::Help, &["?"]),
             (Action::FocusNext, &["tab"]),
@@ -169,6 +172,7 @@ impl Default for Keymap {
             (Action::Export, &["e"]),
             (Action::Zoom, &["z"]),
             (Action::Scalogram, &["w"]),
+            (Action::Command, &[":"]),
         ];
         Keymap {
             bindings: defaults

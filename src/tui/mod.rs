@@ -4,6 +4,7 @@
 //! differ, which spares an SSH link).
 
 pub mod app;
+pub mod command;
 pub mod config;
 pub mod jobs;
 pub mod keymap;

@@ -531,6 +531,103 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     assert!(draw(&app, 80, 24).contains("stale"));
 }
 
+/// Types `:` and a command line, then Enter.
+fn command(app: &mut App, line: &str) {
+    key(app, KeyCode::Char(':'));
+    keys(app, line);
+    key(app, KeyCode::Enter);
+}
+
+/// The command line makes and changes analyses: add, set, run, save (the result stays on
+/// view), duplicate, rename, delete (asked first), run stale; Tab completes; bad commands say
+/// why on the status bar.
+#[test]
+fn the_command_line_makes_and_changes_analyses() {
+    let path = fixture("command", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let n = app.session.analyses.len();
+    // Tab completes the command and the kind
+    key(&mut app, KeyCode::Char(':'));
+    keys(&mut app, "ad");
+    key(&mut app, KeyCode::Tab);
+    keys(&mut app, "bas");
+    key(&mut app, KeyCode::Tab);
+    let Some(Overlay::Input { text, .. }) = &app.overlay else {
+        panic!("no command line");
+    };
+    assert_eq!(text, "add basin ");
+    snapshot!("command_line_80x24", draw(&app, 80, 24));
+    keys(&mut app, "b2");
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.session.analyses.len(), n + 1);
+    assert_eq!(app.session.analyses[app.selected].name, "b2");
+    assert!(app.modified);
+    command(&mut app, "set adr 1.0");
+    command(&mut app, "set dx.points 9");
+    command(&mut app, "set v.points 9");
+    command(&mut app, "set omega 50 Hz");
+    assert!(
+        app.message.as_ref().is_some_and(|m| !m.error),
+        "{:?}",
+        app.message
+    );
+    let b2 = app.session.analysis("b2").unwrap();
+    let p = app.session.params(Some(b2)).unwrap();
+    assert!((p.drive_i().adr().unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(app.session.file.model.frequency_hz, Some(50.0));
+    command(&mut app, "run");
+    settle(&mut app);
+    assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
+    // saving keeps it on view and exportable
+    key(&mut app, KeyCode::Char('s'));
+    app.sync_results();
+    assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
+    let csv = path.with_file_name("b2.csv");
+    command(&mut app, &format!("export {}", csv.display()));
+    assert!(csv.exists(), "{:?}", app.message);
+    let reread = Session::load(&path).unwrap();
+    assert!(reread.analysis("b2").is_some());
+    // a copy, renamed, then deleted (asked first; n keeps it)
+    command(&mut app, "dup b3");
+    assert_eq!(app.session.analyses[app.selected].name, "b3");
+    command(&mut app, "rename b4");
+    assert_eq!(app.session.analyses[app.selected].name, "b4");
+    command(&mut app, "delete b4");
+    assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
+    key(&mut app, KeyCode::Char('n'));
+    assert!(app.session.analysis("b4").is_some());
+    command(&mut app, "delete b4");
+    key(&mut app, KeyCode::Char('y'));
+    assert!(app.session.analysis("b4").is_none());
+    assert_eq!(app.session.analyses.len(), n + 1);
+    // run stale runs what has no current result, not b2
+    command(&mut app, "run stale");
+    let queued: Vec<String> = app
+        .jobs
+        .entries
+        .iter()
+        .filter_map(|e| e.analysis.clone())
+        .collect();
+    assert!(!queued[1..].contains(&"b2".to_string()), "{queued:?}");
+    assert!(queued.len() > 1, "{queued:?}");
+    app.jobs.cancel_all();
+    settle(&mut app);
+    // errors, named
+    for (line, says) in [
+        ("add basin b2", "used twice"),
+        ("add orbit o", "unknown kind"),
+        ("set lambda 2", "not a parameter"),
+        ("set adr -3", "adr"),
+        ("fly", "not a command"),
+        ("select nowhere", "no analysis nowhere"),
+    ] {
+        command(&mut app, line);
+        let m = app.message.as_ref().unwrap();
+        assert!(m.error && m.text.contains(says), "{line}: {}", m.text);
+    }
+    assert_eq!(app.session.analyses.len(), n + 1);
+}
+
 /// `o` with unsaved edits and `S` over another file ask first; `n` changes nothing.
 #[test]
 fn opening_over_edits_and_saving_over_a_file_ask_first() {

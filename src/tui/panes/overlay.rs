@@ -6,6 +6,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
 
 use crate::tui::app::{App, InputPurpose, Overlay};
+use crate::tui::command::COMMANDS;
 use crate::tui::config;
 use crate::tui::keymap::Action;
 
@@ -40,6 +41,14 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             lines.push(Line::from(vec![
                 Span::styled(format!("{:>9}", "C-c"), t.key()),
                 Span::raw(" quit at once (jobs cancelled, finished chunks kept)"),
+            ]));
+            let commands: Vec<String> = COMMANDS
+                .iter()
+                .map(|(verb, args, _)| format!("{verb} {args}").trim_end().to_string())
+                .collect();
+            lines.push(Line::from(vec![
+                Span::styled(format!("{:>9}", ":"), t.key()),
+                Span::raw(format!(" {}", commands.join(" · "))),
             ]));
             lines.push(Line::styled(
                 "marks: ✓ done  ◐ partial  ~ stale (model changed)  · not run",
@@ -86,11 +95,27 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             ];
             (" Confirm ", lines, 64)
         }
+        Overlay::Input {
+            purpose: InputPurpose::Command,
+            text,
+        } => {
+            // what the command being typed takes and does
+            let verb = text.split_whitespace().next().unwrap_or("");
+            let hint = COMMANDS.iter().find(|(v, _, _)| *v == verb).map_or_else(
+                || "Tab: complete   Enter: run   Esc: cancel   (help lists the commands)".into(),
+                |(v, args, what)| format!("{v} {args}: {what}"),
+            );
+            let lines = vec![
+                Line::styled(format!(":{text}▏"), t.cursor()),
+                Line::styled(hint, t.muted()),
+            ];
+            (" Command ", lines, 72)
+        }
         Overlay::Input { purpose, text } => {
             let what = match purpose {
                 InputPurpose::SaveAs => "Save session as:",
                 InputPurpose::Export => "Export result to CSV file:",
-                InputPurpose::Open => "Open session file:",
+                InputPurpose::Open | InputPurpose::Command => "Open session file:",
             };
             let lines = vec![
                 Line::raw(what),

@@ -1,0 +1,205 @@
+//! Analyses added, duplicated, renamed and deleted in a session, the rest of the file (its
+//! comments and layout) kept. Every edit is validated as a loaded file is; on an error the
+//! session is left as it was. Results stay on disk under the names they were computed for.
+
+use super::schema::{KINDS, Session, SessionError};
+
+/// The settings a new analysis of `kind` is written with: those it cannot do without (the
+/// rest take their defaults, shown in the workbench's parameter pane).
+fn required_settings(kind: &str) -> toml_edit::Table {
+    let mut table = toml_edit::Table::new();
+    match kind {
+        "family" => {
+            table.insert("parameter", toml_edit::value("adr"));
+            let values: toml_edit::Array = [0.2, 0.6, 1.0].into_iter().collect();
+            table.insert("values", toml_edit::value(values));
+        }
+        "map" => {
+            table.insert("parameter", toml_edit::value("adr"));
+            let mut axis = toml_edit::InlineTable::new();
+            axis.insert("min", 0.1.into());
+            axis.insert("max", 1.2.into());
+            axis.insert("points", 12.into());
+            table.insert("values", toml_edit::value(axis));
+        }
+        _ => {}
+    }
+    table
+}
+
+impl Session {
+    /// A session error that is not about the file's text.
+    fn edit_error(&self, message: String) -> SessionError {
+        SessionError::Syntax {
+            path: self.path.clone(),
+            message,
+        }
+    }
+
+    /// Appends an analysis of `kind` called `name` (settings at their defaults, the model the
+    /// session's); returns its index.
+    pub fn add_analysis(&mut self, kind: &str, name: &str) -> Result<usize, SessionError> {
+        if !KINDS.contains(&kind) {
+            return Err(self.edit_error(format!(
+                "unknown kind '{kind}': one of {}",
+                KINDS.join(", ")
+            )));
+        }
+        let mut table = toml_edit::Table::new();
+        table.insert("name", toml_edit::value(name));
+        table.insert("kind", toml_edit::value(kind));
+        let mut settings = required_settings(kind);
+        if !settings.is_empty() {
+            settings.decor_mut().set_prefix("");
+            table.insert("settings", toml_edit::Item::Table(settings));
+        }
+        let mut tables = self.analysis_tables();
+        tables.push(table);
+        self.with_analysis_tables(tables)?;
+        Ok(self.analyses.len() - 1)
+    }
+
+    /// Inserts a copy of analysis `index` (its model overrides and settings) called `name`
+    /// right after it; returns the copy's index.
+    pub fn duplicate_analysis(&mut self, index: usize, name: &str) -> Result<usize, SessionError> {
+        let mut tables = self.analysis_tables();
+        let mut copy = tables
+            .get(index)
+            .cloned()
+            .ok_or_else(|| self.edit_error(format!("no analysis number {index}")))?;
+        copy.insert("name", toml_edit::value(name));
+        // the original's leading comment stays with the original
+        copy.decor_mut().clear();
+        tables.insert(index + 1, copy);
+        self.with_analysis_tables(tables)?;
+        Ok(index + 1)
+    }
+
+    /// Renames analysis `index`.
+    pub fn rename_analysis(&mut self, index: usize, name: &str) -> Result<(), SessionError> {
+        let mut tables = self.analysis_tables();
+        let table = tables
+            .get_mut(index)
+            .ok_or_else(|| self.edit_error(format!("no analysis number {index}")))?;
+        table.insert("name", toml_edit::value(name));
+        self.with_analysis_tables(tables)
+    }
+
+    /// Removes analysis `index` from the session (not its results from the disk).
+    pub fn delete_analysis(&mut self, index: usize) -> Result<(), SessionError> {
+        let mut tables = self.analysis_tables();
+        if index >= tables.len() {
+            return Err(self.edit_error(format!("no analysis number {index}")));
+        }
+        tables.remove(index);
+        self.with_analysis_tables(tables)
+    }
+
+    /// The `[[analysis]]` tables as they are written.
+    fn analysis_tables(&self) -> Vec<toml_edit::Table> {
+        self.document
+            .get("analysis")
+            .and_then(|a| a.as_array_of_tables())
+            .map(|a| a.iter().cloned().collect())
+            .unwrap_or_default()
+    }
+
+    /// The session with these `[[analysis]]` tables, validated.
+    fn with_analysis_tables(&mut self, tables: Vec<toml_edit::Table>) -> Result<(), SessionError> {
+        let mut document = self.document.clone();
+        // tables are written in the order of their positions: the analyses (and the tables
+        // inside them) after everything else, in their new order
+        let mut next = max_position(document.as_table()) + 1;
+        let mut array = toml_edit::ArrayOfTables::new();
+        for mut table in tables {
+            number_tables(&mut table, &mut next);
+            array.push(table);
+        }
+        if array.is_empty() {
+            document.remove("analysis");
+        } else {
+            document.insert("analysis", toml_edit::Item::ArrayOfTables(array));
+        }
+        self.replace_document(document)
+    }
+}
+
+/// The largest position of a table in `table` or under it, other than the analyses'.
+fn max_position(table: &toml_edit::Table) -> isize {
+    table
+        .iter()
+        .filter(|(key, _)| *key != "analysis")
+        .filter_map(|(_, item)| item.as_table())
+        .map(|t| t.position().unwrap_or(0).max(max_position(t)))
+        .max()
+        .unwrap_or(0)
+}
+
+/// Gives `table` and the tables under it positions from `next` on, in document order.
+fn number_tables(table: &mut toml_edit::Table, next: &mut isize) {
+    table.set_position(Some(*next));
+    *next += 1;
+    for (_, item) in table.iter_mut() {
+        if let Some(inner) = item.as_table_mut() {
+            number_tables(inner, next);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    const TEXT: &str = "# my study\nschema = 1\n[model]\nadr = 0.6 # the paper's\n\n\
+        # the basin of Fig 6A\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n\
+        model = { omega = 3.6 }\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 21 }\n";
+
+    fn session() -> Session {
+        Session::parse(Path::new("/tmp/s.toml"), TEXT).unwrap()
+    }
+
+    #[test]
+    fn add_duplicate_rename_delete() {
+        let mut s = session();
+        // every kind can be added, with what it needs
+        for kind in KINDS {
+            let i = s.add_analysis(kind, &format!("new_{kind}")).unwrap();
+            assert_eq!(s.analyses[i].settings.kind(), kind);
+        }
+        assert_eq!(s.analyses.len(), 1 + KINDS.len());
+        // a copy keeps model overrides and settings, and sits after its original
+        let i = s.duplicate_analysis(0, "basin2").unwrap();
+        assert_eq!(i, 1);
+        assert_eq!(s.analyses[1].settings, s.analyses[0].settings);
+        assert_eq!(s.params(Some(&s.analyses[1])).unwrap().omega(), 3.6);
+        s.rename_analysis(1, "basin_b").unwrap();
+        assert_eq!(s.analyses[1].name, "basin_b");
+        s.delete_analysis(1).unwrap();
+        assert!(s.analysis("basin_b").is_none());
+        // the rest of the file is as it was written, comments and all
+        let text = s.to_text();
+        assert!(text.starts_with("# my study\nschema = 1\n[model]\nadr = 0.6 # the paper's\n"));
+        assert!(text.contains("# the basin of Fig 6A\n[[analysis]]\nname = \"basin\""));
+        let reread = Session::parse(Path::new("/tmp/s.toml"), &text).unwrap();
+        assert_eq!(reread.analyses.len(), s.analyses.len());
+    }
+
+    #[test]
+    fn bad_edits_are_refused_and_change_nothing() {
+        let mut s = session();
+        let before = s.to_text();
+        let error = s.add_analysis("basin", "basin").unwrap_err().to_string();
+        assert!(error.contains("'basin' is used twice"), "{error}");
+        let error = s.add_analysis("orbit", "o").unwrap_err().to_string();
+        assert!(error.contains("unknown kind 'orbit'") && error.contains("time_history"));
+        let error = s.rename_analysis(0, "a b").unwrap_err().to_string();
+        assert!(error.contains("letters, digits, _ and -"), "{error}");
+        assert!(s.duplicate_analysis(5, "x").is_err());
+        assert!(s.delete_analysis(5).is_err());
+        assert_eq!(s.to_text(), before);
+        // the last analysis can go too
+        s.delete_analysis(0).unwrap();
+        assert!(s.analyses.is_empty());
+    }
+}

@@ -1,0 +1,240 @@
+//! The command line on `:`: what a key does, and more, as words (`run stale`, `add basin b2`,
+//! `set omega 50 Hz`), with Tab completing command, kind and analysis names.
+
+use std::path::PathBuf;
+
+use isola::session::schema::KINDS;
+
+/// Which analyses `run` runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Which {
+    Selected,
+    All,
+    /// Every analysis without a current result (stale, partial or never run).
+    Stale,
+    Named(String),
+}
+
+/// A command as typed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Run(Which),
+    Add { kind: String, name: String },
+    Duplicate { name: String },
+    Rename { name: String },
+    Delete { name: Option<String> },
+    Set { field: String, value: String },
+    Select { name: String },
+    Save(Option<PathBuf>),
+    Open(PathBuf),
+    Export(PathBuf),
+    Help,
+    Quit,
+}
+
+/// Every command: its words, its arguments and what it does (for the help overlay).
+pub const COMMANDS: [(&str, &str, &str); 12] = [
+    (
+        "run",
+        "[all|stale|NAME]",
+        "run the selected analysis, or these",
+    ),
+    ("add", "KIND NAME", "add an analysis of a kind"),
+    ("dup", "NAME", "copy the selected analysis as NAME"),
+    ("rename", "NAME", "rename the selected analysis"),
+    ("delete", "[NAME]", "delete an analysis (asks)"),
+    ("set", "FIELD VALUE", "set a parameter: set omega 50 Hz"),
+    ("select", "NAME", "select an analysis"),
+    ("save", "[FILE]", "save the session (as FILE)"),
+    ("open", "FILE", "open a session"),
+    ("export", "FILE", "export the selected result"),
+    ("help", "", "the keys and commands"),
+    ("quit", "", "quit (asks if jobs run)"),
+];
+
+/// Parses a command line.
+pub fn parse(line: &str) -> Result<Command, String> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let Some((&verb, args)) = words.split_first() else {
+        return Err("no command: : then e.g. run, add basin b2, set adr 1.0, help".into());
+    };
+    let usage = |verb: &str| {
+        let (_, args, _) = COMMANDS
+            .iter()
+            .find(|(v, _, _)| *v == verb)
+            .unwrap_or(&("", "", ""));
+        format!("usage: {verb} {args}")
+    };
+    let one = |verb: &str| match args {
+        [name] => Ok(name.to_string()),
+        _ => Err(usage(verb)),
+    };
+    let path = |verb: &str| one(verb).map(PathBuf::from);
+    Ok(match verb {
+        "run" | "r" => Command::Run(match args {
+            [] => Which::Selected,
+            ["all"] => Which::All,
+            ["stale"] => Which::Stale,
+            [name] => Which::Named(name.to_string()),
+            _ => return Err(usage("run")),
+        }),
+        "add" => match args {
+            [kind, name] => Command::Add {
+                kind: kind.to_string(),
+                name: name.to_string(),
+            },
+            _ => return Err(format!("{} (kinds: {})", usage("add"), KINDS.join(", "))),
+        },
+        "dup" | "duplicate" => Command::Duplicate { name: one("dup")? },
+        "rename" => Command::Rename {
+            name: one("rename")?,
+        },
+        "delete" | "del" => match args {
+            [] => Command::Delete { name: None },
+            [name] => Command::Delete {
+                name: Some(name.to_string()),
+            },
+            _ => return Err(usage("delete")),
+        },
+        "set" => match args {
+            [field, value @ ..] if !value.is_empty() => Command::Set {
+                field: field.to_string(),
+                value: value.join(" "),
+            },
+            _ => return Err(usage("set")),
+        },
+        "select" | "sel" => Command::Select {
+            name: one("select")?,
+        },
+        "save" | "w" => match args {
+            [] => Command::Save(None),
+            [file] => Command::Save(Some(PathBuf::from(file))),
+            _ => return Err(usage("save")),
+        },
+        "open" | "e!" => Command::Open(path("open")?),
+        "export" => Command::Export(path("export")?),
+        "help" | "?" => Command::Help,
+        "quit" | "q" => Command::Quit,
+        other => {
+            let verbs: Vec<&str> = COMMANDS.iter().map(|(v, _, _)| *v).collect();
+            return Err(format!("'{other}': not a command ({})", verbs.join(", ")));
+        }
+    })
+}
+
+/// The line with its last word completed, if exactly one completion fits (or their common
+/// start, if longer than what is typed): command names first, then kinds after `add`,
+/// analysis names after `run`, `delete` and `select`.
+pub fn complete(line: &str, analyses: &[String]) -> Option<String> {
+    let ends_in_space = line.ends_with(' ');
+    let mut words: Vec<&str> = line.split_whitespace().collect();
+    if ends_in_space || words.is_empty() {
+        words.push("");
+    }
+    let last = *words.last()?;
+    let choices: Vec<String> = match words.len() {
+        1 => COMMANDS.iter().map(|(v, _, _)| v.to_string()).collect(),
+        2 => match words[0] {
+            "add" => KINDS.iter().map(|k| k.to_string()).collect(),
+            "run" => ["all", "stale"]
+                .iter()
+                .map(|s| s.to_string())
+                .chain(analyses.iter().cloned())
+                .collect(),
+            "delete" | "select" => analyses.to_vec(),
+            _ => return None,
+        },
+        _ => return None,
+    };
+    let fitting: Vec<&String> = choices.iter().filter(|c| c.starts_with(last)).collect();
+    let common = fitting.split_first().map(|(first, rest)| {
+        rest.iter().fold(first.as_str(), |common, c| {
+            let n = common
+                .char_indices()
+                .zip(c.chars())
+                .take_while(|((_, a), b)| a == b)
+                .last()
+                .map_or(0, |((i, a), _)| i + a.len_utf8());
+            &common[..n]
+        })
+    })?;
+    if common.len() <= last.len() && fitting.len() > 1 {
+        return None;
+    }
+    let head = &words[..words.len() - 1];
+    let mut out: String = head.iter().map(|w| format!("{w} ")).collect();
+    out.push_str(common);
+    if fitting.len() == 1 {
+        out.push(' ');
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_parse_with_their_arguments() {
+        assert_eq!(parse("run").unwrap(), Command::Run(Which::Selected));
+        assert_eq!(parse(" run  stale ").unwrap(), Command::Run(Which::Stale));
+        assert_eq!(
+            parse("run b2").unwrap(),
+            Command::Run(Which::Named("b2".into()))
+        );
+        assert_eq!(
+            parse("add basin b2").unwrap(),
+            Command::Add {
+                kind: "basin".into(),
+                name: "b2".into()
+            }
+        );
+        assert_eq!(
+            parse("set omega 50 Hz").unwrap(),
+            Command::Set {
+                field: "omega".into(),
+                value: "50 Hz".into()
+            }
+        );
+        assert_eq!(parse("delete").unwrap(), Command::Delete { name: None });
+        assert_eq!(parse("save").unwrap(), Command::Save(None));
+        assert!(
+            parse("add basin")
+                .unwrap_err()
+                .contains("usage: add KIND NAME")
+        );
+        assert!(
+            parse("set adr")
+                .unwrap_err()
+                .contains("usage: set FIELD VALUE")
+        );
+        assert!(parse("fly").unwrap_err().contains("not a command"));
+        assert!(parse("").is_err());
+    }
+
+    #[test]
+    fn tab_completes_commands_kinds_and_names() {
+        let names = vec![
+            "basin".to_string(),
+            "basin_b".to_string(),
+            "orbit".to_string(),
+        ];
+        assert_eq!(complete("ru", &names).as_deref(), Some("run "));
+        assert_eq!(complete("add ba", &names).as_deref(), Some("add basin "));
+        assert_eq!(
+            complete("add fr", &names).as_deref(),
+            Some("add frequency_response ")
+        );
+        // two names share "basin": completed to it, no space
+        assert_eq!(
+            complete("delete b", &names).as_deref(),
+            Some("delete basin")
+        );
+        assert_eq!(complete("run o", &names).as_deref(), Some("run orbit "));
+        assert_eq!(complete("run st", &names).as_deref(), Some("run stale "));
+        // nothing more to add, or nothing fits
+        assert_eq!(complete("s", &names), None);
+        assert_eq!(complete("zz", &names), None);
+        assert_eq!(complete("set omega 3", &names), None);
+    }
+}
