@@ -94,13 +94,19 @@ pub fn draw(
             ]
         })
         .collect();
-    let per_line = if items.len() > 3 {
-        items.len().div_ceil(2)
-    } else {
-        3
-    };
-    for chunk in items.chunks(per_line.max(1)) {
-        footer.push(Line::from(chunk.concat()));
+    // as many entries a line as fit the plot's width, so none is cut off
+    let mut line: Vec<Span> = Vec::new();
+    for item in items {
+        let width: usize = item.iter().map(Span::width).sum();
+        let used: usize = line.iter().map(Span::width).sum();
+        // (each entry ends in two spaces, which may fall off the edge)
+        if !line.is_empty() && used + width.saturating_sub(2) > area.width as usize {
+            footer.push(Line::from(std::mem::take(&mut line)));
+        }
+        line.extend(item);
+    }
+    if !line.is_empty() {
+        footer.push(Line::from(line));
     }
     let done = b.labels.iter().filter(|l| l.is_some()).count();
     if done < b.labels.len() {
