@@ -130,6 +130,8 @@ pub struct App {
     scalogram_jobs: HashMap<usize, String>,
     pub show_scalogram: bool,
     pub zoom: bool,
+    /// How far the help overlay is scrolled down, in lines.
+    pub help_scroll: u16,
     /// The pane that had the keys before the plot was zoomed, to give them back after.
     focus_before_zoom: Option<Focus>,
     pub message: Option<Message>,
@@ -167,6 +169,7 @@ impl App {
             scalogram_jobs: HashMap::new(),
             show_scalogram: false,
             zoom: false,
+            help_scroll: 0,
             focus_before_zoom: None,
             message: None,
             theme,
@@ -400,7 +403,7 @@ impl App {
                     self.should_quit = true;
                 }
             }
-            Action::Help => self.overlay = Some(Overlay::Help),
+            Action::Help => self.open_help(),
             // a zoomed plot is the only pane on screen: it keeps the keys
             Action::FocusNext if !self.zoom => self.focus = self.focus.step(1),
             Action::FocusPrev if !self.zoom => self.focus = self.focus.step(-1),
@@ -439,6 +442,12 @@ impl App {
                 })
             }
         }
+    }
+
+    /// Opens the help at its top.
+    fn open_help(&mut self) {
+        self.help_scroll = 0;
+        self.overlay = Some(Overlay::Help);
     }
 
     /// Runs a command line (`:`); what it did or why it could not goes to the status bar.
@@ -493,7 +502,7 @@ impl App {
                     self.say("no complete result to export (r runs it)", true);
                 }
             }
-            Command::Help => self.overlay = Some(Overlay::Help),
+            Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }
     }
@@ -976,7 +985,18 @@ impl App {
         let action = self.keymap.action(&key);
         match overlay {
             Overlay::Help => {
-                if !matches!(key.code, KeyCode::Esc | KeyCode::Enter | KeyCode::Char('q'))
+                let scroll = match action {
+                    Some(Action::Up) => Some(-1),
+                    Some(Action::Down) => Some(1),
+                    Some(Action::FastUp) => Some(-10),
+                    Some(Action::FastDown) => Some(10),
+                    _ => None,
+                };
+                if let Some(by) = scroll {
+                    // the overlay clamps it to the last line it can show
+                    self.help_scroll = self.help_scroll.saturating_add_signed(by).min(200);
+                    self.overlay = Some(Overlay::Help);
+                } else if !matches!(key.code, KeyCode::Esc | KeyCode::Enter | KeyCode::Char('q'))
                     && action != Some(Action::Help)
                 {
                     self.overlay = Some(Overlay::Help);

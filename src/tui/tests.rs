@@ -756,6 +756,31 @@ fn help_small_terminals_and_the_session_picker() {
     let small = draw(&app, 50, 15);
     assert!(small.contains("at least 60×18"), "{small}");
     snapshot!("too_small_50x15", small);
+    // at 60×18 the help is one column, no entry wrapped, and scrolls to its end
+    key(&mut app, KeyCode::Char('?'));
+    let top = draw(&app, 60, 18);
+    assert!(
+        top.contains("q quit (asks if jobs run)") && top.contains("scroll"),
+        "{top}"
+    );
+    assert!(!top.contains("theme: dark"), "{top}");
+    snapshot!("help_60x18", top);
+    for _ in 0..5 {
+        key(&mut app, KeyCode::PageDown);
+    }
+    let bottom = draw(&app, 60, 18);
+    assert!(
+        bottom.contains("theme: dark") && !bottom.contains("q quit (asks"),
+        "{bottom}"
+    );
+    key(&mut app, KeyCode::Esc);
+    // a quit question in a window too small for the panes is still seen
+    app.modified = true;
+    key(&mut app, KeyCode::Char('q'));
+    let small = draw(&app, 50, 15);
+    assert!(small.contains("Quit? y / n"), "{small}");
+    key(&mut app, KeyCode::Char('n'));
+    app.modified = false;
     // o lists the session files beside this one; Enter opens one
     std::fs::write(path.with_file_name("other.toml"), OTHERS).unwrap();
     key(&mut app, KeyCode::Char('o'));

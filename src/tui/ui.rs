@@ -7,7 +7,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Widget, Wrap};
 
-use super::app::{App, Focus};
+use super::app::{App, Focus, Overlay};
 use super::panes::{self, params::ParamsPane};
 use super::plots::{self, PlotContext};
 use isola::session::Settings;
@@ -23,10 +23,14 @@ pub fn draw(frame: &mut Frame, app: &App) {
     let area = frame.area();
     let buf = frame.buffer_mut();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
-        let text = format!(
+        let mut text = format!(
             "isola needs a terminal of at least {MIN_WIDTH}×{MIN_HEIGHT}; this one is {}×{}.\nEnlarge it, or press q to quit.",
             area.width, area.height
         );
+        // the one question that can be asked here must be seen
+        if app.overlay == Some(Overlay::ConfirmQuit) {
+            text.push_str("\n\nJobs are running or edits are unsaved. Quit? y / n");
+        }
         Paragraph::new(text)
             .wrap(Wrap { trim: true })
             .style(app.theme.text())

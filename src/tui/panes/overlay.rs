@@ -10,6 +10,9 @@ use crate::tui::command::COMMANDS;
 use crate::tui::config;
 use crate::tui::keymap::Action;
 
+/// The help's width with two columns of keys.
+const HELP_WIDTH: u16 = 74;
+
 /// A box of `w × h` centred in `area` (clipped to it).
 fn centred(area: Rect, w: u16, h: u16) -> Rect {
     let (w, h) = (w.min(area.width), h.min(area.height));
@@ -25,7 +28,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let (title, lines, w): (&str, Vec<Line>, u16) = match overlay {
         Overlay::Help => {
-            // two columns of keys, so that the whole help fits in 80×24
+            // two columns of keys where they fit (the whole help then fits in 80×24), else one
             let entry = |i: usize| -> Vec<Span> {
                 Action::ALL.get(i).map_or_else(Vec::new, |(a, _, what)| {
                     vec![
@@ -34,10 +37,16 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                     ]
                 })
             };
-            let half = Action::ALL.len().div_ceil(2);
-            let mut lines: Vec<Line> = (0..half)
-                .map(|i| Line::from([entry(i), entry(i + half)].concat()))
-                .collect();
+            let mut lines: Vec<Line> = if area.width >= HELP_WIDTH {
+                let half = Action::ALL.len().div_ceil(2);
+                (0..half)
+                    .map(|i| Line::from([entry(i), entry(i + half)].concat()))
+                    .collect()
+            } else {
+                (0..Action::ALL.len())
+                    .map(|i| Line::from(entry(i)))
+                    .collect()
+            };
             lines.push(Line::from(vec![
                 Span::styled(format!("{:>9}", "C-c"), t.key()),
                 Span::raw(" quit at once (jobs cancelled, finished chunks kept)"),
@@ -72,7 +81,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 format!("theme: {} (--theme, --color)", t.name),
                 t.muted(),
             ));
-            (" Help (Esc closes) ", lines, 74)
+            (" Help (↑↓ scroll, Esc closes) ", lines, HELP_WIDTH)
         }
         Overlay::ConfirmQuit => {
             let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
@@ -169,6 +178,8 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
         Overlay::Picker { selected, .. } => {
             (selected + 1).saturating_sub(inner_h.saturating_sub(1)) as u16
         }
+        // as far down as asked, but never past the last line
+        Overlay::Help => app.help_scroll.min(rows.saturating_sub(inner_h) as u16),
         _ => 0,
     };
     Paragraph::new(lines)
