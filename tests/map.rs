@@ -98,3 +98,42 @@ fn a_map_along_a_model_parameter() {
         .to_string();
     assert!(err.contains("x"), "{err}");
 }
+
+/// A map's gauge runs once from 0 to 100 % over its rows: the rows' whole work is announced
+/// before the first trajectory, and it is exactly the work done (it used to restart every row,
+/// reading 92–100 % throughout).
+#[test]
+fn a_map_announces_all_its_rows_at_once() {
+    let p = Params::baseline();
+    let spec = MapSpec {
+        x: ContinuationParameter::Omega,
+        parameter: FamilyParameter::Adr,
+        values: Axis::new(0.4, 0.8, 5),
+        response: FrequencyResponseSpec {
+            omega: Axis::new(3.0, 4.0, 6),
+            dx: Axis::new(-0.6, 0.6, 3),
+            v: Axis::new(-0.8, 0.8, 3),
+            ..FrequencyResponseSpec::default()
+        },
+        curves: false,
+    };
+    let total = 5 * spec.response.work();
+    let progress = std::sync::Arc::new(Progress::new(0));
+    let watched = progress.clone();
+    let run = std::thread::spawn(move || map(&p, &spec, &watched).map(|_| ()));
+    let mut seen = Vec::new();
+    while !run.is_finished() {
+        let (done, announced) = progress.get();
+        if done > 0 {
+            seen.push((done, announced));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    run.join().unwrap().unwrap();
+    assert!(
+        seen.iter().all(|&(_, announced)| announced == total),
+        "{seen:?}"
+    );
+    assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "monotone");
+    assert_eq!(progress.get(), (total, total));
+}

@@ -4,8 +4,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::AnalysisError;
+use super::continuation::ContinuationParameter;
 use super::frequency_response::{
-    Branch, FrequencyResponse, FrequencyResponseSpec, frequency_response,
+    Branch, FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
 use super::progress::Progress;
 use crate::model::error::ParamError;
@@ -104,7 +105,8 @@ impl FamilySpec {
     }
 }
 
-/// Member `i` of the family: the frequency response at the i-th value (on the whole pool).
+/// Member `i` of the family: the frequency response at the i-th value (on the whole pool);
+/// its work, [`FrequencyResponseSpec::work`], is announced on `progress` by the caller.
 pub fn family_member(
     params: &Params,
     spec: &FamilySpec,
@@ -113,12 +115,18 @@ pub fn family_member(
 ) -> Result<FamilyMember, AnalysisError> {
     let value = spec.values[i];
     let p = spec.parameter.apply(params, value)?;
-    let response = frequency_response(&p, &spec.response, progress)?;
+    let response = frequency_response_over(
+        &p,
+        &spec.response,
+        ContinuationParameter::Omega,
+        progress,
+        Work::Announced,
+    )?;
     Ok(FamilyMember { value, response })
 }
 
-/// Runs the frequency response of each member in turn (each on the whole pool); each member
-/// announces its own work on the shared progress as it starts.
+/// Runs the frequency response of each member in turn (each on the whole pool), their work
+/// announced together at the start.
 pub fn family(
     params: &Params,
     spec: &FamilySpec,
@@ -126,6 +134,7 @@ pub fn family(
     mut on_member: impl FnMut(&FamilyMember),
 ) -> Result<Vec<FamilyMember>, AnalysisError> {
     spec.validate(params)?;
+    progress.grow_total(spec.values.len() * spec.response.work());
     (0..spec.values.len())
         .map(|i| {
             let member = family_member(params, spec, i, progress)?;

@@ -71,6 +71,14 @@ impl Default for FrequencyResponseSpec {
 }
 
 impl FrequencyResponseSpec {
+    /// Units of progress of one response: every trajectory of the grids (one grid of starts
+    /// per ω_e), and every step of both sweeps.
+    pub fn work(&self) -> usize {
+        let omegas = self.omega.points;
+        let sweeps = if self.sweeps { 2 * omegas } else { 0 };
+        self.dx.points * self.v.points * omegas + sweeps
+    }
+
     /// Checks the ω grid (positive), the grid of starts, the total number of trajectories,
     /// the capture radius and the steady-state settings.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
@@ -205,30 +213,46 @@ pub fn frequency_response_live(
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
 ) -> Result<FrequencyResponse, AnalysisError> {
-    run_plan(&ResponsePlan::new(params, spec)?, progress, on_omega)
+    let plan = ResponsePlan::new(params, spec)?;
+    progress.grow_total(plan.work());
+    run_plan(&plan, progress, on_omega)
 }
 
 /// The response against `parameter` (its values on the spec's `omega` grid) at the model's
 /// ω_e: see [`ResponsePlan::over`].
+///
+/// `work` says who announces its [`FrequencyResponseSpec::work`] on `progress`: the call
+/// itself, or its caller (the rows of a map, the members of a family: announced together, so
+/// that a gauge runs once from 0 to 100 %).
 pub fn frequency_response_over(
     params: &Params,
     spec: &FrequencyResponseSpec,
     parameter: ContinuationParameter,
     progress: &Progress,
+    work: Work,
 ) -> Result<FrequencyResponse, AnalysisError> {
-    run_plan(
-        &ResponsePlan::over(params, spec, parameter)?,
-        progress,
-        &|_| {},
-    )
+    let plan = ResponsePlan::over(params, spec, parameter)?;
+    if work == Work::Own {
+        progress.grow_total(plan.work());
+    }
+    run_plan(&plan, progress, &|_| {})
 }
 
+/// Who announces a call's work on its progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Work {
+    /// The call, as it starts.
+    Own,
+    /// Its caller, already.
+    Announced,
+}
+
+/// Runs a plan whose work is announced already.
 fn run_plan(
     plan: &ResponsePlan,
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
 ) -> Result<FrequencyResponse, AnalysisError> {
-    progress.grow_total(plan.work());
     let per_omega: Vec<Option<Vec<Response>>> = (0..plan.chunks())
         .into_par_iter()
         .map(|i| {
@@ -288,14 +312,10 @@ impl<'a> ResponsePlan<'a> {
         self.omegas.len()
     }
 
-    /// Units of progress: every trajectory of the grids, and every step of both sweeps.
+    /// Units of progress: [`FrequencyResponseSpec::work`].
     pub fn work(&self) -> usize {
-        self.ics.len() * self.omegas.len()
-            + if self.spec.sweeps {
-                2 * self.omegas.len()
-            } else {
-                0
-            }
+        debug_assert_eq!(self.ics.len(), self.spec.dx.points * self.spec.v.points);
+        self.spec.work()
     }
 
     /// The distinct responses from the grid of initial states at ω_e index `i`; `None` if

@@ -14,7 +14,7 @@ use super::continuation::{
 };
 use super::family::FamilyParameter;
 use super::frequency_response::{
-    FrequencyResponse, FrequencyResponseSpec, frequency_response_over,
+    FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
 use super::grid::Axis;
 use super::progress::Progress;
@@ -175,7 +175,8 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
     }
 }
 
-/// Row `i` of the map (on the whole pool).
+/// Row `i` of the map (on the whole pool); its work, [`FrequencyResponseSpec::work`], is
+/// announced on `progress` by the caller.
 pub fn map_row(
     params: &Params,
     spec: &MapSpec,
@@ -184,7 +185,7 @@ pub fn map_row(
 ) -> Result<MapRow, AnalysisError> {
     let value = spec.values.at(i);
     let p = spec.parameter.apply(params, value)?;
-    let fr = frequency_response_over(&p, &spec.response, spec.x, progress)?;
+    let fr = frequency_response_over(&p, &spec.response, spec.x, progress, Work::Announced)?;
     Ok(summarise(value, &fr))
 }
 
@@ -291,6 +292,7 @@ pub fn map(
     progress: &Progress,
 ) -> Result<(Vec<MapRow>, Vec<BifurcationCurve>), AnalysisError> {
     spec.validate(params)?;
+    progress.grow_total(spec.values.points * spec.response.work());
     let rows = (0..spec.values.points)
         .map(|i| map_row(params, spec, i, progress))
         .collect::<Result<Vec<_>, _>>()?;

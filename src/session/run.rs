@@ -405,9 +405,12 @@ impl Run<'_> {
             }
             Settings::Map(spec) => {
                 spec.validate(&params)?;
-                // each row announces its own work as it starts; rows run side by side
+                // the rows' work announced at once (rows found done count as done), so the
+                // gauge runs once from 0 to 100 %
+                let row_work = spec.response.work();
+                progress.grow_total(spec.values.points * row_work);
                 self.chunked(
-                    |_| {},
+                    |_| progress.add(row_work),
                     |i| optional(map_row(&params, spec, i, progress)),
                     |i, row: &MapRow| map_content(spec, i, row),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values.at(i)),
@@ -429,9 +432,11 @@ impl Run<'_> {
             Settings::Family(spec) => {
                 spec.validate(&params)?;
                 let device = self.session.device();
-                // each member announces its own work as it starts; members run side by side
+                // the members' work announced at once, as a map's rows
+                let member_work = spec.response.work();
+                progress.grow_total(spec.values.len() * member_work);
                 self.chunked(
-                    |_| {},
+                    |_| progress.add(member_work),
                     |i| optional(family_member(&params, spec, i, progress)),
                     |i, member: &FamilyMember| family_content(spec, i, member),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values[i]),

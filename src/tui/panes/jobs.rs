@@ -61,8 +61,9 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             match &e.state {
                 JobState::Running => {
                     let f = e.progress.fraction();
+                    // the readouts padded to fixed widths, so the bar keeps its width
                     let tail = format!(
-                        " {:>3.0}% {} {}",
+                        " {:>3.0}% {:>9} {:<12}",
                         f * 100.0,
                         e.rate().map_or(String::new(), rate_text),
                         e.eta()
