@@ -16,18 +16,30 @@ impl Tmux {
         let tmux = Tmux {
             name: format!("{name}-{}", std::process::id()),
         };
-        tmux.run(&[
-            "new-session",
-            "-d",
-            "-s",
-            &tmux.name,
-            "-x",
-            "80",
-            "-y",
-            "24",
-            command,
-        ]);
-        tmux
+        // a new session can be lost to a server that is exiting as another test's last
+        // session closes: try again until it is there
+        for _ in 0..50 {
+            tmux.run(&[
+                "new-session",
+                "-d",
+                "-s",
+                &tmux.name,
+                "-x",
+                "80",
+                "-y",
+                "24",
+                command,
+            ]);
+            let there = Command::new("tmux")
+                .args(["has-session", "-t", &tmux.name])
+                .status()
+                .is_ok_and(|s| s.success());
+            if there {
+                return tmux;
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        panic!("tmux would not start a session");
     }
 
     fn run(&self, args: &[&str]) -> String {

@@ -17,7 +17,7 @@ use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
 use super::command::{self, Command, Which};
-use super::jobs::{JobList, Output, Work};
+use super::jobs::{JobList, JobState, Output, Work};
 use super::keymap::{Action, Keymap};
 use super::panes::params::{self, Edit, Row, Target};
 use super::plots::{self, Pick, Start};
@@ -329,14 +329,22 @@ impl App {
                 continue; // the session changed since the poll
             }
             let selected = index == self.selected;
-            let fresh = self.stored[index].view.is_none()
-                || (self.stored[index].status != ResultStatus::Complete
-                    && stored.status == ResultStatus::Complete);
+            let first = self.stored[index].view.is_none();
+            let finished = self.stored[index].status != ResultStatus::Complete
+                && stored.status == ResultStatus::Complete;
             self.stored[index] = stored;
             self.dirty = true;
-            // a first view, or the final one replacing a live one: the cursor starts over
-            if selected && fresh && self.picked.is_none() {
-                self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+            if selected && self.picked.is_none() {
+                if first {
+                    // a first view: the cursor starts at its default point
+                    self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+                } else if finished {
+                    // the final view replacing the live one: the cursor stays where it was
+                    // (kept inside the view)
+                    if let Some(view) = self.view() {
+                        self.cursor = plots::move_cursor(view, self.cursor, 0, 0);
+                    }
+                }
             }
         }
     }
@@ -751,8 +759,23 @@ impl App {
             },
         );
         self.job_row = self.jobs.entries.len() - 1;
-        self.say(format!("{name}: queued"), false);
         self.tick();
+        // started at once if nothing else ran; otherwise it waits its turn
+        let ahead = self
+            .jobs
+            .entries
+            .iter()
+            .filter(|e| e.is_active() && e.analysis.as_deref() != Some(name.as_str()))
+            .count();
+        let running =
+            self.jobs.entries.iter().any(|e| {
+                e.state == JobState::Running && e.analysis.as_deref() == Some(name.as_str())
+            });
+        if running {
+            self.say(format!("{name}: running"), false);
+        } else {
+            self.say(format!("{name}: queued after {ahead} job(s)"), false);
+        }
     }
 
     /// Cancels the job under the cursor in the job pane, or else the selected analysis' job.

@@ -579,6 +579,9 @@ fn the_command_line_makes_and_changes_analyses() {
     assert!((p.drive_i().adr().unwrap() - 1.0).abs() < 1e-12);
     assert_eq!(app.session.file.model.frequency_hz, Some(50.0));
     command(&mut app, "run");
+    // the status bar says it runs (it used to say "queued" for the whole run)
+    let said = app.message.as_ref().map(|m| m.text.clone());
+    assert_eq!(said.as_deref(), Some("b2: running"));
     settle(&mut app);
     assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
     // saving keeps it on view and exportable
@@ -848,6 +851,12 @@ fn a_headless_run_is_watched_live() {
         "{screen}"
     );
     drop(claim);
+    // the user moves the plot cursor on the live view
+    app.focus = Focus::Plot;
+    for _ in 0..3 {
+        key(&mut app, KeyCode::Right);
+    }
+    let cursor = app.cursor;
     isola::session::run::run_analysis(
         &session,
         &session.analyses[0],
@@ -859,6 +868,8 @@ fn a_headless_run_is_watched_live() {
     app.tick();
     app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Complete);
+    // the final view does not throw the cursor back to its default point
+    assert_eq!(app.cursor, cursor);
 }
 
 #[test]
