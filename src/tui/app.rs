@@ -57,6 +57,12 @@ pub enum Overlay {
         files: Vec<PathBuf>,
         selected: usize,
     },
+    /// A message too long for the status bar (why a session could not be opened): any key
+    /// closes it.
+    Notice {
+        title: String,
+        text: String,
+    },
     /// A question before something that cannot be undone: `y` does it.
     Confirm {
         question: String,
@@ -997,7 +1003,14 @@ impl App {
                 self.reload_session_state();
                 self.say(format!("opened {}", path.display()), false);
             }
-            Err(e) => self.say(format!("{e}"), true),
+            // the whole message, in a box: a session error names the line and the value
+            Err(e) => {
+                self.say(format!("not opened: {}", file_name(path)), true);
+                self.overlay = Some(Overlay::Notice {
+                    title: format!("{} was not opened", file_name(path)),
+                    text: e.to_string(),
+                });
+            }
         }
     }
 
@@ -1088,6 +1101,7 @@ impl App {
                 }
                 _ => self.overlay = Some(Overlay::Picker { files, selected }),
             },
+            Overlay::Notice { .. } => {}
             Overlay::Confirm { question, then } => match key.code {
                 KeyCode::Char('y') | KeyCode::Char('Y') => match then {
                     Confirmed::Open(path) => self.open(&path),

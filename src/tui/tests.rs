@@ -634,6 +634,29 @@ fn the_command_line_makes_and_changes_analyses() {
     assert_eq!(app.session.analyses.len(), n + 1);
 }
 
+/// A session that cannot be opened says why in full (the line, the value, the range), in a
+/// box any key closes; the open session stays.
+#[test]
+fn a_malformed_session_says_why_in_full() {
+    let path = fixture("malformed", RESPONSE);
+    let bad = path.with_file_name("bad.toml");
+    std::fs::write(&bad, "schema = 1\n[model]\nadr = -2\n").unwrap();
+    let mut app = app(&path, ColorMode::Truecolor);
+    app.open(&bad);
+    let Some(Overlay::Notice { text, .. }) = &app.overlay else {
+        panic!("no notice: {:?}", app.overlay);
+    };
+    assert!(
+        text.contains("line 3") && text.contains("adr") && text.contains("-2"),
+        "{text}"
+    );
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("bad.toml was not opened"), "{screen}");
+    key(&mut app, KeyCode::Char('x'));
+    assert!(app.overlay.is_none());
+    assert_eq!(app.session.path, path);
+}
+
 /// `o` with unsaved edits and `S` over another file ask first; `n` changes nothing.
 #[test]
 fn opening_over_edits_and_saving_over_a_file_ask_first() {

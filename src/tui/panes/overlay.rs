@@ -26,7 +26,7 @@ fn centred(area: Rect, w: u16, h: u16) -> Rect {
 
 pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
-    let (title, lines, w): (&str, Vec<Line>, u16) = match overlay {
+    let (title, lines, w): (String, Vec<Line>, u16) = match overlay {
         Overlay::Help => {
             // two columns of keys where they fit (the whole help then fits in 80×24), else one
             let entry = |i: usize| -> Vec<Span> {
@@ -81,7 +81,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 format!("theme: {} (--theme, --color)", t.name),
                 t.muted(),
             ));
-            (" Help (↑↓ scroll, Esc closes) ", lines, HELP_WIDTH)
+            (" Help (↑↓ scroll, Esc closes) ".into(), lines, HELP_WIDTH)
         }
         Overlay::ConfirmQuit => {
             let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
@@ -95,14 +95,19 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 lines.push(Line::raw("The session has unsaved changes."));
             }
             lines.push(Line::styled("Quit? y / n", t.key()));
-            (" Quit ", lines, 60)
+            (" Quit ".into(), lines, 60)
+        }
+        Overlay::Notice { title, text } => {
+            let mut lines: Vec<Line> = text.lines().map(|l| Line::raw(l.to_string())).collect();
+            lines.push(Line::styled("any key closes", t.muted()));
+            (format!(" {title} "), lines, 76)
         }
         Overlay::Confirm { question, .. } => {
             let lines = vec![
                 Line::raw(question.clone()),
                 Line::styled("y: yes   n / Esc: no", t.key()),
             ];
-            (" Confirm ", lines, 64)
+            (" Confirm ".into(), lines, 64)
         }
         Overlay::Input {
             purpose: InputPurpose::Command,
@@ -118,7 +123,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 Line::styled(format!(":{text}▏"), t.cursor()),
                 Line::styled(hint, t.muted()),
             ];
-            (" Command ", lines, 72)
+            (" Command ".into(), lines, 72)
         }
         Overlay::Input { purpose, text } => {
             let what = match purpose {
@@ -131,7 +136,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 Line::styled(format!("{text}▏"), t.cursor()),
                 Line::styled("Enter: ok   Esc: cancel", t.muted()),
             ];
-            (" ", lines, 64)
+            (" ".into(), lines, 64)
         }
         Overlay::Picker { files, selected } => {
             let mut lines: Vec<Line> = files
@@ -156,7 +161,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 "Enter: open   /: type a path   Esc: cancel",
                 t.muted(),
             ));
-            (" Open session ", lines, 56)
+            (" Open session ".into(), lines, 56)
         }
     };
     // rows after wrapping, so the last line (the question, the keys) is never cut off
