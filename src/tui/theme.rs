@@ -322,29 +322,41 @@ fn nearest_256(r: u8, g: u8, b: u8) -> u8 {
     }
 }
 
-/// The nearest of the 16 ANSI colours (their usual xterm values).
+/// One of the 16 ANSI colours for (r, g, b), by hue rather than by distance: a terminal's 16
+/// colours are far apart and its palette varies, so the nearest by distance turns pastel
+/// colours grey (#87d787 became light grey, and a dark blue selection grey on grey). A colour
+/// with little saturation is a grey by its brightness; any other takes the nearest of the six
+/// hues, bright if it is near full brightness.
 fn nearest_16(r: u8, g: u8, b: u8) -> Color {
-    const ANSI: [(Color, (u8, u8, u8)); 16] = [
-        (Color::Black, (0, 0, 0)),
-        (Color::Red, (205, 0, 0)),
-        (Color::Green, (0, 205, 0)),
-        (Color::Yellow, (205, 205, 0)),
-        (Color::Blue, (0, 0, 238)),
-        (Color::Magenta, (205, 0, 205)),
-        (Color::Cyan, (0, 205, 205)),
-        (Color::Gray, (229, 229, 229)),
-        (Color::DarkGray, (127, 127, 127)),
-        (Color::LightRed, (255, 0, 0)),
-        (Color::LightGreen, (0, 255, 0)),
-        (Color::LightYellow, (255, 255, 0)),
-        (Color::LightBlue, (92, 92, 255)),
-        (Color::LightMagenta, (255, 0, 255)),
-        (Color::LightCyan, (0, 255, 255)),
-        (Color::White, (255, 255, 255)),
+    let (max, min) = (r.max(g).max(b) as f64, r.min(g).min(b) as f64);
+    let value = max / 255.0;
+    let saturation = if max > 0.0 { (max - min) / max } else { 0.0 };
+    if saturation < 0.2 {
+        return match value {
+            v if v < 0.2 => Color::Black,
+            v if v < 0.6 => Color::DarkGray,
+            v if v < 0.9 => Color::Gray,
+            _ => Color::White,
+        };
+    }
+    let (r, g, b) = (r as f64, g as f64, b as f64);
+    let hue = if max == r {
+        60.0 * ((g - b) / (max - min)).rem_euclid(6.0)
+    } else if max == g {
+        60.0 * ((b - r) / (max - min) + 2.0)
+    } else {
+        60.0 * ((r - g) / (max - min) + 4.0)
+    };
+    const HUES: [(Color, Color); 6] = [
+        (Color::Red, Color::LightRed),
+        (Color::Yellow, Color::LightYellow),
+        (Color::Green, Color::LightGreen),
+        (Color::Cyan, Color::LightCyan),
+        (Color::Blue, Color::LightBlue),
+        (Color::Magenta, Color::LightMagenta),
     ];
-    ANSI.iter()
-        .min_by_key(|(_, rgb)| dist2(*rgb, (r, g, b)))
-        .map_or(Color::Reset, |(c, _)| *c)
+    let (normal, bright) = HUES[((hue + 30.0) / 60.0) as usize % 6];
+    if value >= 0.9 { bright } else { normal }
 }
 
 #[cfg(test)]
@@ -376,6 +388,31 @@ mod tests {
         assert_eq!(nearest_256(128, 128, 128), 244);
         assert_eq!(nearest_16(255, 10, 10), Color::LightRed);
         assert_eq!(nearest_16(0, 0, 200), Color::Blue);
+        // by hue: the dark theme's pastel green stays green, its dark blue selection blue,
+        // its orange and yellow apart, its greys grey
+        assert_eq!(nearest_16(0x87, 0xd7, 0x87), Color::Green);
+        assert_eq!(nearest_16(0x26, 0x4f, 0x78), Color::Blue);
+        assert_eq!(nearest_16(0xff, 0x87, 0x00), Color::LightYellow);
+        assert_eq!(nearest_16(0xd7, 0xd7, 0x00), Color::Yellow);
+        assert_eq!(nearest_16(0x5f, 0xaf, 0xff), Color::LightBlue);
+        assert_eq!(nearest_16(0x8a, 0x8a, 0x8a), Color::DarkGray);
+        assert_eq!(nearest_16(0x9e, 0x9e, 0x9e), Color::Gray);
+        assert_eq!(nearest_16(0, 0, 0), Color::Black);
+        assert_eq!(nearest_16(255, 255, 255), Color::White);
+        // in 16 colours the dark theme's response types stay apart where they can
+        let t = Theme::load("dark", ColorMode::Ansi16, None).unwrap();
+        let types = ["1:1", "1:2", "2:1", "1:3", "non-periodic", "collision"];
+        let colours: Vec<Color> = types.iter().map(|k| t.type_color(k)).collect();
+        for (i, a) in colours.iter().enumerate() {
+            for (j, b) in colours.iter().enumerate().skip(i + 1) {
+                assert_ne!(a, b, "{} and {} look the same", types[i], types[j]);
+            }
+        }
+        assert_ne!(
+            t.selected().bg,
+            t.muted().fg,
+            "the selected row is not grey on grey"
+        );
         let t = Theme::load("dark", ColorMode::Ansi256, None).unwrap();
         assert!(matches!(t.type_color("1:2"), Color::Indexed(_)));
         assert_eq!(t.type_color("1:3 subharmonic"), t.type_color("1:3"));
