@@ -136,6 +136,8 @@ pub struct App {
     scalogram_jobs: HashMap<usize, String>,
     pub show_scalogram: bool,
     pub zoom: bool,
+    /// The user moved the plot cursor since the view was first drawn.
+    cursor_moved: bool,
     /// How far the help overlay is scrolled down, in lines.
     pub help_scroll: u16,
     /// The pane that had the keys before the plot was zoomed, to give them back after.
@@ -176,6 +178,7 @@ impl App {
             show_scalogram: false,
             zoom: false,
             help_scroll: 0,
+            cursor_moved: false,
             focus_before_zoom: None,
             message: None,
             theme,
@@ -213,6 +216,7 @@ impl App {
 
     fn reset_cursor(&mut self) {
         self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+        self.cursor_moved = false;
         self.picked = None;
     }
 
@@ -344,11 +348,17 @@ impl App {
                 if first {
                     // a first view: the cursor starts at its default point
                     self.cursor = self.view().map_or((0, 0), plots::initial_cursor);
+                    self.cursor_moved = false;
                 } else if finished {
-                    // the final view replacing the live one: the cursor stays where it was
-                    // (kept inside the view)
+                    // the final view replacing the live one: a cursor the user moved stays
+                    // where it was (kept inside the view); one never moved goes to the final
+                    // view's default point
                     if let Some(view) = self.view() {
-                        self.cursor = plots::move_cursor(view, self.cursor, 0, 0);
+                        self.cursor = if self.cursor_moved {
+                            plots::move_cursor(view, self.cursor, 0, 0)
+                        } else {
+                            plots::initial_cursor(view)
+                        };
                     }
                 }
             }
@@ -660,6 +670,7 @@ impl App {
                     .and_then(|r| r.view.as_deref())
                 {
                     self.cursor = plots::move_cursor(view, self.cursor, dx, -dy);
+                    self.cursor_moved = true;
                 }
             }
             Focus::Jobs => {

@@ -285,7 +285,7 @@ impl Widget for ParamsPane<'_> {
         let label_w = self
             .rows
             .iter()
-            .map(|r| r.label.chars().count())
+            .map(|r| Span::raw(r.label.as_str()).width())
             .max()
             .unwrap_or(4)
             .min(inner.width as usize * 2 / 5);
@@ -304,7 +304,10 @@ impl Widget for ParamsPane<'_> {
             if i == self.selected {
                 selected_line = lines.len();
             }
-            let label = format!("{:<label_w$} ", truncate(&row.label, label_w));
+            // padded by the cells it takes, not its chars (c̃ is two chars in one cell)
+            let label = truncate(&row.label, label_w);
+            let pad = label_w.saturating_sub(Span::raw(label.as_str()).width());
+            let label = format!("{label}{} ", " ".repeat(pad));
             let mut spans = vec![Span::raw(label)];
             match (i == self.selected, self.editing) {
                 (true, Some(text)) => {
