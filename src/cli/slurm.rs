@@ -103,6 +103,17 @@ fn common_options(args: &SlurmArgs) -> anyhow::Result<String> {
     Ok(lines)
 }
 
+/// The `#SBATCH` lines of a job called `job` writing its output to `out/output`: requeued by
+/// Slurm when pre-empted, its output appended across restarts, then the shared options.
+fn sbatch_header(job: &str, out: &Path, output: &str, args: &SlurmArgs) -> anyhow::Result<String> {
+    Ok(format!(
+        "#SBATCH --job-name={job}\n#SBATCH --output=\"{out}/{output}\"\n\
+         #SBATCH --open-mode=append\n#SBATCH --requeue\n{common}",
+        out = sbatch_path(out)?,
+        common = common_options(args)?,
+    ))
+}
+
 /// The job-array script: each task is a worker (`isola run --worker`).
 fn work_script(
     name: &str,
@@ -116,12 +127,8 @@ fn work_script(
 # The work of {name}: one task of a job array, written by `isola slurm`. Each task computes the
 # chunks no other task has claimed; chunks are saved whole as they finish, so a task killed,
 # pre-empted or requeued loses none.
-#SBATCH --job-name=isola-{name}
 #SBATCH --array=0-{last}
-#SBATCH --output=\"{out}/work-%A_%a.out\"
-#SBATCH --open-mode=append
-#SBATCH --requeue
-{common}
+{header}
 echo \"task ${{SLURM_ARRAY_TASK_ID:-?}} of job ${{SLURM_ARRAY_JOB_ID:-?}} on $(hostname), start ${{SLURM_RESTART_COUNT:-0}}, $(date -u +%FT%TZ)\"
 {isola} run {run} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --worker --force
 status=$?
@@ -133,8 +140,7 @@ fi
 exit \"$status\"
 ",
         last = args.tasks - 1,
-        out = sbatch_path(out)?,
-        common = common_options(args)?,
+        header = sbatch_header(&format!("isola-{name}"), out, "work-%A_%a.out", args)?,
     ))
 }
 
@@ -150,17 +156,17 @@ fn assemble_script(
         "#!/bin/bash
 # Assembles and verifies {name} once its job array has ended (written by `isola slurm`): chunks a
 # task left undone are computed here, the result is written and checked against its manifest.
-#SBATCH --job-name=isola-{name}-assemble
-#SBATCH --output=\"{out}/assemble-%j.out\"
-#SBATCH --open-mode=append
-#SBATCH --requeue
-{common}
+{header}
 set -e
 {isola} run {run} --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --force
 {isola} status {run} --verify
 ",
-        out = sbatch_path(out)?,
-        common = common_options(args)?,
+        header = sbatch_header(
+            &format!("isola-{name}-assemble"),
+            out,
+            "assemble-%j.out",
+            args
+        )?,
     ))
 }
 

@@ -8,7 +8,7 @@ use std::time::SystemTime;
 use clap::Args;
 use isola::session::Session;
 use isola::session::run::survey_of;
-use isola::session::store::survey::{Survey, host_of};
+use isola::session::store::survey::{HostWork, Survey, host_of};
 use isola::session::store::{self, ResultPaths};
 
 #[derive(Debug, Args)]
@@ -95,7 +95,7 @@ fn print_survey(s: &Survey) {
         );
     }
     if let Some(left) = s.seconds_left(&hosts).filter(|_| s.missing() > 0) {
-        let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+        let rate = HostWork::total_per_minute(&hosts);
         println!("  at {rate:.1} chunks/min: about {left:.0} s to go");
     }
 }

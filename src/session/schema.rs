@@ -461,7 +461,12 @@ impl Session {
 
     /// The analysis called `name`.
     pub fn analysis(&self, name: &str) -> Option<&AnalysisEntry> {
-        self.analyses.iter().find(|a| a.name == name)
+        self.analysis_index(name).map(|i| &self.analyses[i])
+    }
+
+    /// The index of the analysis called `name`.
+    pub fn analysis_index(&self, name: &str) -> Option<usize> {
+        self.analyses.iter().position(|a| a.name == name)
     }
 
     /// A stable fingerprint of what `entry` computes: its kind and settings, the model (what of

@@ -126,7 +126,8 @@ impl Rk4 {
         lanes: &mut Lanes<L>,
         observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
     ) {
-        self.advance_period_in(isa::chosen(), lanes, observe);
+        // SAFETY: the chosen instruction set is one this CPU has
+        unsafe { self.advance_period_unchecked(isa::chosen(), lanes, observe) }
     }
 
     /// [`Self::advance_period`] in the version compiled for `isa` (to compare them).
@@ -145,8 +146,24 @@ impl Rk4 {
             "{} instructions on a CPU without them",
             isa.name()
         );
+        // SAFETY: the CPU has the instructions (asserted above)
+        unsafe { self.advance_period_unchecked(isa, lanes, observe) }
+    }
+
+    /// The dispatch itself, without asking the CPU (a dozen feature look-ups: done once per
+    /// process for the chosen set, not once per period).
+    ///
+    /// # Safety
+    /// The CPU must have `isa`'s instructions.
+    #[inline]
+    unsafe fn advance_period_unchecked<const L: usize>(
+        &self,
+        isa: Isa,
+        lanes: &mut Lanes<L>,
+        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+    ) {
         match isa {
-            // SAFETY: the CPU has the instructions (asserted above)
+            // SAFETY: the caller guarantees the CPU has the instructions
             #[cfg(target_arch = "x86_64")]
             Isa::X86_64V4 => unsafe { self.advance_period_v4(lanes, observe) },
             #[cfg(target_arch = "x86_64")]

@@ -497,7 +497,7 @@ impl App {
             }
             Command::Delete { name } => {
                 let index = match &name {
-                    Some(n) => self.session.analyses.iter().position(|a| a.name == *n),
+                    Some(n) => self.session.analysis_index(n),
                     None => (!self.session.analyses.is_empty()).then_some(self.selected),
                 };
                 let Some(index) = index else {
@@ -510,12 +510,10 @@ impl App {
                 });
             }
             Command::Set { field, value } => self.set_field(&field, &value),
-            Command::Select { name } => {
-                match self.session.analyses.iter().position(|a| a.name == name) {
-                    Some(i) => self.select(i),
-                    None => self.say(format!("no analysis {name}"), true),
-                }
-            }
+            Command::Select { name } => match self.session.analysis_index(&name) {
+                Some(i) => self.select(i),
+                None => self.say(format!("no analysis {name}"), true),
+            },
             Command::Save(None) => self.save(None),
             Command::Save(Some(path)) => self.save_as_asking(path),
             Command::Open(path) => self.open_asking(path),
@@ -555,7 +553,7 @@ impl App {
                 self.reload_session_state();
                 self.say(done, false);
             }
-            Err(e) => self.say(one_line(&e.to_string()), true),
+            Err(e) => self.say(params::error_line(&e), true),
         }
     }
 
@@ -599,7 +597,7 @@ impl App {
                     .filter(|&i| self.status_of(i) != ResultStatus::Complete)
                     .collect()
             }
-            Which::Named(name) => match self.session.analyses.iter().position(|a| a.name == name) {
+            Which::Named(name) => match self.session.analysis_index(&name) {
                 Some(i) => vec![i],
                 None => return self.say(format!("no analysis {name}"), true),
             },
@@ -641,12 +639,7 @@ impl App {
                     let next =
                         (self.selected as isize + dy.signum()).clamp(0, n as isize - 1) as usize;
                     if next != self.selected {
-                        self.selected = next;
-                        self.param_error = None;
-                        self.refresh_rows();
-                        self.poll_results(true);
-                        self.reset_cursor();
-                        self.show_scalogram = false;
+                        self.select(next);
                     }
                 }
             }
@@ -1190,9 +1183,4 @@ fn file_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
-}
-
-/// A message on one line (a session error may carry a caret under its line).
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }

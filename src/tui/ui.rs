@@ -13,7 +13,7 @@ use super::plots::{self, PlotContext};
 use isola::session::Settings;
 use isola::session::budget;
 use isola::session::results::{ResultStatus, ResultView};
-use isola::session::store::survey::Survey;
+use isola::session::store::survey::{HostWork, Survey};
 
 /// The smallest terminal the layout is drawn in.
 pub const MIN_WIDTH: u16 = 60;
@@ -84,7 +84,7 @@ fn work_state(work: &Survey) -> String {
         return text;
     }
     text.push_str(&format!(" · computing on {}", busy.join(", ")));
-    let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+    let rate = HostWork::total_per_minute(&hosts);
     if let Some(left) = work.seconds_left(&hosts) {
         text.push_str(&format!(
             " · {rate:.0}/min, about {} left",

@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::time::{Duration, Instant};
 
 use isola::session::Session;
 use isola::session::results::{ResultReader, ResultStatus, ResultView};
@@ -120,26 +121,52 @@ impl Watcher {
     }
 }
 
+/// How often the chunk files of work under way are looked at when nothing else changed.
+pub const GLANCE_EVERY: Duration = Duration::from_secs(2);
+
+/// One analysis as the reading thread follows it.
+struct Followed {
+    reader: ResultReader,
+    /// The work under way as last seen, and when it was looked at.
+    work: Option<Arc<Survey>>,
+    glanced: Option<Instant>,
+}
+
 fn read_loop(requests: Receiver<Request>, replies: Sender<Reply>) {
     // by session file and analysis name: opening another session starts afresh
-    // each analysis' reader and the work last seen on it
-    type Followed = (ResultReader, Option<Arc<Survey>>);
     let mut readers: HashMap<(std::path::PathBuf, String), Followed> = HashMap::new();
     while let Ok(request) = requests.recv() {
         for index in request.which {
             let Some(entry) = request.session.analyses.get(index) else {
                 continue;
             };
-            let (reader, work) = readers
+            let Followed {
+                reader,
+                work,
+                glanced,
+            } = readers
                 .entry((request.session.path.clone(), entry.name.clone()))
-                .or_insert_with(|| (ResultReader::new(entry), None));
+                .or_insert_with(|| Followed {
+                    reader: ResultReader::new(entry),
+                    work: None,
+                    glanced: None,
+                });
             let changed = reader.poll(&request.session, entry);
-            let now_work = (reader.status != ResultStatus::Complete)
-                .then(|| glance_of(&request.session, entry))
-                .filter(|s| !(s.done.is_empty() && s.claimed.is_empty()));
-            let work_changed = now_work.as_ref() != work.as_deref();
-            if work_changed {
-                *work = now_work.map(Arc::new);
+            // the chunk files' headers are read again when chunks came in, and every
+            // GLANCE_EVERY otherwise (claims come and go without a file changing)
+            let due =
+                changed || request.resend || glanced.is_none_or(|at| at.elapsed() >= GLANCE_EVERY);
+            let mut work_changed = false;
+            if reader.status == ResultStatus::Complete {
+                work_changed = work.take().is_some();
+            } else if due {
+                *glanced = Some(Instant::now());
+                let now_work = Some(glance_of(&request.session, entry))
+                    .filter(|s| !(s.done.is_empty() && s.claimed.is_empty()));
+                work_changed = now_work.as_ref() != work.as_deref();
+                if work_changed {
+                    *work = now_work.map(Arc::new);
+                }
             }
             if changed || work_changed || request.resend {
                 let stored = Stored {

@@ -47,6 +47,13 @@ pub struct HostWork {
     pub per_minute: f64,
 }
 
+impl HostWork {
+    /// Chunks a minute of all `hosts` together.
+    pub fn total_per_minute(hosts: &[HostWork]) -> f64 {
+        hosts.iter().map(|h| h.per_minute).sum()
+    }
+}
+
 /// Rates are taken over the chunks saved in this last stretch of time.
 pub const RATE_WINDOW: Duration = Duration::from_secs(300);
 
@@ -81,7 +88,7 @@ impl Survey {
 
     /// Seconds left at the hosts' rates (`None` if none saved a chunk lately).
     pub fn seconds_left(&self, hosts: &[HostWork]) -> Option<f64> {
-        let rate: f64 = hosts.iter().map(|h| h.per_minute).sum();
+        let rate = HostWork::total_per_minute(hosts);
         (rate > 0.0).then(|| 60.0 * self.missing() as f64 / rate)
     }
 }
