@@ -926,3 +926,43 @@ fn an_edit_of_what_an_analysis_does_not_use_keeps_it_current() {
         );
     }
 }
+
+/// A result copied under another name (a duplicated or renamed analysis) or into another
+/// session's folder (save as) is a result of its own: verified before and after, with its own
+/// manifest; replacing the original later leaves the copy as it was; a damaged original is
+/// not copied.
+#[test]
+fn a_copied_result_is_verified_and_independent() {
+    use isola::session::store::{copy::copy_result, verified};
+    let (dir, path) = session_dir(RESPONSE);
+    run_ok(&path, &[]);
+    let session = Session::load(&path).unwrap();
+    let from = ResultPaths::new(&session, "response");
+    let elsewhere = dir.path().join("other.results");
+    let to = ResultPaths::in_dir(&elsewhere, "copy");
+    // nothing stored yet under a name: nothing copied, no error
+    assert!(!copy_result(&ResultPaths::in_dir(&elsewhere, "none"), &to).unwrap());
+    assert!(copy_result(&from, &to).unwrap());
+    let original = verified(&from).unwrap();
+    let copy = verified(&to).unwrap();
+    assert_eq!(copy.analysis, "copy");
+    assert_eq!(copy.fingerprint, original.fingerprint);
+    let bytes = std::fs::read(&to.csv).unwrap();
+    assert_eq!(bytes, std::fs::read(&from.csv).unwrap());
+    // the original recomputed under other settings: the copy keeps the old result
+    let edited = RESPONSE.replace("adr = 0.6", "adr = 0.8");
+    std::fs::write(&path, &edited).unwrap();
+    run_ok(&path, &[]);
+    assert_ne!(std::fs::read(&from.csv).unwrap(), bytes);
+    assert_eq!(std::fs::read(&to.csv).unwrap(), bytes);
+    assert!(verified(&to).is_ok());
+    // a damaged original is refused, and the copy it would replace is left as it was
+    let mut damaged = std::fs::read(&from.csv).unwrap();
+    damaged[40] ^= 1;
+    std::fs::write(&from.csv, &damaged).unwrap();
+    let err = copy_result(&from, &to).unwrap_err().to_string();
+    assert!(err.contains("not copied"), "{err}");
+    assert_eq!(std::fs::read(&to.csv).unwrap(), bytes);
+    // onto itself: refused
+    assert!(copy_result(&to, &to).is_err());
+}

@@ -284,11 +284,14 @@ pub struct ResultReader {
     /// (manifest, main file) as last seen: a change of either means verifying again.
     seen: Option<(Option<Stamp>, Option<Stamp>)>,
     /// The stored result, verified, and its view.
-    stored: Option<(Manifest, ResultView)>,
+    stored: Option<(Manifest, std::sync::Arc<ResultView>)>,
     chunks_read: Vec<bool>,
     partial: Partial,
     pub status: ResultStatus,
     pub view: Option<ResultView>,
+    /// While a partial result of the current settings is shown, the complete result of the
+    /// settings before (stale), to draw beside it until the new one is complete.
+    pub previous: Option<std::sync::Arc<ResultView>>,
     /// Why the files could not be read or verified, if they could not.
     pub error: Option<String>,
 }
@@ -327,6 +330,7 @@ impl ResultReader {
             partial: Partial::None,
             status: ResultStatus::Missing,
             view: None,
+            previous: None,
             error: None,
         }
     }
@@ -338,7 +342,12 @@ impl ResultReader {
         }
         let paths = ResultPaths::new(session, &entry.name);
         let fingerprint = session.fingerprint(entry);
-        let before = (self.status, self.view.is_some(), self.error.clone());
+        let before = (
+            self.status,
+            self.view.is_some(),
+            self.previous.is_some(),
+            self.error.clone(),
+        );
         let mut changed = false;
         if fingerprint != self.fingerprint {
             self.fingerprint = fingerprint.clone();
@@ -352,7 +361,7 @@ impl ResultReader {
             self.error = None;
             self.stored = match store::verified(&paths) {
                 Ok(m) => match read_csv_view(&entry.settings, &paths) {
-                    Ok(view) => Some((m, view)),
+                    Ok(view) => Some((m, std::sync::Arc::new(view))),
                     Err(e) => {
                         self.error = Some(format!("{}: {e:#}", paths.csv.display()));
                         None
@@ -371,8 +380,9 @@ impl ResultReader {
                 self.chunks_read.clear();
                 self.partial = Partial::None;
                 self.status = ResultStatus::Complete;
+                self.previous = None;
                 if changed {
-                    self.view = Some(view.clone());
+                    self.view = Some((**view).clone());
                 }
             }
             stored => {
@@ -383,18 +393,28 @@ impl ResultReader {
                 let done = self.chunks_read.iter().filter(|&&r| r).count();
                 if done > 0 {
                     self.status = ResultStatus::Partial { done, total };
+                    self.previous = stale;
                 } else if let Some(view) = stale {
                     self.status = ResultStatus::Stale;
+                    self.previous = None;
                     if changed {
-                        self.view = Some(view);
+                        self.view = Some((*view).clone());
                     }
                 } else {
                     self.status = ResultStatus::Missing;
                     self.view = None;
+                    self.previous = None;
                 }
             }
         }
-        changed || before != (self.status, self.view.is_some(), self.error.clone())
+        changed
+            || before
+                != (
+                    self.status,
+                    self.view.is_some(),
+                    self.previous.is_some(),
+                    self.error.clone(),
+                )
     }
 
     /// Reads the good chunk files of the current fingerprint not read yet; true if any was.

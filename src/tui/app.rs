@@ -487,13 +487,16 @@ impl App {
                 self.after_structure_edit(result, format!("added {name} ({kind})"));
             }
             Command::Duplicate { name } => {
+                let old = self.selected_name();
                 let result = self.session.duplicate_analysis(self.selected, &name);
-                self.after_structure_edit(result, format!("copied as {name}"));
+                let carried = self.carry_result(result.is_ok(), &old, &name);
+                self.after_structure_edit(result, format!("copied as {name}{carried}"));
             }
             Command::Rename { name } => {
-                let index = self.selected;
+                let (index, old) = (self.selected, self.selected_name());
                 let result = self.session.rename_analysis(index, &name).map(|()| index);
-                self.after_structure_edit(result, format!("renamed {name}"));
+                let carried = self.carry_result(result.is_ok(), &old, &name);
+                self.after_structure_edit(result, format!("renamed {name}{carried}"));
             }
             Command::Delete { name } => {
                 let index = match &name {
@@ -526,6 +529,32 @@ impl App {
             }
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
+        }
+    }
+
+    fn selected_name(&self) -> String {
+        self.session
+            .analyses
+            .get(self.selected)
+            .map_or(String::new(), |e| e.name.clone())
+    }
+
+    /// After a copy or a rename (if `done`): the stored result of analysis `from` copied as
+    /// `to`'s, so the copy starts with it (and the session file on disk, which may still name
+    /// `from`, keeps its own). Says what became of it, to end the status message.
+    fn carry_result(&self, done: bool, from: &str, to: &str) -> String {
+        if !done {
+            return String::new();
+        }
+        let dir = self.session.results_dir();
+        let from = ResultPaths::in_dir(&dir, from);
+        match isola::session::store::copy::copy_result(&from, &ResultPaths::in_dir(&dir, to)) {
+            Ok(true) => ", with its result".into(),
+            Ok(false) => String::new(),
+            Err(e) => {
+                tracing::warn!(error = %format!("{e:#}"), "result not copied");
+                format!(" (its result not copied: {e:#})")
+            }
         }
     }
 
@@ -903,13 +932,46 @@ impl App {
 
     fn save(&mut self, path: Option<PathBuf>) {
         let path = path.unwrap_or_else(|| self.session.path.clone());
+        let old_dir = self.session.results_dir();
         match self.session.save_as(&path) {
             Ok(()) => {
                 self.modified = false;
+                let carried = self.carry_results(&old_dir);
                 self.reload_session_state();
-                self.say(format!("saved {}", path.display()), false);
+                self.say(format!("saved {}{carried}", path.display()), false);
             }
             Err(e) => self.say(format!("not saved: {e}"), true),
+        }
+    }
+
+    /// After saving as another file: the stored results in `old_dir` copied into the new
+    /// session's results folder, so nothing computed is left behind. Says how many.
+    fn carry_results(&self, old_dir: &Path) -> String {
+        let new_dir = self.session.results_dir();
+        let same = |a: &Path, b: &Path| a == b || a.canonicalize().ok() == b.canonicalize().ok();
+        if same(old_dir, &new_dir) || !old_dir.is_dir() {
+            return String::new();
+        }
+        let (mut copied, mut failed) = (0, Vec::new());
+        for entry in &self.session.analyses {
+            let from = ResultPaths::in_dir(old_dir, &entry.name);
+            let to = ResultPaths::in_dir(&new_dir, &entry.name);
+            match isola::session::store::copy::copy_result(&from, &to) {
+                Ok(true) => copied += 1,
+                Ok(false) => {}
+                Err(e) => {
+                    tracing::warn!(error = %format!("{e:#}"), "result not copied");
+                    failed.push(entry.name.clone());
+                }
+            }
+        }
+        match (copied, failed.is_empty()) {
+            (0, true) => String::new(),
+            (n, true) => format!(" with {n} result{}", if n == 1 { "" } else { "s" }),
+            (n, false) => format!(
+                " with {n} result(s); not copied (see the log): {}",
+                failed.join(", ")
+            ),
         }
     }
 

@@ -593,11 +593,25 @@ fn the_command_line_makes_and_changes_analyses() {
     assert!(csv.exists(), "{:?}", app.message);
     let reread = Session::load(&path).unwrap();
     assert!(reread.analysis("b2").is_some());
-    // a copy, renamed, then deleted (asked first; n keeps it)
+    // a copy, renamed, then deleted (asked first; n keeps it); the copy starts with the
+    // result, and takes it along when renamed (the session on disk keeps b2's own)
     command(&mut app, "dup b3");
     assert_eq!(app.session.analyses[app.selected].name, "b3");
+    assert!(app.message.as_ref().unwrap().text.contains("with its result"));
+    app.sync_results();
+    assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
     command(&mut app, "rename b4");
     assert_eq!(app.session.analyses[app.selected].name, "b4");
+    app.sync_results();
+    assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
+    let b2 = app.session.analysis_index("b2").unwrap();
+    assert_eq!(app.status_of(b2), ResultStatus::Complete);
+    let b4 = ResultPaths::new(&app.session, "b4");
+    assert_eq!(
+        isola::session::store::verified(&b4).unwrap().analysis,
+        "b4",
+        "the copy is a result of its own, with its own manifest"
+    );
     command(&mut app, "delete b4");
     assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
     key(&mut app, KeyCode::Char('n'));
@@ -705,6 +719,22 @@ fn opening_over_edits_and_saving_over_a_file_ask_first() {
         Session::load(&other).unwrap().file.model.c_tilde,
         Some(0.05)
     );
+    // saved as another file, the results go along (they used to show "not run")
+    app.open(&path);
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    let third = path.with_file_name("third.toml");
+    command(&mut app, &format!("save {}", third.display()));
+    assert!(
+        app.message.as_ref().unwrap().text.contains("with 1 result"),
+        "{:?}",
+        app.message
+    );
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert_eq!(app.session.path, third);
+    assert!(path.with_file_name("third.results/response.csv").exists());
     // with nothing unsaved, o opens at once
     app.open(&path);
     key(&mut app, KeyCode::Char('o'));
@@ -894,6 +924,72 @@ fn a_headless_run_is_watched_live() {
     assert_eq!(app.status_of(0), ResultStatus::Complete);
     // the final view does not throw the cursor back to its default point
     assert_eq!(app.cursor, cursor);
+}
+
+/// Ticks (the app polls the results folder every 200 ms) until analysis `i`'s status is
+/// `wanted` (5 s at most).
+fn watch_until(app: &mut App, i: usize, wanted: impl Fn(ResultStatus) -> bool) {
+    let start = Instant::now();
+    while !wanted(app.status_of(i)) {
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "analysis {i} stayed {:?}",
+            app.status_of(i)
+        );
+        std::thread::sleep(Duration::from_millis(50));
+        app.tick();
+        app.sync_results();
+    }
+}
+
+/// After an edit, the run of the new settings is drawn over the previous settings' complete
+/// result (muted) until it completes; the previous result stays on disk until then, so a
+/// cancelled run loses nothing.
+#[test]
+fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
+    let path = fixture("previous", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let whole = isola::session::run::Shard { index: 0, count: 1 };
+    let progress = isola::analysis::Progress::new(0);
+    let run = |session: &Session, i: usize, shard| {
+        isola::session::run::run_analysis(session, &session.analyses[i], shard, &progress)
+            .unwrap();
+    };
+    run(&app.session, 0, whole);
+    run(&app.session, 1, whole);
+    let old_fingerprint = app.session.fingerprint(&app.session.analyses[0]);
+    command(&mut app, "set adr 1.0");
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+    // half the chunks of the new settings, as a cancelled run leaves them
+    let half = isola::session::run::Shard { index: 0, count: 2 };
+    run(&app.session, 0, half);
+    watch_until(&mut app, 0, |s| matches!(s, ResultStatus::Partial { .. }));
+    let paths = ResultPaths::new(&app.session, "response");
+    assert_eq!(
+        isola::session::store::verified(&paths).unwrap().fingerprint,
+        old_fingerprint,
+        "the previous complete result is still on disk"
+    );
+    let Some(ResultView::Response(previous)) = app.stored[0].previous.as_deref() else {
+        panic!("no previous result kept");
+    };
+    assert!(previous.len() >= 31, "a response per ω at least");
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("the previous settings, until done"), "{screen}");
+    snapshot!("response_over_previous_80x24", screen);
+    // the basin: the cells not computed yet show the previous settings' basin, faded
+    command(&mut app, "select basin");
+    run(&app.session, 1, half);
+    watch_until(&mut app, 1, |s| matches!(s, ResultStatus::Partial { .. }));
+    let screen = draw(&app, 120, 40);
+    assert!(screen.contains("faded: the previous settings' basin"), "{screen}");
+    // once complete, only the new result is drawn
+    command(&mut app, "select response");
+    run(&app.session, 0, isola::session::run::Shard { index: 1, count: 2 });
+    watch_until(&mut app, 0, |s| s == ResultStatus::Complete);
+    assert!(app.stored[0].previous.is_none());
+    assert!(!draw(&app, 80, 24).contains("previous settings"));
 }
 
 #[test]

@@ -213,6 +213,17 @@ impl Theme {
         Style::default().fg(self.foreground)
     }
 
+    /// `color` faded halfway to the muted colour: a previous result drawn under a new one.
+    pub fn dim(&self, color: Color) -> Color {
+        match (color, self.muted) {
+            (Color::Rgb(r, g, b), Color::Rgb(mr, mg, mb)) => {
+                let mix = |a: u8, m: u8| ((a as u16 + m as u16) / 2) as u8;
+                Color::Rgb(mix(r, mr), mix(g, mg), mix(b, mb))
+            }
+            _ => self.muted,
+        }
+    }
+
     pub fn muted(&self) -> Style {
         if self.monochrome {
             Style::default().add_modifier(Modifier::DIM)

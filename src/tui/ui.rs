@@ -167,24 +167,49 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let lambda_p = entry
         .and_then(|e| app.session.params(Some(e)).ok())
         .map_or(1.0, |p| p.lambda_p());
+    // the settings before's complete result, drawn under a partial one until it completes
+    let previous = app
+        .stored
+        .get(app.selected)
+        .filter(|s| matches!(s.status, ResultStatus::Partial { .. }))
+        .and_then(|s| s.previous.as_deref());
+    let with_previous = |mut plot: plots::frame::XyPlot| {
+        if let Some(p) = previous {
+            plots::previous::beneath(&mut plot, p, t);
+        }
+        plot
+    };
     match view {
         ResultView::Response(points) => {
             let range = match entry.map(|e| &e.settings) {
                 Some(Settings::FrequencyResponse(s)) => (s.omega.min, s.omega.max),
                 _ => (0.0, 6.0),
             };
-            plots::response::plot(points, &[], range, false, &ctx).render(inner, buf);
+            with_previous(plots::response::plot(points, &[], range, false, &ctx))
+                .render(inner, buf);
         }
         ResultView::Hunt(h) => {
             let range = match entry.map(|e| &e.settings) {
                 Some(Settings::Hunt(s)) => (s.response.omega.min, s.response.omega.max),
                 _ => (0.0, 6.0),
             };
-            plots::response::plot(&h.responses, &h.continued, range, false, &ctx)
-                .render(inner, buf);
+            with_previous(plots::response::plot(
+                &h.responses,
+                &h.continued,
+                range,
+                false,
+                &ctx,
+            ))
+            .render(inner, buf);
         }
         ResultView::Continuation(c) => plots::continued::plot(c, &ctx).render(inner, buf),
-        ResultView::Map(m) => plots::map::draw(m, &ctx, inner, buf),
+        ResultView::Map(m) => {
+            let previous = match previous {
+                Some(ResultView::Map(p)) => Some(p),
+                _ => None,
+            };
+            plots::map::draw(m, previous, &ctx, inner, buf)
+        }
         ResultView::Stepped(points) => {
             let (lo, hi) = points
                 .iter()
@@ -193,10 +218,16 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
                 });
             plots::response::plot(points, &[], (lo, hi), true, &ctx).render(inner, buf);
         }
-        ResultView::Basin(b) => plots::basin::draw(b, lambda_p, &ctx, inner, buf),
+        ResultView::Basin(b) => {
+            let previous = match previous {
+                Some(ResultView::Basin(p)) => Some(p),
+                _ => None,
+            };
+            plots::basin::draw(b, previous, lambda_p, &ctx, inner, buf)
+        }
         ResultView::History(h) => plots::history::draw(h, None, &ctx, inner, buf),
         ResultView::Force(f) => plots::force::plot(f, &ctx).render(inner, buf),
-        ResultView::Family(f) => plots::family::plot(f, &ctx).render(inner, buf),
+        ResultView::Family(f) => with_previous(plots::family::plot(f, &ctx)).render(inner, buf),
         ResultView::Chirp(c) => {
             if app.show_scalogram {
                 match app.scalograms.get(name) {

@@ -17,6 +17,9 @@ use isola::session::store::survey::Survey;
 pub struct Stored {
     pub status: ResultStatus,
     pub view: Option<Arc<ResultView>>,
+    /// The complete result of the settings before, while a partial one of the current
+    /// settings is shown.
+    pub previous: Option<Arc<ResultView>>,
     pub error: Option<String>,
     /// The chunks done and claimed, by host, while no current result is stored: work under
     /// way here or elsewhere (another terminal, the nodes of a cluster).
@@ -28,6 +31,7 @@ impl Default for Stored {
         Stored {
             status: ResultStatus::Missing,
             view: None,
+            previous: None,
             error: None,
             work: None,
         }
@@ -172,6 +176,7 @@ fn read_loop(requests: Receiver<Request>, replies: Sender<Reply>) {
                 let stored = Stored {
                     status: reader.status,
                     view: reader.view.clone().map(Arc::new),
+                    previous: reader.previous.clone(),
                     error: reader.error.clone(),
                     work: work.clone(),
                 };

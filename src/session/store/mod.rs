@@ -18,6 +18,7 @@
 //! that is used without being verified.
 
 pub mod chunk;
+pub mod copy;
 pub mod finite;
 pub mod lock;
 pub mod manifest;

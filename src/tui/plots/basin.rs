@@ -29,9 +29,11 @@ fn glyph(id: usize) -> &'static str {
     GLYPHS[id % GLYPHS.len()]
 }
 
-/// Draws the basin with the cursor's cell marked and read out.
+/// Draws the basin with the cursor's cell marked and read out; the cells not computed yet
+/// show `previous` (the settings before, on the same grid) faded.
 pub fn draw(
     b: &BasinView,
+    previous: Option<&BasinView>,
     lambda_p: f64,
     ctx: &PlotContext,
     area: ratatui::layout::Rect,
@@ -43,7 +45,20 @@ pub fn draw(
     let colors: Vec<Color> = (0..b.attractors.len())
         .map(|id| attractor_color(b, id, theme))
         .collect();
-    let color_of = |ix: usize, iy: usize| label(ix, iy).and_then(|l| colors.get(l).copied());
+    let previous = previous.filter(|p| p.dx == b.dx && p.v == b.v && !theme.monochrome);
+    let faded: Vec<Color> = previous.map_or(Vec::new(), |p| {
+        (0..p.attractors.len())
+            .map(|id| theme.dim(attractor_color(p, id, theme)))
+            .collect()
+    });
+    let earlier = |ix: usize, iy: usize| {
+        let l = previous?.labels.get(ix * nv + iy).copied().flatten()?;
+        faded.get(l).copied()
+    };
+    let color_of = |ix: usize, iy: usize| match label(ix, iy) {
+        Some(l) => colors.get(l).copied(),
+        None => earlier(ix, iy),
+    };
     let glyph_of = |ix: usize, iy: usize| label(ix, iy).map_or(" ", glyph);
     let paint = if theme.monochrome {
         Paint::Glyphs(&glyph_of)
@@ -111,7 +126,15 @@ pub fn draw(
     let done = b.labels.iter().filter(|l| l.is_some()).count();
     if done < b.labels.len() {
         footer.push(Line::styled(
-            format!("{done} of {} cells so far", b.labels.len()),
+            format!(
+                "{done} of {} cells so far{}",
+                b.labels.len(),
+                if previous.is_some() {
+                    "; faded: the previous settings' basin"
+                } else {
+                    ""
+                }
+            ),
             theme.muted(),
         ));
     }

@@ -18,9 +18,11 @@ const HIDDEN: &str = "◇";
 const FOLD_CURVE: &str = "•";
 const PD_CURVE: &str = "×";
 
-/// Draws the map with the cursor's cell read out.
+/// Draws the map with the cursor's cell read out; the rows not computed yet show `previous`
+/// (the settings before, on the same grid) faded.
 pub fn draw(
     m: &MapView,
+    previous: Option<&MapView>,
     ctx: &PlotContext,
     area: ratatui::layout::Rect,
     buf: &mut ratatui::buffer::Buffer,
@@ -30,7 +32,13 @@ pub fn draw(
     let cell = |ix: usize, iy: usize| m.rows.get(iy)?.as_ref()?.get(ix);
     let level = |n: usize| n.min(3);
     let count_color = |n: usize| theme.ramp(level(n) as f64 / 3.0);
-    let color_of = |ix: usize, iy: usize| cell(ix, iy).map(|c| count_color(c.stable));
+    let previous = previous
+        .filter(|p| p.omegas == m.omegas && p.values == m.values && !theme.monochrome);
+    let earlier = |ix: usize, iy: usize| previous?.rows.get(iy)?.as_ref()?.get(ix);
+    let color_of = |ix: usize, iy: usize| match cell(ix, iy) {
+        Some(c) => Some(count_color(c.stable)),
+        None => earlier(ix, iy).map(|c| theme.dim(count_color(c.stable))),
+    };
     let glyph_of =
         |ix: usize, iy: usize| cell(ix, iy).map_or(" ", |c| COUNT_GLYPHS[level(c.stable)]);
     let paint = if theme.monochrome {
@@ -147,7 +155,15 @@ pub fn draw(
     let done = m.rows.iter().filter(|r| r.is_some()).count();
     if done < m.rows.len() {
         footer.push(Line::styled(
-            format!("{done} of {} rows so far", m.rows.len()),
+            format!(
+                "{done} of {} rows so far{}",
+                m.rows.len(),
+                if previous.is_some() {
+                    "; faded: the previous settings' map"
+                } else {
+                    ""
+                }
+            ),
             theme.muted(),
         ));
     }

@@ -9,6 +9,7 @@ pub mod frame;
 pub mod heatmap;
 pub mod history;
 pub mod map;
+pub mod previous;
 pub mod response;
 pub mod sweep;
 

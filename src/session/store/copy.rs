@@ -1,0 +1,67 @@
+//! A complete result copied under another name or into another session's results folder (a
+//! duplicated or renamed analysis, a session saved as another file): a result of its own,
+//! checksummed again and committed like a computed one.
+
+use std::path::PathBuf;
+
+use super::manifest::{StoredFile, Unverified};
+use super::{ResultPaths, Work, io_at};
+
+/// Copies the complete, verified result at `from` to `to`: files copied into staging under `from`'s read lock, checked against `from`'s manifest, then committed at
+/// `to`. `Ok(false)` if `from` holds no complete result; a damaged one is not copied.
+pub fn copy_result(from: &ResultPaths, to: &ResultPaths) -> anyhow::Result<bool> {
+    if from.dir == to.dir && from.name == to.name {
+        anyhow::bail!("{}: a result cannot be copied onto itself", from.csv.display());
+    }
+    let staged = super::with_verified(from, |m| -> anyhow::Result<_> {
+        let work = Work::join(to, &m.fingerprint)?;
+        let Some(_assembling) = work.assembler(&|| false)? else {
+            anyhow::bail!("{}: not free to write", work.dir.display());
+        };
+        let staging = work.staging()?;
+        let mut files: Vec<PathBuf> = Vec::new();
+        for record in &m.files {
+            let source = from.dir.join(&record.name);
+            let target = staging.join(renamed(&record.name, &from.name, &to.name));
+            // copied, not linked: damage to one file is never damage to both results
+            std::fs::copy(&source, &target).map_err(io_at(&target))?;
+            let copied = StoredFile::of(&target).map_err(io_at(&target))?;
+            if (copied.bytes, &copied.sha256) != (record.bytes, &record.sha256) {
+                anyhow::bail!("{}: changed while being copied", source.display());
+            }
+            files.push(target);
+        }
+        let mut manifest = m.clone();
+        manifest.analysis = to.name.clone();
+        Ok((work, files, manifest))
+    });
+    let (work, files, manifest) = match staged {
+        Ok(staged) => staged?,
+        Err(Unverified::Missing) => return Ok(false),
+        Err(why) => anyhow::bail!("{}: not copied: {why}", from.csv.display()),
+    };
+    work.commit(&files, manifest)?;
+    work.retire();
+    Ok(true)
+}
+
+/// `A.attractors.csv` of analysis `A` as a file of analysis `B`: `B.attractors.csv`.
+fn renamed(file: &str, from: &str, to: &str) -> String {
+    match file.strip_prefix(from).filter(|rest| rest.starts_with('.')) {
+        Some(rest) => format!("{to}{rest}"),
+        None => file.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::renamed;
+
+    #[test]
+    fn files_take_the_new_name() {
+        assert_eq!(renamed("a.csv", "a", "b2"), "b2.csv");
+        assert_eq!(renamed("a.attractors.csv", "a", "b"), "b.attractors.csv");
+        // a name that only starts like the analysis' is not its file
+        assert_eq!(renamed("ab.csv", "a", "b"), "ab.csv");
+    }
+}

@@ -1,0 +1,57 @@
+//! The complete result of the settings before, drawn muted under a new result while the new
+//! one computes, so that a parameter change can be compared at a glance.
+
+use ratatui::text::{Line, Span};
+
+use super::frame::{Layer, XyPlot};
+use crate::tui::theme::Theme;
+use isola::session::results::{HuntView, ResponsePoint, ResultView};
+
+/// The footer line that says what the muted points are.
+pub fn legend(theme: &Theme) -> Line<'static> {
+    Line::from(vec![
+        Span::styled("⣿", ratatui::style::Style::default().fg(theme.muted)),
+        Span::styled(" the previous settings, until done", theme.muted()),
+    ])
+}
+
+/// The (ω, amplitude) points of a response-like view: a response, a stepped sweep, a hunt's
+/// responses, every member of a family.
+fn response_points(view: &ResultView) -> Option<Vec<&ResponsePoint>> {
+    Some(match view {
+        ResultView::Response(points)
+        | ResultView::Stepped(points)
+        | ResultView::Hunt(HuntView {
+            responses: points, ..
+        }) => points.iter().collect(),
+        ResultView::Family(f) => f.members.iter().flat_map(|(_, p)| p.iter()).collect(),
+        _ => return None,
+    })
+}
+
+/// Draws `previous` (if it is a response-like view) in the muted colour under the layers of
+/// `plot`, widening its amplitude axis to hold both.
+pub fn beneath(plot: &mut XyPlot, previous: &ResultView, theme: &Theme) {
+    let Some(points) = response_points(previous) else {
+        return;
+    };
+    let points: Vec<(f64, f64)> = points
+        .iter()
+        .filter_map(|p| Some((p.omega, p.amplitude?)))
+        .collect();
+    if points.is_empty() {
+        return;
+    }
+    let top = points.iter().map(|p| p.1).fold(0.0f64, f64::max) * 1.1;
+    if top > plot.y.max {
+        plot.y.max = top;
+    }
+    plot.layers.insert(
+        0,
+        Layer::Points {
+            points,
+            color: theme.muted,
+        },
+    );
+    plot.footer.push(legend(theme));
+}
