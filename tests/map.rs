@@ -25,7 +25,12 @@ fn a_map_over_adr_and_omega_around_the_merging() {
         },
         curves: true,
     };
-    let (rows, curves) = map(&p, &spec, &Progress::new(0)).unwrap();
+    let progress = Progress::new(0);
+    let (rows, curves) = map(&p, &spec, &progress).unwrap();
+    // the curves are work of unknown length: counted as steps, not as a gauge stuck at 100 %
+    let (done, total) = progress.get();
+    assert_eq!(done, total, "the rows' work is exactly what was announced");
+    assert!(progress.open_steps() > 0 && progress.in_open_phase());
     assert_eq!(rows.len(), 4);
     // the ADR 0.6 row is the frequency response at ADR 0.6, cell for cell
     let at_06 = Params::paper(0.6, 3.0).unwrap();

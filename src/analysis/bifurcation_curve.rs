@@ -431,8 +431,7 @@ impl Curve<'_> {
                 h = (h * 0.5).max(spec.step_min);
                 continue;
             };
-            progress.grow_total(1);
-            progress.add(1);
+            progress.step();
             for (of, c) in [(Turning::First, 2), (Turning::Second, 3)] {
                 if (t[c] < 0.0) != (t_next[c] < 0.0) {
                     extrema.push(self.extremum(&prev, &t, h, of, c));

@@ -725,9 +725,8 @@ impl Problem<'_> {
                 h = (h * 0.5).max(spec.step_min);
                 continue;
             };
-            // a branch's length is not known ahead: each point announces itself as it is done
-            progress.grow_total(1);
-            progress.add(1);
+            // a branch's length is not known ahead: each point is counted as it is done
+            progress.step();
             // the end of the parameter range
             let mu = next.y[2];
             if mu < spec.min || mu > spec.max {

@@ -7,6 +7,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 pub struct Progress {
     done: AtomicUsize,
     total: AtomicUsize,
+    /// Steps of work whose amount is not known ahead (the points of a continued branch or
+    /// curve): counted as they are done, never part of the fraction.
+    open: AtomicUsize,
     cancel: AtomicBool,
 }
 
@@ -34,6 +37,24 @@ impl Progress {
 
     pub fn add(&self, n: usize) {
         self.done.fetch_add(n, Ordering::Relaxed);
+    }
+
+    /// One step of work of unknown length done (a continuation point).
+    pub fn step(&self) {
+        self.open.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Steps of unknown-length work done so far.
+    pub fn open_steps(&self) -> usize {
+        self.open.load(Ordering::Relaxed)
+    }
+
+    /// True while the work of known size is done and work of unknown length goes on (a map's
+    /// curves after its rows; a continuation, which announces no total): a fraction then says
+    /// nothing.
+    pub fn in_open_phase(&self) -> bool {
+        let (done, total) = self.get();
+        done >= total && self.open_steps() > 0
     }
 
     /// Announces `n` more units of work (an analysis made of several calls adds each one's).

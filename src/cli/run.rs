@@ -171,11 +171,14 @@ fn spawn_reporter(
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
                 .progress_chars("=> "),
             );
-            bar.set_message(name);
+            bar.set_message(name.clone());
             while !done.load(Ordering::Relaxed) {
                 let (d, t) = progress.get();
                 bar.set_length(t as u64);
                 bar.set_position(d as u64);
+                if progress.in_open_phase() {
+                    bar.set_message(format!("{name}: {} points", progress.open_steps()));
+                }
                 std::thread::sleep(Duration::from_millis(100));
             }
             bar.finish_and_clear();
@@ -184,7 +187,14 @@ fn spawn_reporter(
             let mut last = Instant::now();
             while !done.load(Ordering::Relaxed) {
                 std::thread::sleep(Duration::from_millis(100));
-                if last.elapsed() >= Duration::from_secs(10) {
+                if last.elapsed() >= Duration::from_secs(10) && progress.in_open_phase() {
+                    eprintln!(
+                        "{name}: continuing, {} points after {:.0} s",
+                        progress.open_steps(),
+                        started.elapsed().as_secs_f64()
+                    );
+                    last = Instant::now();
+                } else if last.elapsed() >= Duration::from_secs(10) {
                     let (d, t) = progress.get();
                     eprintln!(
                         "{name}: {d}/{t} ({:.0} %) after {:.0} s",

@@ -53,8 +53,8 @@ pub struct JobEntry {
     started: Option<Instant>,
     work: Option<Work>,
     job: Option<Job<Output, ()>>,
-    /// (time, done) samples of the last few seconds, for the rate.
-    samples: Vec<(Instant, usize)>,
+    /// (time, done, open steps) samples of the last few seconds, for the rates.
+    samples: Vec<(Instant, usize, usize)>,
 }
 
 impl JobEntry {
@@ -63,6 +63,13 @@ impl JobEntry {
         let (first, last) = (self.samples.first()?, self.samples.last()?);
         let dt = last.0.duration_since(first.0).as_secs_f64();
         (dt > 0.2).then(|| (last.1 - first.1) as f64 / dt)
+    }
+
+    /// Steps of unknown-length work (continuation points) per second.
+    pub fn step_rate(&self) -> Option<f64> {
+        let (first, last) = (self.samples.first()?, self.samples.last()?);
+        let dt = last.0.duration_since(first.0).as_secs_f64();
+        (dt > 0.2).then(|| (last.2 - first.2) as f64 / dt)
     }
 
     /// Seconds left at the current rate.
@@ -172,9 +179,9 @@ impl JobList {
         for e in &mut self.entries {
             if let Some(job) = &e.job {
                 let (done, _) = e.progress.get();
-                e.samples.push((now, done));
+                e.samples.push((now, done, e.progress.open_steps()));
                 e.samples
-                    .retain(|(t, _)| now.duration_since(*t) < Duration::from_secs(3));
+                    .retain(|(t, ..)| now.duration_since(*t) < Duration::from_secs(3));
                 if job.is_finished() {
                     let job = e.job.take().expect("checked");
                     let result = job.join();

@@ -59,6 +59,21 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             let label: String = e.label.chars().take(label_w).collect();
             let mut spans = vec![Span::raw(format!("{label:<label_w$} "))];
             match &e.state {
+                JobState::Running if e.progress.in_open_phase() || e.progress.get().1 == 0 => {
+                    // work of unknown length (continuation points): counted, no fraction
+                    let tail = format!(
+                        " {:>6} points  {:>9}",
+                        e.progress.open_steps(),
+                        e.step_rate().map_or(String::new(), rate_text),
+                    );
+                    let bar_w = w.saturating_sub(label_w + 1 + tail.chars().count()).max(4);
+                    // a block that moves a cell per step: alive, and no percentage
+                    let at = e.progress.open_steps() % bar_w;
+                    spans.push(Span::styled("░".repeat(at), t.muted()));
+                    spans.push(Span::styled("█", t.ok()));
+                    spans.push(Span::styled("░".repeat(bar_w - at - 1), t.muted()));
+                    spans.push(Span::raw(tail));
+                }
                 JobState::Running => {
                     let f = e.progress.fraction();
                     // the readouts padded to fixed widths, so the bar keeps its width
