@@ -20,6 +20,7 @@ use crate::analysis::family::FamilyMember;
 use crate::analysis::frequency_response::{Branch, Response};
 use crate::analysis::hunt::HuntSpec;
 use crate::analysis::map::{MapCell, MapRow};
+use crate::analysis::time_history::{SteadySummary, steady_summary};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -137,6 +138,16 @@ pub struct HistoryView {
     pub v: Vec<f64>,
     /// True from the start of the steady state on.
     pub steady: Vec<bool>,
+    /// The steady part's period, amplitude and slack shares, for the orbit's model.
+    pub summary: Option<SteadySummary>,
+}
+
+impl HistoryView {
+    /// The view with its steady part summarised for the orbit's model `p`.
+    pub fn summarised(mut self, p: &crate::model::Params) -> Self {
+        self.summary = steady_summary(p, &self.tau, &self.lambda, &self.v, &self.steady);
+        self
+    }
 }
 
 impl From<&crate::analysis::time_history::TimeHistory> for HistoryView {
@@ -146,6 +157,7 @@ impl From<&crate::analysis::time_history::TimeHistory> for HistoryView {
             lambda: h.samples.iter().map(|s| s.lambda).collect(),
             v: h.samples.iter().map(|s| s.v).collect(),
             steady: h.samples.iter().map(|s| s.steady).collect(),
+            summary: None,
         }
     }
 }
@@ -361,6 +373,13 @@ impl ResultReader {
             self.error = None;
             self.stored = match store::verified(&paths) {
                 Ok(m) => match read_csv_view(&entry.settings, &paths) {
+                    Ok(ResultView::History(h)) => {
+                        let h = match session.params(Some(entry)) {
+                            Ok(p) => h.summarised(&p),
+                            Err(_) => h,
+                        };
+                        Some((m, std::sync::Arc::new(ResultView::History(h))))
+                    }
                     Ok(view) => Some((m, std::sync::Arc::new(view))),
                     Err(e) => {
                         self.error = Some(format!("{}: {e:#}", paths.csv.display()));

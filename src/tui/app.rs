@@ -11,7 +11,7 @@ use isola::analysis::family::FamilySpec;
 use isola::analysis::scalogram::Scalogram;
 use isola::analysis::time_history::TimeHistorySpec;
 use isola::session::output::{Protected, check_target};
-use isola::session::results::{HistoryView, ResultStatus, ResultView};
+use isola::session::results::{ResultStatus, ResultView};
 use isola::session::run::Outcome;
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
@@ -257,14 +257,14 @@ impl App {
                 continue;
             }
             match (finished.result, &mut self.picked) {
-                (Ok(Output::Orbit(h)), Some(p)) if p.job == finished.id => {
-                    let s = &h.steady_state;
+                (Ok(Output::Orbit { steady_state, view }), Some(p)) if p.job == finished.id => {
+                    let s = &steady_state;
                     p.summary = Some(format!(
                         "{} {}",
                         s.response_type(),
                         s.amplitude.map_or(String::new(), |a| format!("A {a:.4}"))
                     ));
-                    p.view = Some(ResultView::History(HistoryView::from(h.as_ref())));
+                    p.view = Some(ResultView::History(*view));
                 }
                 (Err(e), Some(p)) if p.job == finished.id => {
                     p.summary = Some(format!("failed: {e}"));
@@ -709,8 +709,13 @@ impl App {
         match self.focus {
             Focus::Params => {
                 if let Some(row) = self.param_rows.get(self.param_row) {
-                    self.editing = Some(row.value.clone());
-                    self.param_error = None;
+                    if let Target::Derived(why) = row.target {
+                        // nothing to type into: say what to edit instead
+                        self.param_error = Some(format!("{}: {why}", row.label));
+                    } else {
+                        self.editing = Some(row.value.clone());
+                        self.param_error = None;
+                    }
                 }
             }
             Focus::Plot => self.pick(),

@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 
 use isola::analysis::Progress;
 use isola::analysis::scalogram::{Scalogram, ScalogramSpec, scalogram};
-use isola::analysis::time_history::{TimeHistory, TimeHistorySpec, time_history};
+use isola::analysis::SteadyState;
+use isola::analysis::time_history::{TimeHistorySpec, time_history};
+use isola::session::results::HistoryView;
 use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;
@@ -29,7 +31,11 @@ pub enum Work {
 /// What a finished job gives back.
 pub enum Output {
     Analysis(Outcome),
-    Orbit(Box<TimeHistory>),
+    /// An orbit: its classification, and its view with the steady part summarised.
+    Orbit {
+        steady_state: Box<SteadyState>,
+        view: Box<HistoryView>,
+    },
     Scalogram(Scalogram),
 }
 
@@ -251,8 +257,12 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
         Work::Orbit { params, spec } => {
             ctx.progress.grow_total(1);
             let h = time_history(&params, &spec).map_err(|e| JobError::Failed(e.to_string()))?;
+            let view = HistoryView::from(&h).summarised(&params);
             ctx.progress.add(1);
-            Ok(Output::Orbit(Box::new(h)))
+            Ok(Output::Orbit {
+                steady_state: Box::new(h.steady_state),
+                view: Box::new(view),
+            })
         }
         Work::Scalogram { lambda, dt } => {
             ctx.progress.grow_total(1);

@@ -21,14 +21,24 @@ pub fn status_mark(status: ResultStatus) -> (&'static str, &'static str) {
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let focused = app.focus == Focus::Analyses;
-    let block = Block::default()
+    let inner = Block::default().borders(Borders::ALL).inner(area);
+    let h = inner.height as usize;
+    let n = app.session.analyses.len();
+    let skip = (app.selected + 1).saturating_sub(h);
+    let (above, below) = (skip, n.saturating_sub(skip + h));
+    // what is out of sight is counted on the borders
+    let mut block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border(focused))
         .title(" Analyses ");
-    let inner = block.inner(area);
+    if above > 0 {
+        block = block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());
+    }
+    if below > 0 {
+        block = block
+            .title_bottom(Line::styled(format!(" ↓ {below} more "), t.muted()).right_aligned());
+    }
     block.render(area, buf);
-    let h = inner.height as usize;
-    let skip = (app.selected + 1).saturating_sub(h);
     let lines: Vec<Line> = app
         .session
         .analyses

@@ -17,6 +17,9 @@ pub enum Target {
         key: &'static str,
         physical: Option<(&'static str, &'static str)>,
     },
+    /// A quantity the model derives from others (E_b, E_c): shown, not edited; the text says
+    /// what to edit instead.
+    Derived(&'static str),
     /// A setting of the analysis, by path.
     Setting {
         path: Vec<String>,
@@ -102,6 +105,15 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
                 ),
                 m.adr.is_some(),
             ));
+            let derived = |label: &str, value: f64, what: &str| Row {
+                label: label.into(),
+                value: format_number(value),
+                physical: what.into(),
+                overridden: false,
+                target: Target::Derived("derived from E_a and ADR: edit those"),
+            };
+            out.push(derived("E_b", d.e_b(), "φ² at ω_e"));
+            out.push(derived("E_c", d.e_c(), "φ² at 2ω_e"));
         }
         None => {
             out.push(model(
@@ -126,8 +138,11 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
     out
 }
 
+/// The settings of `table` as rows: each table's own values first, then its tables, so that
+/// every table's rows are together under one heading.
 fn flatten(table: &toml::Table, prefix: &mut Vec<String>, out: &mut Vec<Row>) {
-    for (k, v) in table {
+    let (tables, values): (Vec<_>, Vec<_>) = table.iter().partition(|(_, v)| v.is_table());
+    for (k, v) in values.into_iter().chain(tables) {
         prefix.push(k.clone());
         match v {
             toml::Value::Table(t) => flatten(t, prefix, out),
@@ -189,6 +204,7 @@ pub fn parse_edit(row: &Row, text: &str) -> Result<Edit, String> {
                 .map_err(|_| format!("{}: '{text}' is not a number", row.label))?;
             Ok(Edit::Model { key, value })
         }
+        Target::Derived(why) => Err(format!("{}: {why}", row.label)),
         Target::Setting { path, value } => {
             let parsed = parse_like(value, text)
                 .ok_or_else(|| format!("{}: '{text}' is not {}", row.label, describe(value)))?;
@@ -270,66 +286,30 @@ pub struct ParamsPane<'a> {
 impl Widget for ParamsPane<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let t = self.theme;
-        let block = Block::default()
-            .borders(Borders::ALL)
-            .border_style(t.border(self.focused))
-            .title(" Parameters ");
-        let inner = block.inner(area);
-        block.render(area, buf);
+        let inner = Block::default().borders(Borders::ALL).inner(area);
         let error_rows = self.error.map_or(0, |e| {
             (e.chars().count() as u16)
                 .div_ceil(inner.width.max(1))
                 .min(4)
         });
         let list_h = inner.height.saturating_sub(error_rows) as usize;
-        let label_w = self
-            .rows
-            .iter()
-            .map(|r| Span::raw(r.label.as_str()).width())
-            .max()
-            .unwrap_or(4)
-            .min(inner.width as usize * 2 / 5);
-        let mut lines: Vec<Line> = Vec::new();
-        let mut selected_line = 0;
-        let mut last_kind = None;
-        for (i, row) in self.rows.iter().enumerate() {
-            let kind = matches!(row.target, Target::Model { .. });
-            if last_kind != Some(kind) {
-                lines.push(Line::styled(
-                    if kind { "model" } else { "settings" },
-                    t.muted(),
-                ));
-                last_kind = Some(kind);
-            }
-            if i == self.selected {
-                selected_line = lines.len();
-            }
-            // padded by the cells it takes, not its chars (c̃ is two chars in one cell)
-            let label = truncate(&row.label, label_w);
-            let pad = label_w.saturating_sub(Span::raw(label.as_str()).width());
-            let label = format!("{label}{} ", " ".repeat(pad));
-            let mut spans = vec![Span::raw(label)];
-            match (i == self.selected, self.editing) {
-                (true, Some(text)) => {
-                    spans.push(Span::styled(format!("{text}▏"), t.cursor()));
-                }
-                _ => {
-                    spans.push(Span::raw(row.value.clone()));
-                    if row.overridden {
-                        spans.push(Span::styled("*", t.warn()));
-                    }
-                    if !row.physical.is_empty() {
-                        spans.push(Span::styled(format!("  {}", row.physical), t.muted()));
-                    }
-                }
-            }
-            let mut line = Line::from(spans);
-            if i == self.selected && self.focused {
-                line = line.style(t.selected());
-            }
-            lines.push(line);
-        }
+        let (lines, selected_line) = self.lines(inner.width as usize);
         let skip = (selected_line + 1).saturating_sub(list_h);
+        let (above, below) = (skip, lines.len().saturating_sub(skip + list_h));
+        // what is out of sight is counted on the borders
+        let mut block = Block::default()
+            .borders(Borders::ALL)
+            .border_style(t.border(self.focused))
+            .title(" Parameters ");
+        if above > 0 {
+            block = block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());
+        }
+        if below > 0 {
+            block = block.title_bottom(
+                Line::styled(format!(" ↓ {below} more "), t.muted()).right_aligned(),
+            );
+        }
+        block.render(area, buf);
         let visible: Vec<Line> = lines.into_iter().skip(skip).take(list_h).collect();
         Paragraph::new(visible)
             .render(Rect::new(inner.x, inner.y, inner.width, list_h as u16), buf);
@@ -341,6 +321,90 @@ impl Widget for ParamsPane<'_> {
                     buf,
                 );
         }
+    }
+}
+
+impl ParamsPane<'_> {
+    /// Every line of the pane at `width` cells, and the line of the selected row. The model's
+    /// rows come first, then the settings; nested settings (`steady.max_period`) under a
+    /// heading of their table (`steady`), by their own name. Labels are aligned within each
+    /// group and cut at the front only when a label and its value cannot both fit.
+    fn lines(&self, width: usize) -> (Vec<Line<'static>>, usize) {
+        let t = self.theme;
+        let cells = |s: &str| Span::raw(s).width();
+        // (group heading, label as shown) of each row
+        let shown: Vec<(String, String)> = self
+            .rows
+            .iter()
+            .map(|row| match &row.target {
+                Target::Model { .. } | Target::Derived(_) => {
+                    ("model".to_string(), row.label.clone())
+                }
+                Target::Setting { path, .. } if path.len() > 1 => (
+                    path[..path.len() - 1].join("."),
+                    format!("  {}", path[path.len() - 1]),
+                ),
+                Target::Setting { .. } => ("settings".to_string(), row.label.clone()),
+            })
+            .collect();
+        let group_width = |group: &str| {
+            shown
+                .iter()
+                .filter(|(g, _)| g == group)
+                .map(|(_, l)| cells(l))
+                .max()
+                .unwrap_or(4)
+        };
+        let mut lines: Vec<Line> = Vec::new();
+        let mut selected_line = 0;
+        let mut last_group: Option<&str> = None;
+        let mut settings_said = false;
+        for (i, (row, (group, label))) in self.rows.iter().zip(&shown).enumerate() {
+            if last_group != Some(group.as_str()) {
+                let setting = matches!(row.target, Target::Setting { .. });
+                if setting && !settings_said {
+                    lines.push(Line::styled("settings", t.muted()));
+                    settings_said = true;
+                }
+                if group != "settings" {
+                    lines.push(Line::styled(group.clone(), t.muted()));
+                }
+                last_group = Some(group.as_str());
+            }
+            if i == self.selected {
+                selected_line = lines.len();
+            }
+            let editing = self.editing.filter(|_| i == self.selected);
+            let value_w = match editing {
+                Some(text) => cells(text) + 1,
+                None => cells(&row.value) + usize::from(row.overridden),
+            };
+            let label_w = group_width(group).min(width.saturating_sub(value_w + 1).max(4));
+            // padded by the cells it takes, not its chars (c̃ is two chars in one cell)
+            let label = truncate(label, label_w);
+            let pad = label_w.saturating_sub(cells(&label));
+            let mut spans = vec![Span::raw(format!("{label}{} ", " ".repeat(pad)))];
+            match editing {
+                Some(text) => spans.push(Span::styled(format!("{text}▏"), t.cursor())),
+                None => {
+                    spans.push(Span::raw(row.value.clone()));
+                    if row.overridden {
+                        spans.push(Span::styled("*", t.warn()));
+                    }
+                    // the physical form only where it fits whole: never "37.4 MV/m p"
+                    let used = label_w + 1 + value_w;
+                    if !row.physical.is_empty() && used + 2 + cells(&row.physical) <= width {
+                        spans.push(Span::styled(format!("  {}", row.physical), t.muted()));
+                    }
+                }
+            }
+            let mut line = Line::from(spans);
+            if i == self.selected && self.focused {
+                line = line.style(t.selected());
+            }
+            lines.push(line);
+        }
+        (lines, selected_line)
     }
 }
 

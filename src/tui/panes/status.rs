@@ -37,36 +37,66 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         ]);
         v
     };
-    let mut spans: Vec<Span> = Vec::new();
-    for (key, what) in keys {
-        spans.push(Span::styled(key, t.key()));
-        spans.push(Span::raw(format!(" {what}  ")));
-    }
-    let keys_w: usize = spans.iter().map(|s| s.content.chars().count()).sum();
-    let right = match &app.message {
-        Some(m) => Span::styled(m.text.clone(), if m.error { t.error() } else { t.text() }),
-        None => {
-            let name = app
-                .session
-                .path
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-            Span::styled(
-                format!("{name}{}", if app.modified { " [+]" } else { "" }),
-                t.muted(),
-            )
+    let marker = if app.modified { " [+]" } else { "" };
+    let width = area.width as usize;
+    let hints = |keys: &[(String, &str)]| -> Vec<Span<'static>> {
+        let mut spans = Vec::new();
+        for (key, what) in keys {
+            spans.push(Span::styled(key.clone(), t.key()));
+            spans.push(Span::raw(format!(" {what}  ")));
         }
+        spans
     };
-    let room = (area.width as usize).saturating_sub(keys_w);
-    if right.content.chars().count() <= room {
-        let pad = room - right.content.chars().count();
-        spans.push(Span::raw(" ".repeat(pad)));
-        spans.push(right);
-        Paragraph::new(Line::from(spans)).render(area, buf);
-    } else if app.message.is_some() {
-        // a message matters more than the key list
-        Paragraph::new(Line::from(right)).render(area, buf);
-    } else {
-        Paragraph::new(Line::from(spans)).render(area, buf);
+    let cells = |spans: &[Span]| spans.iter().map(Span::width).sum::<usize>();
+    let mut keys = keys;
+    if let Some(m) = &app.message {
+        let style = if m.error { t.error() } else { t.text() };
+        let text = format!("{}{marker}", m.text);
+        let spans = hints(&keys);
+        if cells(&spans) + Span::raw(text.as_str()).width() <= width {
+            let pad = width - cells(&spans) - Span::raw(text.as_str()).width();
+            let mut line = spans;
+            line.push(Span::raw(" ".repeat(pad)));
+            line.push(Span::styled(m.text.clone(), style));
+            line.push(Span::styled(marker, t.warn()));
+            Paragraph::new(Line::from(line)).render(area, buf);
+        } else {
+            // a message matters more than the key list; the unsaved marker stays in sight
+            let room = width.saturating_sub(marker.len());
+            let text: String = m.text.chars().take(room).collect();
+            let pad = room.saturating_sub(Span::raw(text.as_str()).width());
+            let line = Line::from(vec![
+                Span::styled(text, style),
+                Span::raw(" ".repeat(pad)),
+                Span::styled(marker, t.warn()),
+            ]);
+            Paragraph::new(line).render(area, buf);
+        }
+        return;
     }
+    let name = app
+        .session
+        .path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    // the key hints give way (the last before help and quit first) to the unsaved marker
+    while app.modified && cells(&hints(&keys)) + marker.len() > width && keys.len() > 2 {
+        keys.remove(keys.len() - 3);
+    }
+    let mut spans = hints(&keys);
+    let room = width.saturating_sub(cells(&spans) + marker.len());
+    let name_w = Span::raw(name.as_str()).width();
+    let name = if name_w <= room {
+        name
+    } else if room >= 4 {
+        let keep: Vec<char> = name.chars().rev().take(room - 1).collect();
+        format!("…{}", keep.into_iter().rev().collect::<String>())
+    } else {
+        String::new()
+    };
+    let pad = width.saturating_sub(cells(&spans) + Span::raw(name.as_str()).width() + marker.len());
+    spans.push(Span::raw(" ".repeat(pad)));
+    spans.push(Span::styled(name, t.muted()));
+    spans.push(Span::styled(marker, t.warn()));
+    Paragraph::new(Line::from(spans)).render(area, buf);
 }

@@ -195,21 +195,31 @@ pub fn draw_axes(
     }
     let xt = ticks(x.min, x.max, (canvas.width as usize / 10).clamp(2, 8));
     let xstep = xt.get(1).map_or(1.0, |b| b - xt[0]);
+    // the x axis is always named: under the y labels if it fits there, else at the right
+    // end, where tick labels make room for it
+    let name_w = ratatui::text::Span::raw(x.name.as_str()).width() as u16;
+    let (name_x, labels_end) = if name_w <= label_w + 1 {
+        (area.x, x0 + canvas.width)
+    } else {
+        let at = (x0 + canvas.width).saturating_sub(name_w);
+        (at, at.saturating_sub(1))
+    };
+    buf.set_stringn(name_x, axis_row + 1, &x.name, area.width as usize, s);
     let mut free_from = x0;
     for &t in &xt {
         let col = col_of(canvas, x, t);
         buf.set_string(col, axis_row, "┬", s);
         let label = tick_label(t, xstep);
-        let start = col.saturating_sub(label.len() as u16 / 2).max(free_from);
-        if start + label.len() as u16 <= x0 + canvas.width {
+        let len = label.len() as u16;
+        // centred on its tick, or ending at the axis' end (the last tick's label)
+        let start = col
+            .saturating_sub(len / 2)
+            .min(labels_end.saturating_sub(len))
+            .max(free_from);
+        if start + len <= labels_end {
             buf.set_string(start, axis_row + 1, &label, s);
             free_from = start + label.len() as u16 + 1;
         }
-    }
-    let name_w = x.name.chars().count() as u16;
-    let name_x = (x0 + canvas.width).saturating_sub(name_w).max(free_from);
-    if name_x + name_w <= x0 + canvas.width {
-        buf.set_string(name_x, axis_row + 1, &x.name, s);
     }
     Some(canvas)
 }
@@ -226,6 +236,73 @@ pub fn row_of(canvas: Rect, y: &Axis, v: f64) -> u16 {
     canvas.y + canvas.height - 1 - (f * (canvas.height - 1) as f64).round() as u16
 }
 
+/// `footer` wrapped to `width` cells at spaces, styles kept (a readout or legend too long for
+/// a narrow plot goes on to the next line rather than being cut; italic hints are dropped
+/// first), and at most `max_rows`
+/// lines: those after are dropped, the first lines (the cursor's readout) kept.
+pub fn wrap_footer(footer: &[Line<'static>], width: u16, max_rows: usize) -> Vec<Line<'static>> {
+    let width = width.max(1) as usize;
+    let mut out: Vec<Line<'static>> = Vec::new();
+    for line in footer {
+        if line.width() <= width {
+            out.push(line.clone());
+            continue;
+        }
+        // hints (italic: "Enter: orbit") give way before a line is wrapped
+        let line = &Line::from(
+            line.spans
+                .iter()
+                .filter(|s| !s.style.add_modifier.contains(ratatui::style::Modifier::ITALIC))
+                .cloned()
+                .collect::<Vec<_>>(),
+        )
+        .style(line.style);
+        if line.width() <= width {
+            out.push(line.clone());
+            continue;
+        }
+        // words, each with the spaces after it, in the styles of its spans (a word may run
+        // across spans: "1:2" and " at 26 Hz" joined by no-break spaces stay together)
+        let mut words: Vec<Vec<Span<'static>>> = vec![Vec::new()];
+        for span in &line.spans {
+            let mut rest = span.content.as_ref();
+            while !rest.is_empty() {
+                let word_end = rest.find(' ').unwrap_or(rest.len());
+                let end = word_end + rest[word_end..].len() - rest[word_end..].trim_start().len();
+                let word = words.last_mut().expect("never empty");
+                word.push(Span::styled(rest[..end].to_string(), span.style));
+                if end > word_end {
+                    words.push(Vec::new());
+                }
+                rest = &rest[end..];
+            }
+        }
+        let mut current: Vec<Span<'static>> = Vec::new();
+        let mut used = 0;
+        for word in words.into_iter().filter(|w| !w.is_empty()) {
+            let text: String = word.iter().map(|s| s.content.as_ref()).collect();
+            let w = Span::raw(text.as_str()).width();
+            let bare = Span::raw(text.trim_end_matches(' ')).width();
+            if used > 0 && used + bare > width {
+                out.push(Line::from(std::mem::take(&mut current)).style(line.style));
+                used = 0;
+            }
+            used += w;
+            current.extend(word);
+        }
+        if !current.is_empty() {
+            out.push(Line::from(current).style(line.style));
+        }
+    }
+    out.truncate(max_rows);
+    out
+}
+
+/// How many footer rows a plot of `height` rows may give away and keep 6 rows of data.
+pub fn footer_room(height: u16) -> usize {
+    height.saturating_sub(3 + 6).max(1) as usize
+}
+
 /// Draws `footer` lines under the x labels of `canvas`.
 pub fn draw_footer(area: Rect, canvas: Rect, footer: &[Line], buf: &mut Buffer) {
     for (i, line) in footer.iter().enumerate() {
@@ -239,7 +316,8 @@ pub fn draw_footer(area: Rect, canvas: Rect, footer: &[Line], buf: &mut Buffer) 
 impl Widget for XyPlot {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let s = self.axis_style;
-        let Some(canvas) = draw_axes(area, &self.x, &self.y, self.footer.len(), s, buf) else {
+        let footer = wrap_footer(&self.footer, area.width, footer_room(area.height));
+        let Some(canvas) = draw_axes(area, &self.x, &self.y, footer.len(), s, buf) else {
             buf.set_stringn(area.x, area.y, "(too small)", area.width as usize, s);
             return;
         };
@@ -302,7 +380,7 @@ impl Widget for XyPlot {
             };
             cell.set_symbol(&symbol).set_style(self.cursor_style);
         }
-        draw_footer(area, canvas, &self.footer, buf);
+        draw_footer(area, canvas, &footer, buf);
     }
 }
 
@@ -359,6 +437,36 @@ pub fn legend_item(glyph: &str, style: Style, words: &str) -> Vec<Span<'static>>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A footer line too long for its plot: italic hints go first, then it wraps at spaces,
+    /// never inside a run joined by no-break spaces, with every word kept in its style.
+    #[test]
+    fn a_long_footer_line_wraps_and_keeps_its_words() {
+        use ratatui::style::{Modifier, Stylize};
+        let line = Line::from(vec![
+            Span::raw("▸ ω 3.700 (52.67\u{a0}Hz)  A 0.4156  1:2"),
+            Span::raw("\u{a0}at\u{a0}26.34\u{a0}Hz"),
+            Span::raw(" hidden").red(),
+            Span::raw("  Enter: orbit").add_modifier(Modifier::ITALIC),
+        ]);
+        let text = |l: &Line| l.spans.iter().map(|s| s.content.as_ref()).collect::<String>();
+        let wrapped = wrap_footer(std::slice::from_ref(&line), 40, 9);
+        assert!(wrapped.iter().all(|l| l.width() <= 40), "{wrapped:?}");
+        let all: Vec<String> = wrapped.iter().map(text).collect();
+        assert!(!all.concat().contains("Enter"), "{all:?}");
+        assert!(
+            all.iter().any(|l| l.contains("1:2\u{a0}at\u{a0}26.34\u{a0}Hz")),
+            "{all:?}"
+        );
+        let hidden = wrapped.iter().flat_map(|l| &l.spans).find(|s| s.content.contains("hidden"));
+        assert_eq!(hidden.unwrap().style.fg, Some(ratatui::style::Color::Red));
+        // a line that fits keeps its hint; rows past the limit are dropped, the first kept
+        let short = Line::from(vec![Span::raw("A 0.4"), Span::raw(" Enter").italic()]);
+        assert_eq!(wrap_footer(std::slice::from_ref(&short), 40, 9), vec![short.clone()]);
+        let three = [short.clone(), line.clone(), line];
+        let kept = wrap_footer(&three, 20, 2);
+        assert_eq!((kept.len(), &kept[0]), (2, &short));
+    }
 
     #[test]
     fn a_range_bracket_spans_its_width() {

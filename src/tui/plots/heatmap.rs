@@ -7,7 +7,7 @@ use ratatui::style::{Color, Style};
 use ratatui::text::Line;
 use ratatui::widgets::Widget;
 
-use super::frame::{Axis, draw_axes, draw_footer};
+use super::frame::{Axis, draw_axes, draw_footer, footer_room, wrap_footer};
 
 /// How a grid cell is drawn.
 pub enum Paint<'a> {
@@ -46,11 +46,12 @@ impl HeatMap<'_> {
 
 impl Widget for HeatMap<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
+        let footer = wrap_footer(&self.footer, area.width, footer_room(area.height));
         let Some(canvas) = draw_axes(
             area,
             &self.x,
             &self.y,
-            self.footer.len(),
+            footer.len(),
             self.axis_style,
             buf,
         ) else {
@@ -115,6 +116,6 @@ impl Widget for HeatMap<'_> {
                 .set_symbol("╋")
                 .set_style(self.cursor_style);
         }
-        draw_footer(area, canvas, &self.footer, buf);
+        draw_footer(area, canvas, &footer, buf);
     }
 }

@@ -54,6 +54,28 @@ pub fn draw(
             )),
         ]));
     }
+    if let Some(s) = &h.summary {
+        let device = ctx.device;
+        let period = match s.period_forcing_periods {
+            // a subharmonic's own frequency beside the forcing's
+            Some(1) => format!("1:1 at {:.2} Hz", device.hz(s.omega)),
+            Some(k) => format!(
+                "1:{k}, {:.2} Hz (forcing {:.2} Hz)",
+                device.hz(s.omega) / k as f64,
+                device.hz(s.omega)
+            ),
+            None => "no period within the record".into(),
+        };
+        footer.push(Line::from(vec![
+            Span::styled("steady ", theme.muted()),
+            Span::raw(format!(
+                "{period}  A {:.4}  slack: I {:.0}%, II {:.0}% of the time",
+                s.amplitude,
+                s.slack_i * 100.0,
+                s.slack_ii * 100.0
+            )),
+        ]));
+    }
     // one plot of (x, y) over the samples: the transient muted, the steady part in colour
     let plot = |x_name: &str, x: &[f64], y_name: &str, y: &[f64], x_margin: f64| {
         let mut p = XyPlot::new(
@@ -75,6 +97,7 @@ pub fn draw(
     };
     let time = plot("τ", &h.tau, "λ_I", &h.lambda, 0.0);
     let phase = plot("λ_I", &h.lambda, "v", &h.v, 0.05);
+    let footer = super::frame::wrap_footer(&footer, area.width, (area.height / 3).max(1) as usize);
     let footer_rows = footer.len() as u16;
     let [plots, foot] =
         Layout::vertical([Constraint::Min(4), Constraint::Length(footer_rows)]).areas(area);

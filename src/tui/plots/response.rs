@@ -26,12 +26,16 @@ pub fn glyph(response_type: &str, hidden: bool) -> &'static str {
     }
 }
 
-/// `1:2` of `1:2 subharmonic`.
+/// `1:2` of `1:2 subharmonic`; a collision said as what happened (the mass met a frame).
 pub fn short_type(response_type: &str) -> &str {
-    response_type
+    match response_type
         .split_whitespace()
         .next()
         .unwrap_or(response_type)
+    {
+        "collision" => "frame hit",
+        short => short,
+    }
 }
 
 /// Amplitude over ω_e of `points`, joined by a line in sweep order if `joined`, with
@@ -153,7 +157,10 @@ pub fn plot(
         }
     }
     for (t, n) in without {
-        legend.push(Span::styled(format!("{n}× {t}  "), theme.muted()));
+        legend.push(Span::styled(
+            format!("{} at {n} ω  ", short_type(t)),
+            theme.muted(),
+        ));
     }
     plot.footer.push(Line::from(legend));
     if !continued.is_empty() {
@@ -203,13 +210,20 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
     let mut spans = vec![
         Span::styled("▸ ", ctx.theme.key()),
         Span::raw(format!(
-            "ω {:.3} ({:.2} Hz)  A {}  {}",
+            "ω {:.3} ({:.2}\u{a0}Hz)  A {}  {}",
             p.omega,
             ctx.device.hz(p.omega),
             p.amplitude.map_or("—".into(), |a| format!("{a:.4}")),
             short_type(&p.response_type)
         )),
     ];
+    // a subharmonic's own frequency (1:2 at 52 Hz forcing responds at 26 Hz)
+    if let Some(k) = p.period.filter(|&k| k > 1 && p.response_type.starts_with("1:")) {
+        spans.push(Span::raw(format!(
+            "\u{a0}at\u{a0}{:.2}\u{a0}Hz",
+            ctx.device.hz(p.omega) / k as f64
+        )));
+    }
     if p.hidden == Some(true) {
         spans.push(Span::styled(" hidden", ctx.theme.hidden()));
     }
