@@ -159,9 +159,11 @@ pub fn steady_summary(
     if dt <= 0.0 || per == 0 || idx.len() <= per {
         return None;
     }
-    let (lo, hi) = idx.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
-        (lo.min(lambda[k]), hi.max(lambda[k]))
-    });
+    let (lo, hi) = idx
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
+            (lo.min(lambda[k]), hi.max(lambda[k]))
+        });
     let amplitude = hi - lo;
     // the smallest whole number of forcing periods after which the samples repeat
     let tolerance = 1e-3 * amplitude.max(1e-3);

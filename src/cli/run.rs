@@ -7,15 +7,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::jobs::JobContext;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
-use isola::session::output::{Protected, check_target};
 use isola::session::run::{Outcome, Role, Shard, run_analysis_as};
-use isola::session::store::{self, ResultPaths};
+use isola::session::select::{Filter, SelectionError, export_selection, parse_filter};
+use isola::session::store::ResultPaths;
 
 #[derive(Debug, Args)]
 pub struct RunArgs {
@@ -227,70 +226,6 @@ pub struct ExportArgs {
     csv: PathBuf,
 }
 
-/// One `--where` condition.
-#[derive(Debug, PartialEq)]
-struct Filter {
-    column: String,
-    op: &'static str,
-    value: String,
-    /// The value as a number, if it is one.
-    number: Option<f64>,
-}
-
-/// `COLUMN OP VALUE`, OP one of `= == != < <= > >=`; an ordering needs a number.
-fn parse_filter(s: &str) -> anyhow::Result<Filter> {
-    let usage = "expected COLUMN OP VALUE with OP one of = != < <= > >= (e.g. \"omega>=3.5\")";
-    let at = s
-        .find(['<', '>', '=', '!'])
-        .ok_or_else(|| anyhow::anyhow!("--where '{s}': no operator; {usage}"))?;
-    let (column, rest) = (s[..at].trim(), &s[at..]);
-    let op = ["<=", ">=", "!=", "==", "=", "<", ">"]
-        .into_iter()
-        .find(|op| rest.starts_with(op))
-        .ok_or_else(|| anyhow::anyhow!("--where '{s}': '!' alone is no operator; {usage}"))?;
-    let value = rest[op.len()..].trim();
-    if column.is_empty() {
-        anyhow::bail!("--where '{s}': no column before '{op}'; {usage}");
-    }
-    if value.is_empty() || value.starts_with(['<', '>', '=', '!']) {
-        anyhow::bail!("--where '{s}': '{value}' is not a value; {usage}");
-    }
-    let number = value.parse::<f64>().ok().filter(|x| x.is_finite());
-    if matches!(op, "<" | "<=" | ">" | ">=") && number.is_none() {
-        anyhow::bail!(
-            "--where '{s}': '{op}' compares numbers and '{value}' is not a finite number"
-        );
-    }
-    Ok(Filter {
-        column: column.to_string(),
-        op: if op == "==" { "=" } else { op },
-        value: value.to_string(),
-        number,
-    })
-}
-
-impl Filter {
-    /// True if `cell` passes: numbers compare as numbers (an empty or text cell never passes
-    /// an ordering), text compares exactly.
-    fn keeps(&self, cell: &str) -> bool {
-        use std::cmp::Ordering as O;
-        let order = match (cell.parse::<f64>(), self.number) {
-            (Ok(a), Some(b)) => a.partial_cmp(&b),
-            (_, Some(_)) if matches!(self.op, "<" | "<=" | ">" | ">=") => None,
-            _ => Some(cell.cmp(self.value.as_str())),
-        };
-        matches!(
-            (self.op, order),
-            ("=", Some(O::Equal))
-                | ("!=", Some(O::Less | O::Greater))
-                | ("<", Some(O::Less))
-                | ("<=", Some(O::Less | O::Equal))
-                | (">", Some(O::Greater))
-                | (">=", Some(O::Greater | O::Equal))
-        )
-    }
-}
-
 pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
     let entry = session.analysis(&args.analysis).ok_or_else(|| {
@@ -307,72 +242,15 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
         .iter()
         .map(|f| parse_filter(f))
         .collect::<anyhow::Result<_>>()?;
-    let paths = ResultPaths::new(&session, &entry.name);
-    let target = check_target(
-        &args.csv,
-        &Protected::session(&session.path, &session.results_dir()),
-    )?;
-    let fingerprint = session.fingerprint(entry);
-    let not_current = |why: String| {
-        anyhow::anyhow!(
-            "{}: no current result ({why}); run `isola run {} --only {}` first",
-            entry.name,
-            args.session.display(),
-            entry.name
-        )
-    };
-    let source = match &args.table {
-        Some(table) => paths.csv.with_extension(format!("{table}.csv")),
-        None => paths.csv.clone(),
-    };
-    let kept = store::with_verified(&paths, |m| -> anyhow::Result<usize> {
-        if m.fingerprint != fingerprint {
-            return Err(not_current(
-                "the stored one was computed for other settings, device or numerics".into(),
-            ));
-        }
-        let name = source.file_name().unwrap_or_default().to_string_lossy();
-        if !m.files.iter().any(|f| f.name == name) {
-            anyhow::bail!(
-                "{}: a {} has no {} table",
-                entry.name,
-                entry.settings.kind(),
-                args.table.as_deref().unwrap_or("main")
-            );
-        }
-        let mut reader =
-            csv::Reader::from_path(&source).with_context(|| source.display().to_string())?;
-        let headers = reader.headers()?.clone();
-        let columns: Vec<usize> = filters
-            .iter()
-            .map(|f| {
-                headers.iter().position(|h| h == f.column).ok_or_else(|| {
-                    anyhow::anyhow!(
-                        "--where: no column '{}'; columns: {}",
-                        f.column,
-                        headers.iter().collect::<Vec<_>>().join(", ")
-                    )
-                })
-            })
-            .collect::<anyhow::Result<_>>()?;
-        let mut kept = 0;
-        let mut bytes = Vec::new();
-        {
-            let mut w = csv::Writer::from_writer(&mut bytes);
-            w.write_record(&headers)?;
-            for row in reader.records() {
-                let row = row?;
-                if filters.iter().zip(&columns).all(|(f, &c)| f.keeps(&row[c])) {
-                    w.write_record(&row)?;
-                    kept += 1;
-                }
-            }
-            w.flush()?;
-        }
-        target.write(&bytes)?;
-        Ok(kept)
-    })
-    .map_err(|why| not_current(why.to_string()))??;
+    let kept = export_selection(&session, entry, args.table.as_deref(), &filters, &args.csv)
+        .map_err(|e| match e {
+            SelectionError::NotCurrent(_) => anyhow::anyhow!(
+                "{e}; run `isola run {} --only {}` first",
+                args.session.display(),
+                entry.name
+            ),
+            other => anyhow::Error::from(other),
+        })?;
     println!(
         "wrote {} rows of {} to {}",
         kept,
@@ -380,36 +258,4 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
         args.csv.display()
     );
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn where_is_parsed_strictly() {
-        let f = parse_filter("omega >= 3.5").unwrap();
-        assert_eq!(
-            (f.column.as_str(), f.op, f.number),
-            ("omega", ">=", Some(3.5))
-        );
-        assert_eq!(parse_filter("omega==3.7").unwrap().op, "=");
-        assert!(parse_filter("ratio=1:2").unwrap().keeps("1:2"));
-        for bad in [
-            "omega<abc",
-            "omega",
-            "=3",
-            "omega=",
-            "omega=<3",
-            "omega!3",
-            "a<nan",
-            "a>inf",
-        ] {
-            assert!(parse_filter(bad).is_err(), "{bad}");
-        }
-        let f = parse_filter("amplitude_stretch>0.1").unwrap();
-        assert!(f.keeps("0.2") && !f.keeps("0.05") && !f.keeps(""));
-        let f = parse_filter("branch!=3").unwrap();
-        assert!(f.keeps("4") && !f.keeps("3.0") && f.keeps(""));
-    }
 }

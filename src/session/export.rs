@@ -14,14 +14,22 @@ pub fn write_atomic(
     path: &Path,
     fill: impl FnOnce(&mut csv::Writer<&mut Vec<u8>>) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
+    let bytes = csv_bytes(fill)?;
+    super::output::write_output(path, &bytes, &super::output::Protected::none())?;
+    Ok(())
+}
+
+/// The bytes of a CSV file filled by `fill`.
+pub fn csv_bytes(
+    fill: impl FnOnce(&mut csv::Writer<&mut Vec<u8>>) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<u8>> {
     let mut bytes = Vec::new();
     {
         let mut w = csv::Writer::from_writer(&mut bytes);
         fill(&mut w)?;
         w.flush()?;
     }
-    super::output::write_output(path, &bytes, &super::output::Protected::none())?;
-    Ok(())
+    Ok(bytes)
 }
 
 /// The columns describing one steady state.
@@ -193,7 +201,17 @@ pub fn history_csv(
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
-    write_atomic(path, |w| {
+    let bytes = history_bytes(h, device)?;
+    super::output::write_output(path, &bytes, &super::output::Protected::none())?;
+    Ok(())
+}
+
+/// [`history_csv`]'s file, in memory.
+pub fn history_bytes(
+    h: &crate::analysis::time_history::TimeHistory,
+    device: &Device,
+) -> anyhow::Result<Vec<u8>> {
+    csv_bytes(|w| {
         w.write_record([
             "tau",
             "time_s",

@@ -11,6 +11,7 @@ pub mod output;
 pub mod results;
 pub mod run;
 pub mod schema;
+pub mod select;
 pub mod store;
 
 pub use schema::{AnalysisEntry, Session, SessionError, SessionFile, Settings};

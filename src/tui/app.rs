@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::analysis::family::FamilySpec;
 use isola::analysis::scalogram::Scalogram;
-use isola::analysis::time_history::TimeHistorySpec;
+use isola::analysis::time_history::{TimeHistory, TimeHistorySpec};
 use isola::session::output::{Protected, check_target};
 use isola::session::results::{ResultStatus, ResultView};
 use isola::session::run::Outcome;
@@ -77,8 +77,8 @@ pub enum Confirmed {
     Open(PathBuf),
     /// Save the session over this existing file.
     SaveAs(PathBuf),
-    /// Export the result over this existing file.
-    Export(PathBuf),
+    /// Export over this existing file.
+    Export(ExportRequest),
     /// Delete analysis number `0` (called `1`) from the session.
     Delete(usize, String),
 }
@@ -96,11 +96,21 @@ pub enum InputPurpose {
 pub struct Picked {
     pub label: String,
     pub job: usize,
-    /// The orbit's time history, once integrated.
+    /// The orbit's time history, once integrated, and its view.
+    pub history: Option<Box<TimeHistory>>,
     pub view: Option<ResultView>,
     /// Its own cursor: the plot's is kept for when the orbit is closed.
     pub cursor: (usize, usize),
     pub summary: Option<String>,
+}
+
+/// What `e` or `:export` writes: the picked orbit if one is shown, else the selected result
+/// (its companion `table` and only the rows passing `filters`, if given).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportRequest {
+    pub path: PathBuf,
+    pub table: Option<String>,
+    pub filters: Vec<isola::session::select::Filter>,
 }
 
 /// A line in the status bar.
@@ -257,14 +267,15 @@ impl App {
                 continue;
             }
             match (finished.result, &mut self.picked) {
-                (Ok(Output::Orbit { steady_state, view }), Some(p)) if p.job == finished.id => {
-                    let s = &steady_state;
+                (Ok(Output::Orbit { history, view }), Some(p)) if p.job == finished.id => {
+                    let s = &history.steady_state;
                     p.summary = Some(format!(
                         "{} {}",
                         s.response_type(),
                         s.amplitude.map_or(String::new(), |a| format!("A {a:.4}"))
                     ));
                     p.view = Some(ResultView::History(*view));
+                    p.history = Some(history);
                 }
                 (Err(e), Some(p)) if p.job == finished.id => {
                     p.summary = Some(format!("failed: {e}"));
@@ -520,9 +531,18 @@ impl App {
             Command::Save(None) => self.save(None),
             Command::Save(Some(path)) => self.save_as_asking(path),
             Command::Open(path) => self.open_asking(path),
-            Command::Export(path) => {
-                if self.status_of(self.selected) == ResultStatus::Complete {
-                    self.export_asking(path);
+            Command::Export {
+                path,
+                table,
+                filters,
+            } => {
+                let orbit = self.picked.as_ref().is_some_and(|p| p.history.is_some());
+                if orbit || self.status_of(self.selected) == ResultStatus::Complete {
+                    self.export_asking(ExportRequest {
+                        path,
+                        table,
+                        filters,
+                    });
                 } else {
                     self.say("no complete result to export (r runs it)", true);
                 }
@@ -911,6 +931,7 @@ impl App {
         self.picked = Some(Picked {
             label,
             job,
+            history: None,
             view: None,
             cursor: (0, 0),
             summary: None,
@@ -981,6 +1002,24 @@ impl App {
     }
 
     fn export_prompt(&mut self) {
+        if let Some(p) = self.picked.as_ref().filter(|p| p.history.is_some()) {
+            let name: String = p
+                .label
+                .chars()
+                .map(|c| {
+                    if c.is_alphanumeric() || c == '.' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            self.overlay = Some(Overlay::Input {
+                purpose: InputPurpose::Export,
+                text: format!("{name}.csv"),
+            });
+            return;
+        }
         let Some(entry) = self.session.analyses.get(self.selected) else {
             return;
         };
@@ -997,22 +1036,61 @@ impl App {
         });
     }
 
-    /// Copies the selected result's CSV (and a basin's attractor table) to `to`, atomically.
-    pub fn export(&mut self, to: &Path) {
+    /// Writes what `request` asks for, atomically: the picked orbit's time history, the
+    /// selected result's rows passing its filters, or the whole result (CSV, and a basin's
+    /// attractor table beside it).
+    pub fn export(&mut self, request: &ExportRequest) {
+        let to = &request.path;
+        let protected = Protected::session(&self.session.path, &self.session.results_dir());
+        let result: anyhow::Result<String> =
+            if let Some(history) = self.picked.as_ref().and_then(|p| p.history.as_deref()) {
+                if request.table.is_some() || !request.filters.is_empty() {
+                    Err(anyhow::anyhow!(
+                        "an orbit is written whole: Esc closes it to export the analysis"
+                    ))
+                } else {
+                    isola::session::export::history_bytes(history, &self.session.device())
+                        .and_then(|bytes| Ok(check_target(to, &protected)?.write(&bytes)?))
+                        .map(|()| format!("exported the orbit to {}", to.display()))
+                }
+            } else if request.table.is_some() || !request.filters.is_empty() {
+                let Some(entry) = self.session.analyses.get(self.selected) else {
+                    return;
+                };
+                isola::session::select::export_selection(
+                    &self.session,
+                    entry,
+                    request.table.as_deref(),
+                    &request.filters,
+                    to,
+                )
+                .map(|rows| format!("exported {rows} rows to {}", to.display()))
+                .map_err(anyhow::Error::from)
+            } else {
+                self.export_whole(to, &protected)
+                    .map(|()| format!("exported {}", to.display()))
+            };
+        match result {
+            Ok(done) => self.say(done, false),
+            Err(e) => self.say(format!("export failed: {e:#}"), true),
+        }
+    }
+
+    /// Copies the selected result's CSV (and a basin's attractor table) to `to`.
+    fn export_whole(&self, to: &Path, protected: &Protected) -> anyhow::Result<()> {
         let Some(entry) = self.session.analyses.get(self.selected) else {
-            return;
+            anyhow::bail!("no analysis selected");
         };
         let paths = ResultPaths::new(&self.session, &entry.name);
         let fingerprint = self.session.fingerprint(entry);
-        let protected = Protected::session(&self.session.path, &self.session.results_dir());
         let copy = |from: &Path, to: &Path| -> anyhow::Result<()> {
-            let target = check_target(to, &protected)?;
+            let target = check_target(to, protected)?;
             let bytes = std::fs::read(from)?;
             target.write(&bytes)?;
             Ok(())
         };
         // copied under the store's read lock, from a verified result of the current settings
-        let result = isola::session::store::with_verified(&paths, |m| {
+        isola::session::store::with_verified(&paths, |m| {
             if m.fingerprint != fingerprint {
                 anyhow::bail!("the stored result is of other settings");
             }
@@ -1027,11 +1105,7 @@ impl App {
             Ok(())
         })
         .map_err(anyhow::Error::from)
-        .and_then(|r| r);
-        match result {
-            Ok(()) => self.say(format!("exported {}", to.display()), false),
-            Err(e) => self.say(format!("export failed: {e:#}"), true),
-        }
+        .and_then(|r| r)
     }
 
     fn open_picker(&mut self) {
@@ -1120,7 +1194,11 @@ impl App {
                     let path = PathBuf::from(text.trim());
                     match purpose {
                         InputPurpose::SaveAs => self.save_as_asking(path),
-                        InputPurpose::Export => self.export_asking(path),
+                        InputPurpose::Export => self.export_asking(ExportRequest {
+                            path,
+                            table: None,
+                            filters: Vec::new(),
+                        }),
                         InputPurpose::Open => self.open_asking(path),
                         InputPurpose::Command => self.execute(&text),
                     }
@@ -1177,7 +1255,7 @@ impl App {
                 KeyCode::Char('y') | KeyCode::Char('Y') => match then {
                     Confirmed::Open(path) => self.open(&path),
                     Confirmed::SaveAs(path) => self.save(Some(path)),
-                    Confirmed::Export(path) => self.export(&path),
+                    Confirmed::Export(request) => self.export(&request),
                     Confirmed::Delete(index, name) => self.delete_analysis(index, &name),
                 },
                 KeyCode::Char('n') | KeyCode::Char('N') | KeyCode::Esc => {
@@ -1218,20 +1296,22 @@ impl App {
         }
     }
 
-    /// Exports the result to `path`, asking first if that replaces a file.
-    fn export_asking(&mut self, path: PathBuf) {
-        let table = path.with_extension("attractors.csv");
-        let existing: Vec<String> = [&path, &table]
+    /// Exports as `request` asks, asking first if that replaces a file.
+    fn export_asking(&mut self, request: ExportRequest) {
+        let whole = self.picked.is_none() && request.table.is_none() && request.filters.is_empty();
+        let table = request.path.with_extension("attractors.csv");
+        let existing: Vec<String> = [&request.path, &table]
             .into_iter()
+            .take(if whole { 2 } else { 1 })
             .filter(|p| p.exists())
             .map(|p| p.display().to_string())
             .collect();
         if existing.is_empty() {
-            self.export(&path);
+            self.export(&request);
         } else {
             self.overlay = Some(Overlay::Confirm {
                 question: format!("{} exists: replace it?", existing.join(" and ")),
-                then: Confirmed::Export(path),
+                then: Confirmed::Export(request),
             });
         }
     }

@@ -19,15 +19,34 @@ pub enum Which {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
     Run(Which),
-    Add { kind: String, name: String },
-    Duplicate { name: String },
-    Rename { name: String },
-    Delete { name: Option<String> },
-    Set { field: String, value: String },
-    Select { name: String },
+    Add {
+        kind: String,
+        name: String,
+    },
+    Duplicate {
+        name: String,
+    },
+    Rename {
+        name: String,
+    },
+    Delete {
+        name: Option<String>,
+    },
+    Set {
+        field: String,
+        value: String,
+    },
+    Select {
+        name: String,
+    },
     Save(Option<PathBuf>),
     Open(PathBuf),
-    Export(PathBuf),
+    /// `export FILE [--table T] [--where COLUMN OP VALUE]...`
+    Export {
+        path: PathBuf,
+        table: Option<String>,
+        filters: Vec<isola::session::select::Filter>,
+    },
     Help,
     Quit,
 }
@@ -47,7 +66,11 @@ pub const COMMANDS: [(&str, &str, &str); 12] = [
     ("select", "NAME", "select an analysis"),
     ("save", "[FILE]", "save the session (as FILE)"),
     ("open", "FILE", "open a session"),
-    ("export", "FILE", "export the selected result"),
+    (
+        "export",
+        "FILE [--table T] [--where C OP V]",
+        "export the orbit shown or the result (only rows passing --where)",
+    ),
     ("help", "", "the keys and commands"),
     ("quit", "", "quit (asks if jobs run)"),
 ];
@@ -112,13 +135,41 @@ pub fn parse(line: &str) -> Result<Command, String> {
             _ => return Err(usage("save")),
         },
         "open" | "e!" => Command::Open(path("open")?),
-        "export" => Command::Export(path("export")?),
+        "export" => export(args).map_err(|e| format!("{e}; {}", usage("export")))?,
         "help" | "?" => Command::Help,
         "quit" | "q" => Command::Quit,
         other => {
             let verbs: Vec<&str> = COMMANDS.iter().map(|(v, _, _)| *v).collect();
             return Err(format!("'{other}': not a command ({})", verbs.join(", ")));
         }
+    })
+}
+
+/// `FILE [--table T] [--where COLUMN OP VALUE]...`: a condition may be written with spaces
+/// (`--where omega >= 3.5`), up to the next `--`.
+fn export(args: &[&str]) -> Result<Command, String> {
+    let Some((path, mut rest)) = args.split_first() else {
+        return Err("no file".into());
+    };
+    let (mut table, mut filters) = (None, Vec::new());
+    while let Some((&flag, after)) = rest.split_first() {
+        let end = after
+            .iter()
+            .position(|w| w.starts_with("--"))
+            .unwrap_or(after.len());
+        let value = after[..end].join(" ");
+        match flag {
+            "--table" if end == 1 => table = Some(value),
+            "--where" if end > 0 => filters
+                .push(isola::session::select::parse_filter(&value).map_err(|e| e.to_string())?),
+            other => return Err(format!("'{other}' after the file")),
+        }
+        rest = &after[end..];
+    }
+    Ok(Command::Export {
+        path: PathBuf::from(path),
+        table,
+        filters,
     })
 }
 

@@ -6,13 +6,12 @@ use std::time::{Duration, Instant};
 
 use isola::analysis::Progress;
 use isola::analysis::scalogram::{Scalogram, ScalogramSpec, scalogram};
-use isola::analysis::SteadyState;
-use isola::analysis::time_history::{TimeHistorySpec, time_history};
-use isola::session::results::HistoryView;
+use isola::analysis::time_history::{TimeHistory, TimeHistorySpec, time_history};
 use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
+use isola::session::results::HistoryView;
 use isola::session::run::{Outcome, Shard, run_analysis};
 
 /// What a job computes.
@@ -31,9 +30,9 @@ pub enum Work {
 /// What a finished job gives back.
 pub enum Output {
     Analysis(Outcome),
-    /// An orbit: its classification, and its view with the steady part summarised.
+    /// An orbit, and its view with the steady part summarised.
     Orbit {
-        steady_state: Box<SteadyState>,
+        history: Box<TimeHistory>,
         view: Box<HistoryView>,
     },
     Scalogram(Scalogram),
@@ -260,7 +259,7 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
             let view = HistoryView::from(&h).summarised(&params);
             ctx.progress.add(1);
             Ok(Output::Orbit {
-                steady_state: Box::new(h.steady_state),
+                history: Box::new(h),
                 view: Box::new(view),
             })
         }

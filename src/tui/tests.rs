@@ -137,8 +137,52 @@ fn a_frequency_response_runs_and_draws_with_its_isola() {
     let picked = app.picked.as_ref().unwrap();
     assert!(picked.view.is_some(), "the orbit was not integrated");
     snapshot!("response_pick_orbit_80x24", draw(&app, 80, 24));
+    // what is on screen is what is exported: the picked orbit's time history
+    let orbit = path.with_file_name("orbit.csv");
+    command(&mut app, &format!("export {}", orbit.display()));
+    let text = std::fs::read_to_string(&orbit).unwrap();
+    assert!(text.starts_with("tau,time_s,lambda_stretch,v_per_tau,phi_i,steady\n"));
+    assert!(
+        text.lines().count() > 100 && text.contains(",true"),
+        "{:?}",
+        app.message
+    );
     key(&mut app, KeyCode::Esc);
     assert!(app.picked.is_none());
+    // only the hidden responses, as `isola export --where` selects them
+    let hidden = path.with_file_name("hidden.csv");
+    command(
+        &mut app,
+        &format!("export {} --where hidden = true", hidden.display()),
+    );
+    let mut reader = csv::Reader::from_path(&hidden).unwrap();
+    let column = reader.headers().unwrap().iter().position(|h| h == "hidden");
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    assert!(!rows.is_empty(), "{:?}", app.message);
+    assert!(rows.iter().all(|r| &r[column.unwrap()] == "true"));
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains(&format!("{} rows", rows.len()))
+    );
+    // a condition on a column the result has not is named
+    command(
+        &mut app,
+        &format!("export {} --where colour=red", hidden.display()),
+    );
+    assert!(
+        matches!(app.overlay, Some(Overlay::Confirm { .. })),
+        "replacing asks first"
+    );
+    key(&mut app, KeyCode::Char('y'));
+    let m = app.message.as_ref().unwrap();
+    assert!(
+        m.error && m.text.contains("no column 'colour'"),
+        "{}",
+        m.text
+    );
 }
 
 #[test]
@@ -523,7 +567,11 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     assert!(app.view().is_some());
     // an export onto the session file is refused, and the session is left as it was
     let session_text = std::fs::read(&path).unwrap();
-    app.export(&path);
+    app.export(&super::app::ExportRequest {
+        path: path.clone(),
+        table: None,
+        filters: Vec::new(),
+    });
     assert_eq!(std::fs::read(&path).unwrap(), session_text);
     // editing the model makes the stored result stale (shown, not silently reused)
     let row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
@@ -597,7 +645,13 @@ fn the_command_line_makes_and_changes_analyses() {
     // result, and takes it along when renamed (the session on disk keeps b2's own)
     command(&mut app, "dup b3");
     assert_eq!(app.session.analyses[app.selected].name, "b3");
-    assert!(app.message.as_ref().unwrap().text.contains("with its result"));
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("with its result")
+    );
     app.sync_results();
     assert_eq!(app.status_of(app.selected), ResultStatus::Complete);
     command(&mut app, "rename b4");
@@ -952,8 +1006,7 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
     let whole = isola::session::run::Shard { index: 0, count: 1 };
     let progress = isola::analysis::Progress::new(0);
     let run = |session: &Session, i: usize, shard| {
-        isola::session::run::run_analysis(session, &session.analyses[i], shard, &progress)
-            .unwrap();
+        isola::session::run::run_analysis(session, &session.analyses[i], shard, &progress).unwrap();
     };
     run(&app.session, 0, whole);
     run(&app.session, 1, whole);
@@ -976,17 +1029,27 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
     };
     assert!(previous.len() >= 31, "a response per ω at least");
     let screen = draw(&app, 80, 24);
-    assert!(screen.contains("the previous settings, until done"), "{screen}");
+    assert!(
+        screen.contains("the previous settings, until done"),
+        "{screen}"
+    );
     snapshot!("response_over_previous_80x24", screen);
     // the basin: the cells not computed yet show the previous settings' basin, faded
     command(&mut app, "select basin");
     run(&app.session, 1, half);
     watch_until(&mut app, 1, |s| matches!(s, ResultStatus::Partial { .. }));
     let screen = draw(&app, 120, 40);
-    assert!(screen.contains("faded: the previous settings' basin"), "{screen}");
+    assert!(
+        screen.contains("faded: the previous settings' basin"),
+        "{screen}"
+    );
     // once complete, only the new result is drawn
     command(&mut app, "select response");
-    run(&app.session, 0, isola::session::run::Shard { index: 1, count: 2 });
+    run(
+        &app.session,
+        0,
+        isola::session::run::Shard { index: 1, count: 2 },
+    );
     watch_until(&mut app, 0, |s| s == ResultStatus::Complete);
     assert!(app.stored[0].previous.is_none());
     assert!(!draw(&app, 80, 24).contains("previous settings"));

@@ -11,7 +11,10 @@ use super::{ResultPaths, Work, io_at};
 /// `to`. `Ok(false)` if `from` holds no complete result; a damaged one is not copied.
 pub fn copy_result(from: &ResultPaths, to: &ResultPaths) -> anyhow::Result<bool> {
     if from.dir == to.dir && from.name == to.name {
-        anyhow::bail!("{}: a result cannot be copied onto itself", from.csv.display());
+        anyhow::bail!(
+            "{}: a result cannot be copied onto itself",
+            from.csv.display()
+        );
     }
     let staged = super::with_verified(from, |m| -> anyhow::Result<_> {
         let work = Work::join(to, &m.fingerprint)?;

@@ -302,12 +302,12 @@ impl Widget for ParamsPane<'_> {
             .border_style(t.border(self.focused))
             .title(" Parameters ");
         if above > 0 {
-            block = block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());
+            block =
+                block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());
         }
         if below > 0 {
-            block = block.title_bottom(
-                Line::styled(format!(" ↓ {below} more "), t.muted()).right_aligned(),
-            );
+            block = block
+                .title_bottom(Line::styled(format!(" ↓ {below} more "), t.muted()).right_aligned());
         }
         block.render(area, buf);
         let visible: Vec<Line> = lines.into_iter().skip(skip).take(list_h).collect();

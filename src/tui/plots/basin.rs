@@ -80,7 +80,8 @@ pub fn draw(
                 target.map_or("not computed".into(), |a| format!(
                     "{} {}",
                     short_type(&a.response_type),
-                    a.amplitude.map_or(String::new(), |x| format!("A\u{a0}{x:.4}"))
+                    a.amplitude
+                        .map_or(String::new(), |x| format!("A\u{a0}{x:.4}"))
                 ))
             )),
             Span::styled(

@@ -252,7 +252,11 @@ pub fn wrap_footer(footer: &[Line<'static>], width: u16, max_rows: usize) -> Vec
         let line = &Line::from(
             line.spans
                 .iter()
-                .filter(|s| !s.style.add_modifier.contains(ratatui::style::Modifier::ITALIC))
+                .filter(|s| {
+                    !s.style
+                        .add_modifier
+                        .contains(ratatui::style::Modifier::ITALIC)
+                })
                 .cloned()
                 .collect::<Vec<_>>(),
         )
@@ -449,20 +453,32 @@ mod tests {
             Span::raw(" hidden").red(),
             Span::raw("  Enter: orbit").add_modifier(Modifier::ITALIC),
         ]);
-        let text = |l: &Line| l.spans.iter().map(|s| s.content.as_ref()).collect::<String>();
+        let text = |l: &Line| {
+            l.spans
+                .iter()
+                .map(|s| s.content.as_ref())
+                .collect::<String>()
+        };
         let wrapped = wrap_footer(std::slice::from_ref(&line), 40, 9);
         assert!(wrapped.iter().all(|l| l.width() <= 40), "{wrapped:?}");
         let all: Vec<String> = wrapped.iter().map(text).collect();
         assert!(!all.concat().contains("Enter"), "{all:?}");
         assert!(
-            all.iter().any(|l| l.contains("1:2\u{a0}at\u{a0}26.34\u{a0}Hz")),
+            all.iter()
+                .any(|l| l.contains("1:2\u{a0}at\u{a0}26.34\u{a0}Hz")),
             "{all:?}"
         );
-        let hidden = wrapped.iter().flat_map(|l| &l.spans).find(|s| s.content.contains("hidden"));
+        let hidden = wrapped
+            .iter()
+            .flat_map(|l| &l.spans)
+            .find(|s| s.content.contains("hidden"));
         assert_eq!(hidden.unwrap().style.fg, Some(ratatui::style::Color::Red));
         // a line that fits keeps its hint; rows past the limit are dropped, the first kept
         let short = Line::from(vec![Span::raw("A 0.4"), Span::raw(" Enter").italic()]);
-        assert_eq!(wrap_footer(std::slice::from_ref(&short), 40, 9), vec![short.clone()]);
+        assert_eq!(
+            wrap_footer(std::slice::from_ref(&short), 40, 9),
+            vec![short.clone()]
+        );
         let three = [short.clone(), line.clone(), line];
         let kept = wrap_footer(&three, 20, 2);
         assert_eq!((kept.len(), &kept[0]), (2, &short));

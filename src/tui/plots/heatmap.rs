@@ -47,14 +47,8 @@ impl HeatMap<'_> {
 impl Widget for HeatMap<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let footer = wrap_footer(&self.footer, area.width, footer_room(area.height));
-        let Some(canvas) = draw_axes(
-            area,
-            &self.x,
-            &self.y,
-            footer.len(),
-            self.axis_style,
-            buf,
-        ) else {
+        let Some(canvas) = draw_axes(area, &self.x, &self.y, footer.len(), self.axis_style, buf)
+        else {
             buf.set_stringn(
                 area.x,
                 area.y,

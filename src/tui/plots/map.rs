@@ -32,8 +32,8 @@ pub fn draw(
     let cell = |ix: usize, iy: usize| m.rows.get(iy)?.as_ref()?.get(ix);
     let level = |n: usize| n.min(3);
     let count_color = |n: usize| theme.ramp(level(n) as f64 / 3.0);
-    let previous = previous
-        .filter(|p| p.omegas == m.omegas && p.values == m.values && !theme.monochrome);
+    let previous =
+        previous.filter(|p| p.omegas == m.omegas && p.values == m.values && !theme.monochrome);
     let earlier = |ix: usize, iy: usize| previous?.rows.get(iy)?.as_ref()?.get(ix);
     let color_of = |ix: usize, iy: usize| match cell(ix, iy) {
         Some(c) => Some(count_color(c.stable)),

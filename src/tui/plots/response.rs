@@ -218,7 +218,10 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
         )),
     ];
     // a subharmonic's own frequency (1:2 at 52 Hz forcing responds at 26 Hz)
-    if let Some(k) = p.period.filter(|&k| k > 1 && p.response_type.starts_with("1:")) {
+    if let Some(k) = p
+        .period
+        .filter(|&k| k > 1 && p.response_type.starts_with("1:"))
+    {
         spans.push(Span::raw(format!(
             "\u{a0}at\u{a0}{:.2}\u{a0}Hz",
             ctx.device.hz(p.omega) / k as f64
