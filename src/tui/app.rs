@@ -17,11 +17,13 @@ use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
 use super::command::{self, Command, Which};
+use super::filter;
 use super::jobs::{JobList, JobState, Output, Work};
 use super::keymap::{Action, Keymap};
 use super::panes::params::{self, Edit, Row, Target};
 use super::plots::{self, Pick, Start};
 use super::theme::Theme;
+use super::undo::{Version, Versions};
 use super::watcher::{Stored, Watcher};
 
 /// The panes that take focus, in Tab order.
@@ -90,6 +92,8 @@ pub enum InputPurpose {
     Open,
     /// A command line (`:`).
     Command,
+    /// The filter (`/`), applied as it is typed.
+    Filter,
 }
 
 /// An orbit picked off a plot, being computed or shown.
@@ -152,6 +156,13 @@ pub struct App {
     pub help_scroll: u16,
     /// The pane that had the keys before the plot was zoomed, to give them back after.
     focus_before_zoom: Option<Focus>,
+    /// The view held on the plot (`f`) while results keep coming in.
+    pub frozen: Option<Arc<ResultView>>,
+    /// Only analyses and parameters whose names contain this are listed (`/`).
+    pub filter: String,
+    /// The session's text as last opened or saved: an undo back to it is no edit.
+    saved_text: String,
+    versions: Versions,
     pub message: Option<Message>,
     pub theme: Theme,
     pub keymap: Keymap,
@@ -190,6 +201,10 @@ impl App {
             help_scroll: 0,
             cursor_moved: false,
             focus_before_zoom: None,
+            frozen: None,
+            filter: String::new(),
+            saved_text: String::new(),
+            versions: Versions::default(),
             message: None,
             theme,
             keymap,
@@ -199,6 +214,7 @@ impl App {
             last_poll: Instant::now(),
             last_full_poll: Instant::now(),
         };
+        app.saved_text = app.session.to_text();
         app.reload_session_state();
         app
     }
@@ -230,8 +246,11 @@ impl App {
         self.picked = None;
     }
 
-    /// The selected analysis' result, if any.
+    /// The selected analysis' result as the plot shows it (held, if frozen), if any.
     pub fn view(&self) -> Option<&ResultView> {
+        if let Some(frozen) = &self.frozen {
+            return Some(frozen);
+        }
         self.stored
             .get(self.selected)
             .and_then(|r| r.view.as_deref())
@@ -476,6 +495,129 @@ impl App {
                     text: String::new(),
                 })
             }
+            Action::Undo => self.undo(),
+            Action::Redo => self.redo(),
+            Action::Freeze => self.toggle_freeze(),
+            Action::Filter => {
+                self.overlay = Some(Overlay::Input {
+                    purpose: InputPurpose::Filter,
+                    text: self.filter.clone(),
+                })
+            }
+        }
+    }
+
+    /// Moves the plot cursor (the picked orbit's, if one is shown) to the point nearest `at`
+    /// (`hz`: the first coordinate is a frequency in Hz, converted to ω_e).
+    fn goto(&mut self, mut at: Vec<f64>, hz: bool) {
+        if hz {
+            at[0] = self.session.device().omega_from_hz(at[0]);
+        }
+        let moved = match &mut self.picked {
+            Some(p) => p.view.as_ref().and_then(|view| {
+                p.cursor = plots::cursor_near(view, p.cursor, &at)?;
+                Some(())
+            }),
+            None => self
+                .view()
+                .and_then(|view| plots::cursor_near(view, self.cursor, &at))
+                .map(|cursor| {
+                    self.cursor = cursor;
+                    self.cursor_moved = true;
+                }),
+        };
+        match moved {
+            Some(()) => self.focus = Focus::Plot,
+            None => self.say("no point to go to on this plot", true),
+        }
+    }
+
+    /// Holds the plot's view as it is (results keep coming in, the title says so), or lets it
+    /// follow them again.
+    fn toggle_freeze(&mut self) {
+        if self.frozen.take().is_some() {
+            self.say("plot follows the results again", false);
+        } else if let Some(view) = self.stored.get(self.selected).and_then(|s| s.view.clone()) {
+            self.frozen = Some(view);
+            let key = self.keymap.label(Action::Freeze);
+            self.say(format!("plot held: {key} resumes"), false);
+        } else {
+            self.say("nothing drawn to hold", true);
+        }
+    }
+
+    /// The session as it is now, to remember before an edit.
+    fn version(&self, what: String) -> Version {
+        Version {
+            text: self.session.to_text(),
+            selected: self.selected,
+            what,
+        }
+    }
+
+    fn undo(&mut self) {
+        let now = self.version(String::new());
+        match self.versions.undo(now) {
+            Some(back) => self.go_to_version(back, "undid"),
+            None => self.say("nothing to undo", false),
+        }
+    }
+
+    fn redo(&mut self) {
+        let now = self.version(String::new());
+        match self.versions.redo(now) {
+            Some(forward) => self.go_to_version(forward, "redid"),
+            None => self.say("nothing to redo", false),
+        }
+    }
+
+    /// The session replaced by `version` (as text, comments and all), the view kept where it
+    /// can be.
+    fn go_to_version(&mut self, version: Version, did: &str) {
+        match Session::parse(&self.session.path, &version.text) {
+            Ok(session) => {
+                self.session = session;
+                self.selected = version.selected;
+                self.modified = version.text != self.saved_text;
+                self.reload_session_state();
+                self.say(format!("{did} {}", version.what), false);
+            }
+            // a version is a text this session had: it parses, unless the schema changed
+            Err(e) => self.say(format!("cannot {did}: {e}"), true),
+        }
+    }
+
+    /// The analyses listed: those matching the filter (all, if none does or there is none).
+    pub fn visible_analyses(&self) -> Vec<usize> {
+        let names: Vec<String> = self
+            .session
+            .analyses
+            .iter()
+            .map(|a| format!("{} {}", a.name, a.settings.kind()))
+            .collect();
+        filter::matching(&self.filter, &names)
+    }
+
+    /// The parameter rows listed: those matching the filter (all, if none does).
+    pub fn visible_rows(&self) -> Vec<usize> {
+        let labels: Vec<String> = self.param_rows.iter().map(|r| r.label.clone()).collect();
+        filter::matching(&self.filter, &labels)
+    }
+
+    /// After the filter changed: the selection moved onto what is listed.
+    fn apply_filter(&mut self, text: String) {
+        self.filter = text;
+        let analyses = self.visible_analyses();
+        if !analyses.contains(&self.selected)
+            && let Some(&first) = analyses.first()
+        {
+            self.select(first);
+        }
+        let rows = self.visible_rows();
+        if !rows.contains(&self.param_row)
+            && let Some(&first) = rows.first()
+        {
+            self.param_row = first;
         }
     }
 
@@ -494,20 +636,23 @@ impl App {
         match command {
             Command::Run(which) => self.run_which(which),
             Command::Add { kind, name } => {
+                let before = self.version(format!("add {kind} {name}"));
                 let result = self.session.add_analysis(&kind, &name);
-                self.after_structure_edit(result, format!("added {name} ({kind})"));
+                self.after_structure_edit(result, before, format!("added {name} ({kind})"));
             }
             Command::Duplicate { name } => {
                 let old = self.selected_name();
+                let before = self.version(format!("dup {name}"));
                 let result = self.session.duplicate_analysis(self.selected, &name);
                 let carried = self.carry_result(result.is_ok(), &old, &name);
-                self.after_structure_edit(result, format!("copied as {name}{carried}"));
+                self.after_structure_edit(result, before, format!("copied as {name}{carried}"));
             }
             Command::Rename { name } => {
                 let (index, old) = (self.selected, self.selected_name());
+                let before = self.version(format!("rename {old} to {name}"));
                 let result = self.session.rename_analysis(index, &name).map(|()| index);
                 let carried = self.carry_result(result.is_ok(), &old, &name);
-                self.after_structure_edit(result, format!("renamed {name}{carried}"));
+                self.after_structure_edit(result, before, format!("renamed {name}{carried}"));
             }
             Command::Delete { name } => {
                 let index = match &name {
@@ -547,6 +692,18 @@ impl App {
                     self.say("no complete result to export (r runs it)", true);
                 }
             }
+            Command::Goto { at, hz } => self.goto(at, hz),
+            Command::Theme(name) => {
+                let themes = super::config::config_dir().map(|d| d.join("themes"));
+                match Theme::load(&name, self.theme.mode, themes.as_deref()) {
+                    Ok(theme) => {
+                        self.theme = theme;
+                        self.say(format!("theme {name}"), false);
+                    }
+                    Err(e) => self.say(format!("{e:#}"), true),
+                }
+            }
+            Command::Key(action) => self.act(action),
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }
@@ -581,6 +738,7 @@ impl App {
     /// Selects analysis `i`, as moving to it in the list does.
     fn select(&mut self, i: usize) {
         self.selected = i;
+        self.frozen = None;
         self.param_error = None;
         self.refresh_rows();
         self.poll_results(true);
@@ -593,10 +751,12 @@ impl App {
     fn after_structure_edit(
         &mut self,
         result: Result<usize, isola::session::SessionError>,
+        before: Version,
         done: String,
     ) {
         match result {
             Ok(index) => {
+                self.versions.remember(before);
                 self.modified = true;
                 self.selected = index;
                 self.reload_session_state();
@@ -607,11 +767,12 @@ impl App {
     }
 
     fn delete_analysis(&mut self, index: usize, name: &str) {
+        let before = self.version(format!("delete {name}"));
         let result = self
             .session
             .delete_analysis(index)
             .map(|()| index.min(self.session.analyses.len().saturating_sub(1)));
-        self.after_structure_edit(result, format!("deleted {name}"));
+        self.after_structure_edit(result, before, format!("deleted {name}"));
     }
 
     /// `set FIELD VALUE` on the selected analysis: FIELD as the parameter pane labels it
@@ -683,20 +844,17 @@ impl App {
     fn move_by(&mut self, dx: isize, dy: isize) {
         match self.focus {
             Focus::Analyses => {
-                let n = self.session.analyses.len();
-                if n > 0 && dy != 0 {
-                    let next =
-                        (self.selected as isize + dy.signum()).clamp(0, n as isize - 1) as usize;
-                    if next != self.selected {
-                        self.select(next);
-                    }
+                let visible = self.visible_analyses();
+                if let Some(next) = filter::step(&visible, self.selected, dy.signum())
+                    && next != self.selected
+                {
+                    self.select(next);
                 }
             }
             Focus::Params => {
-                let n = self.param_rows.len();
-                if n > 0 && dy != 0 {
-                    self.param_row =
-                        (self.param_row as isize + dy).clamp(0, n as isize - 1) as usize;
+                let visible = self.visible_rows();
+                if let Some(next) = filter::step(&visible, self.param_row, dy) {
+                    self.param_row = next;
                     self.param_error = None;
                 }
             }
@@ -706,11 +864,7 @@ impl App {
                     if let Some(view) = &p.view {
                         p.cursor = plots::move_cursor(view, p.cursor, dx, -dy);
                     }
-                } else if let Some(view) = self
-                    .stored
-                    .get(self.selected)
-                    .and_then(|r| r.view.as_deref())
-                {
+                } else if let Some(view) = self.view() {
                     self.cursor = plots::move_cursor(view, self.cursor, dx, -dy);
                     self.cursor_moved = true;
                 }
@@ -777,6 +931,7 @@ impl App {
                 return;
             }
         };
+        let before = self.version(format!("{} = {}", row.label, text.trim()));
         let result = match edit {
             Edit::Model { key, value } => {
                 self.session.set_model_key(Some(self.selected), key, value)
@@ -788,6 +943,7 @@ impl App {
         };
         match result {
             Ok(()) => {
+                self.versions.remember(before);
                 self.snapshot = Arc::new(self.session.clone());
                 self.editing = None;
                 self.param_error = None;
@@ -962,6 +1118,7 @@ impl App {
         match self.session.save_as(&path) {
             Ok(()) => {
                 self.modified = false;
+                self.saved_text = self.session.to_text();
                 let carried = self.carry_results(&old_dir);
                 self.reload_session_state();
                 self.say(format!("saved {}{carried}", path.display()), false);
@@ -1141,6 +1298,10 @@ impl App {
             Ok(s) => {
                 self.session = s;
                 self.modified = false;
+                self.saved_text = self.session.to_text();
+                self.versions.clear();
+                self.frozen = None;
+                self.filter.clear();
                 self.selected = 0;
                 self.param_row = 0;
                 self.scalograms.clear();
@@ -1188,6 +1349,32 @@ impl App {
                 KeyCode::Char('n') | KeyCode::Esc => {}
                 _ => self.overlay = Some(Overlay::ConfirmQuit),
             },
+            Overlay::Input {
+                purpose: InputPurpose::Filter,
+                mut text,
+            } => match key.code {
+                KeyCode::Esc => self.apply_filter(String::new()),
+                KeyCode::Enter => {}
+                KeyCode::Backspace | KeyCode::Char(_) => {
+                    match key.code {
+                        KeyCode::Char(c) => text.push(c),
+                        _ => {
+                            text.pop();
+                        }
+                    }
+                    self.apply_filter(text.clone());
+                    self.overlay = Some(Overlay::Input {
+                        purpose: InputPurpose::Filter,
+                        text,
+                    });
+                }
+                _ => {
+                    self.overlay = Some(Overlay::Input {
+                        purpose: InputPurpose::Filter,
+                        text,
+                    })
+                }
+            },
             Overlay::Input { purpose, mut text } => match key.code {
                 KeyCode::Esc => {}
                 KeyCode::Enter => {
@@ -1201,6 +1388,7 @@ impl App {
                         }),
                         InputPurpose::Open => self.open_asking(path),
                         InputPurpose::Command => self.execute(&text),
+                        InputPurpose::Filter => {}
                     }
                 }
                 KeyCode::Tab if purpose == InputPurpose::Command => {

@@ -47,12 +47,21 @@ pub enum Command {
         table: Option<String>,
         filters: Vec<isola::session::select::Filter>,
     },
+    /// Moves the plot cursor to the point nearest these coordinates (ω_e; Δλ v; ω_e and a
+    /// map's parameter; τ); `hz`: the first is a frequency in Hz.
+    Goto {
+        at: Vec<f64>,
+        hz: bool,
+    },
+    Theme(String),
+    /// What a key does, by its name in the config (`zoom`, `cancel`, `undo`...).
+    Key(super::keymap::Action),
     Help,
     Quit,
 }
 
 /// Every command: its words, its arguments and what it does (for the help overlay).
-pub const COMMANDS: [(&str, &str, &str); 12] = [
+pub const COMMANDS: [(&str, &str, &str); 14] = [
     (
         "run",
         "[all|stale|NAME]",
@@ -69,8 +78,10 @@ pub const COMMANDS: [(&str, &str, &str); 12] = [
     (
         "export",
         "FILE [--table T] [--where C OP V]",
-        "export the orbit shown or the result (only rows passing --where)",
+        "export the orbit shown or the result's rows",
     ),
+    ("goto", "X [Y]", "move the cursor: 3.7 · 52 Hz · DX V"),
+    ("theme", "NAME", "switch theme: dark, light, mono or a file"),
     ("help", "", "the keys and commands"),
     ("quit", "", "quit (asks if jobs run)"),
 ];
@@ -138,10 +149,32 @@ pub fn parse(line: &str) -> Result<Command, String> {
         "export" => export(args).map_err(|e| format!("{e}; {}", usage("export")))?,
         "help" | "?" => Command::Help,
         "quit" | "q" => Command::Quit,
+        "goto" | "g" => goto(args).ok_or_else(|| usage("goto"))?,
+        "theme" => Command::Theme(one("theme")?),
+        other if args.is_empty() && super::keymap::Action::parse(other).is_some() => {
+            Command::Key(super::keymap::Action::parse(other).expect("checked"))
+        }
         other => {
             let verbs: Vec<&str> = COMMANDS.iter().map(|(v, _, _)| *v).collect();
-            return Err(format!("'{other}': not a command ({})", verbs.join(", ")));
+            return Err(format!(
+                "'{other}': not a command ({}, or a key's name: see help)",
+                verbs.join(", ")
+            ));
         }
+    })
+}
+
+/// `X [Y]` as numbers, or `X Hz`.
+fn goto(args: &[&str]) -> Option<Command> {
+    let number = |s: &str| s.parse::<f64>().ok().filter(|x| x.is_finite());
+    let hz = matches!(args, [_, "Hz" | "hz"]);
+    Some(Command::Goto {
+        at: match args {
+            [x, "Hz" | "hz"] | [x] => vec![number(x)?],
+            [x, y] => vec![number(x)?, number(y)?],
+            _ => return None,
+        },
+        hz,
     })
 }
 

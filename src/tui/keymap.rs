@@ -33,11 +33,17 @@ pub enum Action {
     Scalogram,
     /// The command line (`:`).
     Command,
+    Undo,
+    Redo,
+    /// Holds the plot as it is while results keep coming in.
+    Freeze,
+    /// Shows only the analyses and parameters whose names contain a text.
+    Filter,
 }
 
 impl Action {
     /// Every action with its config name and a few words for the help overlay.
-    pub const ALL: [(Action, &'static str, &'static str); 23] = [
+    pub const ALL: [(Action, &'static str, &'static str); 27] = [
         (Action::Quit, "quit", "quit (asks if jobs run)"),
         (Action::Help, "help", "this help"),
         (Action::FocusNext, "focus_next", "next pane"),
@@ -61,9 +67,14 @@ impl Action {
         (Action::Zoom, "zoom", "plot full screen"),
         (Action::Scalogram, "scalogram", "sweep: envelope/scalogram"),
         (Action::Command, "command", "command line (below)"),
+        (Action::Undo, "undo", "undo the last edit"),
+        (Action::Redo, "redo", "redo what was undone"),
+        (Action::Freeze, "freeze", "hold the plot / resume"),
+        (Action::Filter, "filter", "filter the lists"),
     ];
 
-    fn parse(name: &str) -> Option<Action> {
+    /// The action of config (and command) name `name`.
+    pub fn parse(name: &str) -> Option<Action> {
         Action::ALL
             .iter()
             .find(|(_, n, _)| *n == name)
@@ -149,7 +160,7 @@ pub struct Keymap {
 
 impl Default for Keymap {
     fn default() -> Self {
-        let defaults: [(Action, &[&str]); 23] = [
+        let defaults: [(Action, &[&str]); 27] = [
             (Action::Quit, &["q"]),
             (Action::Help, &["?"]),
             (Action::FocusNext, &["tab"]),
@@ -173,6 +184,10 @@ impl Default for Keymap {
             (Action::Zoom, &["z"]),
             (Action::Scalogram, &["w"]),
             (Action::Command, &[":"]),
+            (Action::Undo, &["u"]),
+            (Action::Redo, &["ctrl-r"]),
+            (Action::Freeze, &["f"]),
+            (Action::Filter, &["/"]),
         ];
         Keymap {
             bindings: defaults

@@ -6,6 +6,7 @@
 pub mod app;
 pub mod command;
 pub mod config;
+pub mod filter;
 pub mod jobs;
 pub mod keymap;
 pub mod panes;
@@ -13,6 +14,7 @@ pub mod plots;
 pub mod terminal;
 pub mod theme;
 pub mod ui;
+pub mod undo;
 pub mod watcher;
 
 #[cfg(test)]

@@ -702,6 +702,157 @@ fn the_command_line_makes_and_changes_analyses() {
     assert_eq!(app.session.analyses.len(), n + 1);
 }
 
+/// Edits are undone and redone (u, Ctrl-R, :undo) back to the session as it was saved;
+/// `/` lists only what matches; `f` holds the plot; `:goto` moves the cursor; `:theme`
+/// switches the colours; every key's name is a command.
+#[test]
+fn undo_filter_freeze_goto_and_theme() {
+    let path = fixture("undo", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let saved = app.session.to_text();
+    command(&mut app, "set adr 1.0");
+    command(&mut app, "add basin b2");
+    assert_eq!(app.session.analyses.len(), 3);
+    key(&mut app, KeyCode::Char('u'));
+    assert_eq!(app.session.analyses.len(), 2);
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("undid add basin b2")
+    );
+    assert!(app.modified, "the ADR edit is still there");
+    command(&mut app, "undo");
+    assert_eq!(
+        app.session.to_text(),
+        saved,
+        "back to the file as saved, byte for byte"
+    );
+    assert!(!app.modified);
+    key(&mut app, KeyCode::Char('u'));
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("nothing to undo")
+    );
+    app.handle_key(KeyEvent::new(KeyCode::Char('r'), KeyModifiers::CONTROL));
+    let p = app.session.params(Some(&app.session.analyses[0])).unwrap();
+    assert!((p.drive_i().adr().unwrap() - 1.0).abs() < 1e-12);
+    command(&mut app, "redo");
+    assert!(app.session.analysis("b2").is_some());
+    assert!(app.modified);
+    // an edit after undoing drops the redo
+    key(&mut app, KeyCode::Char('u'));
+    command(&mut app, "set adr 0.8");
+    command(&mut app, "redo");
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("nothing to redo")
+    );
+    assert!(app.session.analysis("b2").is_none());
+
+    // the filter, typed on the status bar: only the basin is listed and selected
+    key(&mut app, KeyCode::Char('/'));
+    keys(&mut app, "bas");
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("/bas▏"), "{screen}");
+    assert!(screen.contains("Analyses /bas") && !screen.contains("response frequency"));
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.session.analyses[app.selected].name, "basin");
+    assert_eq!(app.visible_analyses(), vec![1]);
+    // it filters the parameters too: "points" lists the grid sizes only
+    key(&mut app, KeyCode::Char('/'));
+    for _ in 0..3 {
+        key(&mut app, KeyCode::Backspace);
+    }
+    keys(&mut app, "points");
+    key(&mut app, KeyCode::Enter);
+    let rows: Vec<String> = app
+        .visible_rows()
+        .iter()
+        .map(|&i| app.param_rows[i].label.clone())
+        .collect();
+    assert!(rows.contains(&"dx.points".to_string()) && rows.contains(&"v.points".to_string()));
+    assert!(rows.iter().all(|r| r.ends_with("points")), "{rows:?}");
+    assert_eq!(
+        app.visible_analyses().len(),
+        2,
+        "no analysis is called points"
+    );
+    snapshot!("filtered_80x24", draw(&app, 80, 24));
+    key(&mut app, KeyCode::Char('/'));
+    key(&mut app, KeyCode::Esc);
+    assert!(app.filter.is_empty() && app.visible_rows().len() == app.param_rows.len());
+
+    // a result, held on the plot while another run of it writes a new one
+    command(&mut app, "select response");
+    command(&mut app, "run");
+    settle(&mut app);
+    key(&mut app, KeyCode::Char('f'));
+    let held = app.view().cloned();
+    assert!(held.is_some());
+    assert!(draw(&app, 80, 24).contains("held (f resumes)"));
+    let columns = |app: &App| match app.view() {
+        Some(ResultView::Response(points)) => {
+            let mut omegas: Vec<u64> = points.iter().map(|p| p.omega.to_bits()).collect();
+            omegas.dedup();
+            omegas.len()
+        }
+        _ => 0,
+    };
+    assert_eq!(columns(&app), 31);
+    command(&mut app, "set omega.points 11");
+    command(&mut app, "run");
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert_eq!(columns(&app), 31, "the held view stays");
+    command(&mut app, "freeze");
+    assert_eq!(columns(&app), 11, "and follows the new result when let go");
+    command(&mut app, "undo");
+    command(&mut app, "run");
+    settle(&mut app);
+
+    // goto: the cursor on the response nearest ω_e 3.7, then by frequency
+    app.sync_results();
+    command(&mut app, "goto 3.7");
+    assert_eq!(app.focus, Focus::Plot);
+    assert!(draw(&app, 80, 24).contains("ω 3.700"));
+    command(&mut app, "goto 60 Hz");
+    let hz = app.session.device().omega_from_hz(60.0);
+    let screen = draw(&app, 80, 24);
+    let nearest = (0..31)
+        .map(|i| 3.0 + 0.1 * i as f64)
+        .min_by(|a, b| (a - hz).abs().total_cmp(&(b - hz).abs()));
+    assert!(
+        screen.contains(&format!("ω {:.3}", nearest.unwrap())),
+        "{screen}"
+    );
+    command(&mut app, "goto x");
+    assert!(app.message.as_ref().unwrap().error);
+
+    // themes by name, keys by name
+    command(&mut app, "theme light");
+    assert_eq!(app.theme.name, "light");
+    command(&mut app, "theme solarised");
+    assert!(
+        app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("not a built-in theme")
+    );
+    command(&mut app, "zoom");
+    assert!(app.zoom);
+    command(&mut app, "zoom");
+    assert!(!app.zoom);
+}
+
 /// A session that cannot be opened says why in full (the line, the value, the range), in a
 /// box any key closes; the open session stays.
 #[test]
@@ -855,12 +1006,19 @@ fn help_small_terminals_and_the_session_picker() {
     key(&mut app, KeyCode::Char('?'));
     assert_eq!(app.overlay, Some(Overlay::Help));
     let help = draw(&app, 80, 24);
-    assert!(help.contains("run selected analysis"), "{help}");
+    // each key beside its command name: the help lists both
     assert!(
-        help.contains("theme: dark"),
-        "the whole help fits in 80×24: {help}"
+        help.contains("r :run        run selected analysis"),
+        "{help}"
     );
     snapshot!("help_80x24", help);
+    // at 120×40 in two columns, down to the commands and the log's place
+    let wide = draw(&app, 120, 40);
+    assert!(
+        wide.contains(":goto X [Y]") && wide.contains("log: "),
+        "{wide}"
+    );
+    snapshot!("help_120x40", wide);
     key(&mut app, KeyCode::Esc);
     assert!(app.overlay.is_none());
     let small = draw(&app, 50, 15);
@@ -870,12 +1028,12 @@ fn help_small_terminals_and_the_session_picker() {
     key(&mut app, KeyCode::Char('?'));
     let top = draw(&app, 60, 18);
     assert!(
-        top.contains("q quit (asks if jobs run)") && top.contains("scroll"),
+        top.contains("q :quit       quit (asks if jobs run)") && top.contains("scroll"),
         "{top}"
     );
     assert!(!top.contains("theme: dark"), "{top}");
     snapshot!("help_60x18", top);
-    for _ in 0..5 {
+    for _ in 0..8 {
         key(&mut app, KeyCode::PageDown);
     }
     let bottom = draw(&app, 60, 18);

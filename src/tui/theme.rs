@@ -80,6 +80,8 @@ struct Colors {
 #[derive(Debug, Clone)]
 pub struct Theme {
     pub name: String,
+    /// The colour depth it was resolved for (another theme is loaded for the same).
+    pub mode: ColorMode,
     /// No colours: styles use modifiers, maps use glyphs.
     pub monochrome: bool,
     pub foreground: Color,
@@ -142,6 +144,7 @@ impl Theme {
         };
         let list = |v: &[String]| v.iter().map(|s| c(s)).collect::<anyhow::Result<Vec<_>>>();
         Ok(Theme {
+            mode,
             name: f.name.clone(),
             monochrome,
             foreground: c(&f.foreground)?,

@@ -51,9 +51,18 @@ pub fn draw(frame: &mut Frame, app: &App) {
         let [plot, jobs] =
             Layout::vertical([Constraint::Min(8), Constraint::Length(jobs_h)]).areas(right);
         panes::analyses::draw(app, list, buf);
+        // the rows the filter lists, and the selected one among them
+        let visible = app.visible_rows();
+        let rows: Vec<panes::params::Row> =
+            visible.iter().map(|&i| app.param_rows[i].clone()).collect();
+        let filtered = rows.len() < app.param_rows.len();
         ParamsPane {
-            rows: &app.param_rows,
-            selected: app.param_row,
+            rows: &rows,
+            selected: visible
+                .iter()
+                .position(|&i| i == app.param_row)
+                .unwrap_or(usize::MAX),
+            filter: filtered.then_some(app.filter.trim()),
             editing: app.editing.as_deref(),
             error: app.param_error.as_deref(),
             focused: app.focus == Focus::Params,
@@ -114,6 +123,10 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
             p.label,
             p.summary.as_deref().unwrap_or("integrating…")
         ),
+        None if app.frozen.is_some() => {
+            let key = app.keymap.label(super::keymap::Action::Freeze);
+            format!(" {name} · held ({key} resumes) · {state} ")
+        }
         None => format!(" {name} · {state} "),
     };
     let block = Block::default()

@@ -23,14 +23,20 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let focused = app.focus == Focus::Analyses;
     let inner = Block::default().borders(Borders::ALL).inner(area);
     let h = inner.height as usize;
-    let n = app.session.analyses.len();
-    let skip = (app.selected + 1).saturating_sub(h);
+    let visible = app.visible_analyses();
+    let n = visible.len();
+    let at = visible.iter().position(|&i| i == app.selected).unwrap_or(0);
+    let skip = (at + 1).saturating_sub(h);
     let (above, below) = (skip, n.saturating_sub(skip + h));
     // what is out of sight is counted on the borders
     let mut block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border(focused))
-        .title(" Analyses ");
+        .title(if n < app.session.analyses.len() {
+            format!(" Analyses /{} ", app.filter.trim())
+        } else {
+            " Analyses ".to_string()
+        });
     if above > 0 {
         block = block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());
     }
@@ -39,11 +45,9 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             .title_bottom(Line::styled(format!(" ↓ {below} more "), t.muted()).right_aligned());
     }
     block.render(area, buf);
-    let lines: Vec<Line> = app
-        .session
-        .analyses
+    let lines: Vec<Line> = visible
         .iter()
-        .enumerate()
+        .map(|&i| (i, &app.session.analyses[i]))
         .skip(skip)
         .take(h)
         .map(|(i, a)| {

@@ -11,7 +11,7 @@ use crate::tui::config;
 use crate::tui::keymap::Action;
 
 /// The help's width with two columns of keys.
-const HELP_WIDTH: u16 = 74;
+const HELP_WIDTH: u16 = 96;
 
 /// A box of `w × h` centred in `area` (clipped to it).
 fn centred(area: Rect, w: u16, h: u16) -> Rect {
@@ -26,18 +26,29 @@ fn centred(area: Rect, w: u16, h: u16) -> Rect {
 
 pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
+    // the filter is typed on the status bar, over the lists it filters
+    if let Overlay::Input {
+        purpose: InputPurpose::Filter,
+        ..
+    } = overlay
+    {
+        return;
+    }
     let (title, lines, w): (String, Vec<Line>, u16) = match overlay {
         Overlay::Help => {
-            // two columns of keys where they fit (the whole help then fits in 80×24), else one
+            // every key with its command name (`:zoom` does what z does) and what it does;
+            // two columns where they fit, else one, scrolled
             let entry = |i: usize| -> Vec<Span> {
-                Action::ALL.get(i).map_or_else(Vec::new, |(a, _, what)| {
+                Action::ALL.get(i).map_or_else(Vec::new, |(a, name, what)| {
                     vec![
-                        Span::styled(format!("{:>9}", app.keymap.labels(*a)), t.key()),
-                        Span::raw(format!(" {what:<25}")),
+                        Span::styled(format!("{:>8}", app.keymap.labels(*a)), t.key()),
+                        Span::styled(format!(" :{name:<10}"), t.muted()),
+                        Span::raw(format!(" {what:<26}")),
                     ]
                 })
             };
-            let mut lines: Vec<Line> = if area.width >= HELP_WIDTH {
+            let two = area.width >= HELP_WIDTH;
+            let mut lines: Vec<Line> = if two {
                 let half = Action::ALL.len().div_ceil(2);
                 (0..half)
                     .map(|i| Line::from([entry(i), entry(i + half)].concat()))
@@ -48,17 +59,26 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                     .collect()
             };
             lines.push(Line::from(vec![
-                Span::styled(format!("{:>9}", "C-c"), t.key()),
+                Span::styled(format!("{:>8}", "C-c"), t.key()),
                 Span::raw(" quit at once (jobs cancelled, finished chunks kept)"),
             ]));
-            let commands: Vec<String> = COMMANDS
-                .iter()
-                .map(|(verb, args, _)| format!("{verb} {args}").trim_end().to_string())
-                .collect();
-            lines.push(Line::from(vec![
-                Span::styled(format!("{:>9}", ":"), t.key()),
-                Span::raw(format!(" {}", commands.join(" · "))),
-            ]));
+            lines.push(Line::styled(
+                "commands (: then Tab completes; a key's :name above works too)",
+                t.muted(),
+            ));
+            for (verb, args, what) in COMMANDS {
+                let pad = 30usize.saturating_sub(verb.len() + args.len() + 2);
+                lines.push(Line::from(vec![
+                    Span::styled(format!(" :{verb}"), t.key()),
+                    Span::raw(format!(" {args}{}", " ".repeat(pad))),
+                    Span::styled(format!(" {what}"), t.muted()),
+                ]));
+            }
+            lines.push(Line::styled(
+                "plots: a filled glyph is reached by a sweep, an outlined one (◇) is hidden; \
+                 'frame hit': starts whose mass met a frame (left the model), not drawn",
+                t.muted(),
+            ));
             lines.push(Line::styled(
                 "marks: ✓ done  ◐ partial  ~ stale (model changed)  · not run",
                 t.muted(),
@@ -81,7 +101,8 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 format!("theme: {} (--theme, --color)", t.name),
                 t.muted(),
             ));
-            (" Help (↑↓ scroll, Esc closes) ".into(), lines, HELP_WIDTH)
+            let w = if two { HELP_WIDTH } else { 74 };
+            (" Help (↑↓ scroll, Esc closes) ".into(), lines, w)
         }
         Overlay::ConfirmQuit => {
             let active = app.jobs.entries.iter().filter(|e| e.is_active()).count();
@@ -129,7 +150,9 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             let what = match purpose {
                 InputPurpose::SaveAs => "Save session as:",
                 InputPurpose::Export => "Export result to CSV file:",
-                InputPurpose::Open | InputPurpose::Command => "Open session file:",
+                InputPurpose::Open | InputPurpose::Command | InputPurpose::Filter => {
+                    "Open session file:"
+                }
             };
             let lines = vec![
                 Line::raw(what),

@@ -280,6 +280,8 @@ pub struct ParamsPane<'a> {
     pub editing: Option<&'a str>,
     pub error: Option<&'a str>,
     pub focused: bool,
+    /// The filter the rows are listed by, if it hides some.
+    pub filter: Option<&'a str>,
     pub theme: &'a Theme,
 }
 
@@ -300,7 +302,10 @@ impl Widget for ParamsPane<'_> {
         let mut block = Block::default()
             .borders(Borders::ALL)
             .border_style(t.border(self.focused))
-            .title(" Parameters ");
+            .title(match self.filter {
+                Some(f) => format!(" Parameters /{f} "),
+                None => " Parameters ".to_string(),
+            });
         if above > 0 {
             block =
                 block.title(Line::styled(format!(" ↑ {above} more "), t.muted()).right_aligned());

@@ -5,11 +5,23 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Widget};
 
-use crate::tui::app::{App, Focus};
+use crate::tui::app::{App, Focus, InputPurpose, Overlay};
 use crate::tui::keymap::Action;
 
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
+    if let Some(Overlay::Input {
+        purpose: InputPurpose::Filter,
+        text,
+    }) = &app.overlay
+    {
+        let line = Line::from(vec![
+            Span::styled(format!("/{text}▏"), t.cursor()),
+            Span::styled("  lists what matches · Enter: keep · Esc: clear", t.muted()),
+        ]);
+        Paragraph::new(line).render(area, buf);
+        return;
+    }
     let k = |a: Action| app.keymap.label(a);
     let keys: Vec<(String, &str)> = if app.editing.is_some() {
         vec![("Enter".into(), "apply"), ("Esc".into(), "cancel")]

@@ -161,6 +161,72 @@ fn move_point(c: &PointCursor, cursor: (usize, usize), dx: isize, dy: isize) -> 
     (column, step(cursor.1, dy, rows))
 }
 
+/// The index of the value of `values` nearest `x`.
+fn nearest(values: impl Iterator<Item = f64>, x: f64) -> Option<usize> {
+    values
+        .enumerate()
+        .filter(|(_, v)| v.is_finite())
+        .min_by(|a, b| (a.1 - x).abs().total_cmp(&(b.1 - x).abs()))
+        .map(|(i, _)| i)
+}
+
+/// The cursor on the point of `view` nearest `at`, in the view's own coordinates: ω_e (and
+/// an amplitude) on a response or family, Δλ and v on a basin, ω_e (or x) and the parameter
+/// on a map, τ on a time history, ω_e on a chirp, the parameter (and the branch's second
+/// coordinate) on a continuation. A coordinate not given keeps the cursor's. `None` for a
+/// view without such points (force curves).
+pub fn cursor_near(
+    view: &ResultView,
+    cursor: (usize, usize),
+    at: &[f64],
+) -> Option<(usize, usize)> {
+    let (x, y) = (*at.first()?, at.get(1).copied());
+    let in_column = |c: &PointCursor, column: usize| -> usize {
+        let points = &c.columns[column];
+        match y {
+            Some(y) => nearest(points.iter().map(|p| p.1.amplitude.unwrap_or(f64::NAN)), y)
+                .unwrap_or(points.len() - 1),
+            None => points.len() - 1,
+        }
+    };
+    let on_points = |c: PointCursor| -> Option<(usize, usize)> {
+        let column = nearest(c.columns.iter().map(|col| col[0].1.omega), x)?;
+        Some((column, in_column(&c, column)))
+    };
+    match view {
+        ResultView::Response(points)
+        | ResultView::Stepped(points)
+        | ResultView::Hunt(HuntView {
+            responses: points, ..
+        }) => on_points(PointCursor::new(points)),
+        ResultView::Family(f) => on_points(PointCursor::tagged(
+            f.members
+                .iter()
+                .flat_map(|(v, pts)| pts.iter().map(move |p| (Some(*v), p))),
+        )),
+        ResultView::Basin(b) => Some((
+            nearest(b.dx.iter().copied(), x)?,
+            y.and_then(|y| nearest(b.v.iter().copied(), y))
+                .unwrap_or(cursor.1),
+        )),
+        ResultView::Map(m) => Some((
+            nearest(m.omegas.iter().copied(), x)?,
+            y.and_then(|y| nearest(m.values.iter().copied(), y))
+                .unwrap_or(cursor.1),
+        )),
+        ResultView::History(h) => Some((nearest(h.tau.iter().copied(), x)?, 0)),
+        ResultView::Chirp(c) => Some((nearest(c.envelope.iter().map(|e| e[0]), x)?, 0)),
+        ResultView::Continuation(c) => {
+            let branch = c.branches.get(cursor.1)?;
+            Some((
+                nearest(branch.points.iter().map(|p| p.parameter), x)?,
+                cursor.1,
+            ))
+        }
+        ResultView::Force(_) => None,
+    }
+}
+
 /// The orbit under the cursor, if the view has one.
 pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
     match view {
