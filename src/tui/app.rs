@@ -162,6 +162,10 @@ pub struct App {
     pub filter: String,
     /// The session's text as last opened or saved: an undo back to it is no edit.
     saved_text: String,
+    /// The mouse is the workbench's (config `mouse = false` leaves it to the terminal).
+    pub mouse: bool,
+    /// Where panes and plots were on the last frame, for the mouse.
+    pub layout: super::mouse::LayoutCell,
     versions: Versions,
     pub message: Option<Message>,
     pub theme: Theme,
@@ -204,6 +208,8 @@ impl App {
             frozen: None,
             filter: String::new(),
             saved_text: String::new(),
+            mouse: true,
+            layout: Default::default(),
             versions: Versions::default(),
             message: None,
             theme,
@@ -530,6 +536,61 @@ impl App {
             Some(()) => self.focus = Focus::Plot,
             None => self.say("no point to go to on this plot", true),
         }
+    }
+
+    /// A click on `target`: its pane focused, its row selected, the plot cursor on the point.
+    pub(super) fn click(&mut self, target: super::mouse::Target) {
+        use super::mouse::Target;
+        match target {
+            Target::Analysis(i) => {
+                self.focus = Focus::Analyses;
+                if i != self.selected {
+                    self.select(i);
+                }
+            }
+            Target::Param(i) => {
+                self.focus = Focus::Params;
+                self.param_row = i;
+                self.param_error = None;
+            }
+            Target::Job(i) => {
+                self.focus = Focus::Jobs;
+                self.job_row = i;
+            }
+            Target::Point(x, y) => {
+                self.focus = Focus::Plot;
+                match &mut self.picked {
+                    Some(p) => {
+                        if let Some(c) = p
+                            .view
+                            .as_ref()
+                            .and_then(|v| plots::cursor_near(v, p.cursor, &[x, y]))
+                        {
+                            p.cursor = c;
+                        }
+                    }
+                    None => {
+                        if let Some(c) = self
+                            .view()
+                            .and_then(|v| plots::cursor_near(v, self.cursor, &[x, y]))
+                        {
+                            self.cursor = c;
+                            self.cursor_moved = true;
+                        }
+                    }
+                }
+            }
+            Target::Pane(pane) => self.focus = pane,
+            Target::Nothing => {}
+        }
+    }
+
+    /// The wheel over `pane`: its selection (or the plot cursor) moved by `by`.
+    pub(super) fn scroll(&mut self, pane: Focus, by: isize) {
+        let focus = std::mem::replace(&mut self.focus, pane);
+        self.move_by(0, by);
+        // the wheel scrolls what it is over without taking the keys from another pane
+        self.focus = focus;
     }
 
     /// Holds the plot's view as it is (results keep coming in, the title says so), or lets it

@@ -3,6 +3,7 @@
 //! ```toml
 //! theme = "light"          # dark, light, mono, or a theme file
 //! color = "256"            # auto, truecolor, 256, 16, none
+//! mouse = false            # leave the mouse to the terminal (to select text)
 //! [keys]
 //! run = ["r", "f5"]
 //! ```
@@ -18,6 +19,8 @@ use serde::Deserialize;
 pub struct Config {
     pub theme: Option<String>,
     pub color: Option<String>,
+    /// Clicks and the wheel go to the workbench (the default), or stay with the terminal.
+    pub mouse: Option<bool>,
     #[serde(default)]
     pub keys: BTreeMap<String, Vec<String>>,
 }

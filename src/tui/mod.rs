@@ -9,6 +9,7 @@ pub mod config;
 pub mod filter;
 pub mod jobs;
 pub mod keymap;
+pub mod mouse;
 pub mod panes;
 pub mod plots;
 pub mod terminal;
@@ -103,6 +104,7 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
         None => Session::parse(Path::new("untitled.toml"), UNTITLED)?,
     };
     let mut app = App::new(session, theme, keymap, args.threads);
+    app.mouse = config.mouse.unwrap_or(true);
     if args.session.is_none() && examples.is_dir() {
         app.open_picker_in(examples);
     }
@@ -118,7 +120,7 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
     tracing::info!(session = %app.session.path.display(), "tui started");
     let terminate = terminal::termination_signal()?;
     terminal::spawn_watchdog(terminate.clone())?;
-    let mut guard = terminal::TerminalGuard::enter()?;
+    let mut guard = terminal::TerminalGuard::enter(app.mouse)?;
     let frame_time = Duration::from_millis(50);
     let mut last_draw = Instant::now() - frame_time;
     let mut key_pressed = false;
@@ -146,6 +148,10 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
             match event::read()? {
                 Event::Key(key) if key.kind == KeyEventKind::Press => {
                     app.handle_key(key);
+                    key_pressed = true;
+                }
+                Event::Mouse(mouse) => {
+                    app.handle_mouse(mouse);
                     key_pressed = true;
                 }
                 Event::Resize(..) => {

@@ -21,10 +21,15 @@ pub struct TerminalGuard {
 }
 
 impl TerminalGuard {
-    pub fn enter() -> anyhow::Result<Self> {
+    /// Takes the terminal: raw mode, the alternate screen, and the mouse if `mouse`.
+    pub fn enter(mouse: bool) -> anyhow::Result<Self> {
         install_panic_hook();
         enable_raw_mode()?;
         if let Err(e) = execute!(stdout(), EnterAlternateScreen) {
+            restore();
+            return Err(e.into());
+        }
+        if mouse && let Err(e) = execute!(stdout(), crossterm::event::EnableMouseCapture) {
             restore();
             return Err(e.into());
         }
@@ -42,10 +47,15 @@ impl Drop for TerminalGuard {
     }
 }
 
-/// Leaves the alternate screen and raw mode (harmless if already left).
+/// Gives the mouse back, leaves the alternate screen and raw mode (harmless if already done).
 pub fn restore() {
     let _ = disable_raw_mode();
-    let _ = execute!(stdout(), LeaveAlternateScreen, crossterm::cursor::Show);
+    let _ = execute!(
+        stdout(),
+        crossterm::event::DisableMouseCapture,
+        LeaveAlternateScreen,
+        crossterm::cursor::Show
+    );
 }
 
 /// On a panic of the UI thread: restore the terminal, then print the message as usual.

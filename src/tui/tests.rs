@@ -853,6 +853,60 @@ fn undo_filter_freeze_goto_and_theme() {
     assert!(!app.zoom);
 }
 
+fn click(app: &mut App, column: u16, row: u16, kind: crossterm::event::MouseEventKind) {
+    app.handle_mouse(crossterm::event::MouseEvent {
+        kind,
+        column,
+        row,
+        modifiers: KeyModifiers::NONE,
+    });
+}
+
+/// The mouse, on the layout last drawn: a click selects an analysis or a parameter and
+/// focuses its pane; a click on the plot puts the cursor on the nearest point; the wheel
+/// moves the selection of the pane under it.
+#[test]
+fn the_mouse_selects_focuses_and_places_the_cursor() {
+    use crossterm::event::{MouseButton, MouseEventKind};
+    let left = MouseEventKind::Down(MouseButton::Left);
+    let path = fixture("mouse", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    command(&mut app, "run");
+    settle(&mut app);
+    let screen = draw(&app, 80, 24);
+    let row_of = |text: &str| screen.lines().position(|l| l.contains(text)).unwrap() as u16;
+    // the basin's row in the analyses pane
+    click(&mut app, 3, row_of("basin basin"), left);
+    assert_eq!((app.selected, app.focus), (1, Focus::Analyses));
+    // the wheel over the analyses moves back up, over the parameters it moves their row
+    click(&mut app, 3, 2, MouseEventKind::ScrollUp);
+    assert_eq!(app.selected, 0);
+    let screen = draw(&app, 80, 24);
+    let row_of = |text: &str| screen.lines().position(|l| l.contains(text)).unwrap() as u16;
+    click(&mut app, 4, row_of("│J "), left);
+    assert_eq!(app.focus, Focus::Params);
+    assert_eq!(app.param_rows[app.param_row].label, "J");
+    click(&mut app, 4, row_of("│J "), MouseEventKind::ScrollDown);
+    assert_eq!(app.param_rows[app.param_row].label, "c̃");
+    assert_eq!(app.focus, Focus::Params);
+    // the plot: a click at ω_e 3.7, amplitude 0.42 lands on the hidden 1:2 response there
+    let frame = *app.layout.borrow().frames.first().expect("a plot was drawn");
+    let (x, y) = (
+        super::plots::frame::Axis::new("", frame.x.0, frame.x.1),
+        super::plots::frame::Axis::new("", frame.y.0, frame.y.1),
+    );
+    let col = super::plots::frame::col_of(frame.canvas, &x, 3.7);
+    let row = super::plots::frame::row_of(frame.canvas, &y, 0.42);
+    click(&mut app, col, row, left);
+    assert_eq!(app.focus, Focus::Plot);
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("ω 3.700") && screen.contains("A 0.4156"), "{screen}");
+    // over an overlay the mouse does nothing
+    key(&mut app, KeyCode::Char('?'));
+    click(&mut app, 3, 2, left);
+    assert_eq!(app.overlay, Some(Overlay::Help));
+}
+
 /// A session that cannot be opened says why in full (the line, the value, the range), in a
 /// box any key closes; the open session stays.
 #[test]

@@ -38,8 +38,10 @@ pub fn draw(frame: &mut Frame, app: &App) {
         return;
     }
     let [body, status] = Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
+    let mut layout = super::mouse::Layout::default();
     if app.zoom {
         draw_plot(app, body, buf);
+        layout.plot = body;
     } else {
         let left_w = (body.width * 2 / 5).clamp(28, 44);
         let [left, right] =
@@ -56,7 +58,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         let rows: Vec<panes::params::Row> =
             visible.iter().map(|&i| app.param_rows[i].clone()).collect();
         let filtered = rows.len() < app.param_rows.len();
-        ParamsPane {
+        let pane = ParamsPane {
             rows: &rows,
             selected: visible
                 .iter()
@@ -67,11 +69,21 @@ pub fn draw(frame: &mut Frame, app: &App) {
             error: app.param_error.as_deref(),
             focused: app.focus == Focus::Params,
             theme: &app.theme,
-        }
-        .render(params, buf);
+        };
+        layout.param_rows = pane
+            .shown(params)
+            .into_iter()
+            .map(|r| r.and_then(|r| visible.get(r).copied()))
+            .collect();
+        pane.render(params, buf);
         draw_plot(app, plot, buf);
         panes::jobs::draw(app, jobs, buf);
+        layout.analysis_rows = panes::analyses::shown(app, list);
+        layout.job_rows = panes::jobs::shown(app, jobs);
+        (layout.analyses, layout.params, layout.plot, layout.jobs) = (list, params, plot, jobs);
     }
+    layout.frames = plots::frame::take_drawn();
+    *app.layout.borrow_mut() = layout;
     panes::status::draw(app, status, buf);
     if let Some(overlay) = &app.overlay {
         panes::overlay::draw(app, overlay, body, buf);
@@ -105,6 +117,8 @@ fn work_state(work: &Survey) -> String {
 
 /// The plot pane: the selected analysis' view, or the picked orbit.
 fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
+    // only this plot's data areas are kept for the mouse
+    let _ = plots::frame::take_drawn();
     let t = &app.theme;
     let entry = app.session.analyses.get(app.selected);
     let name = entry.map_or("", |e| e.name.as_str());

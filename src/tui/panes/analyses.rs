@@ -18,6 +18,15 @@ pub fn status_mark(status: ResultStatus) -> (&'static str, &'static str) {
     }
 }
 
+/// The analysis on each row of the pane drawn in `area`, top down.
+pub fn shown(app: &App, area: Rect) -> Vec<usize> {
+    let h = area.height.saturating_sub(2) as usize;
+    let visible = app.visible_analyses();
+    let at = visible.iter().position(|&i| i == app.selected).unwrap_or(0);
+    let skip = (at + 1).saturating_sub(h);
+    visible.into_iter().skip(skip).take(h).collect()
+}
+
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let focused = app.focus == Focus::Analyses;

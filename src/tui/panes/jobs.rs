@@ -27,6 +27,24 @@ fn seconds_text(s: f64) -> String {
     }
 }
 
+/// The first job shown in `h` rows: newest at the bottom, the selected one in sight.
+fn first_shown(app: &App, h: usize) -> usize {
+    let n = app.jobs.entries.len();
+    let skip = n.saturating_sub(h).min(app.job_row);
+    if app.job_row >= skip + h {
+        app.job_row + 1 - h
+    } else {
+        skip
+    }
+}
+
+/// The job on each row of the pane drawn in `area`, top down.
+pub fn shown(app: &App, area: Rect) -> Vec<usize> {
+    let h = area.height.saturating_sub(2) as usize;
+    let skip = first_shown(app, h);
+    (skip..app.jobs.entries.len()).take(h).collect()
+}
+
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     let focused = app.focus == Focus::Jobs;
@@ -39,14 +57,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     block.render(area, buf);
     let w = inner.width as usize;
     let h = inner.height as usize;
-    // newest at the bottom; keep the selected row visible
-    let n = app.jobs.entries.len();
-    let skip = n.saturating_sub(h).min(app.job_row);
-    let skip = if app.job_row >= skip + h {
-        app.job_row + 1 - h
-    } else {
-        skip
-    };
+    let skip = first_shown(app, h);
     let lines: Vec<Line> = app
         .jobs
         .entries

@@ -295,7 +295,7 @@ impl Widget for ParamsPane<'_> {
                 .min(4)
         });
         let list_h = inner.height.saturating_sub(error_rows) as usize;
-        let (lines, selected_line) = self.lines(inner.width as usize);
+        let (lines, selected_line, _) = self.lines(inner.width as usize);
         let skip = (selected_line + 1).saturating_sub(list_h);
         let (above, below) = (skip, lines.len().saturating_sub(skip + list_h));
         // what is out of sight is counted on the borders
@@ -330,11 +330,27 @@ impl Widget for ParamsPane<'_> {
 }
 
 impl ParamsPane<'_> {
-    /// Every line of the pane at `width` cells, and the line of the selected row. The model's
+    /// The row (of `rows`) on each line of the pane drawn in `area`, top down; `None` on a
+    /// heading.
+    pub fn shown(&self, area: Rect) -> Vec<Option<usize>> {
+        let inner = Block::default().borders(Borders::ALL).inner(area);
+        let error_rows = self.error.map_or(0, |e| {
+            (e.chars().count() as u16)
+                .div_ceil(inner.width.max(1))
+                .min(4)
+        });
+        let list_h = inner.height.saturating_sub(error_rows) as usize;
+        let (_, selected_line, row_of_line) = self.lines(inner.width as usize);
+        let skip = (selected_line + 1).saturating_sub(list_h);
+        row_of_line.into_iter().skip(skip).take(list_h).collect()
+    }
+
+    /// Every line of the pane at `width` cells, the line of the selected row, and the row on
+    /// each line. The model's
     /// rows come first, then the settings; nested settings (`steady.max_period`) under a
     /// heading of their table (`steady`), by their own name. Labels are aligned within each
     /// group and cut at the front only when a label and its value cannot both fit.
-    fn lines(&self, width: usize) -> (Vec<Line<'static>>, usize) {
+    fn lines(&self, width: usize) -> (Vec<Line<'static>>, usize, Vec<Option<usize>>) {
         let t = self.theme;
         let cells = |s: &str| Span::raw(s).width();
         // (group heading, label as shown) of each row
@@ -361,6 +377,7 @@ impl ParamsPane<'_> {
                 .unwrap_or(4)
         };
         let mut lines: Vec<Line> = Vec::new();
+        let mut row_of_line: Vec<Option<usize>> = Vec::new();
         let mut selected_line = 0;
         let mut last_group: Option<&str> = None;
         let mut settings_said = false;
@@ -369,10 +386,12 @@ impl ParamsPane<'_> {
                 let setting = matches!(row.target, Target::Setting { .. });
                 if setting && !settings_said {
                     lines.push(Line::styled("settings", t.muted()));
+                    row_of_line.push(None);
                     settings_said = true;
                 }
                 if group != "settings" {
                     lines.push(Line::styled(group.clone(), t.muted()));
+                    row_of_line.push(None);
                 }
                 last_group = Some(group.as_str());
             }
@@ -408,8 +427,9 @@ impl ParamsPane<'_> {
                 line = line.style(t.selected());
             }
             lines.push(line);
+            row_of_line.push(Some(i));
         }
-        (lines, selected_line)
+        (lines, selected_line, row_of_line)
     }
 }
 

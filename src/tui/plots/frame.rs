@@ -152,6 +152,41 @@ impl XyPlot {
     }
 }
 
+/// A data area as it was last drawn: where on screen, and the axes' ranges over it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drawn {
+    pub canvas: Rect,
+    pub x: (f64, f64),
+    pub y: (f64, f64),
+}
+
+impl Drawn {
+    /// The data coordinates at the middle of terminal cell (col, row), if it is inside.
+    pub fn at(&self, col: u16, row: u16) -> Option<(f64, f64)> {
+        let c = self.canvas;
+        if col < c.x || row < c.y || col >= c.x + c.width || row >= c.y + c.height {
+            return None;
+        }
+        let fx = (col - c.x) as f64 / (c.width.max(2) - 1) as f64;
+        let fy = (row - c.y) as f64 / (c.height.max(2) - 1) as f64;
+        Some((
+            self.x.0 + fx * (self.x.1 - self.x.0),
+            self.y.1 - fy * (self.y.1 - self.y.0),
+        ))
+    }
+}
+
+thread_local! {
+    /// The data areas drawn since the last [`take_drawn`]: the UI thread draws, then a mouse
+    /// click is read against them.
+    static DRAWN: std::cell::RefCell<Vec<Drawn>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The data areas drawn on this thread since the last call.
+pub fn take_drawn() -> Vec<Drawn> {
+    DRAWN.with(|d| std::mem::take(&mut *d.borrow_mut()))
+}
+
 /// Draws the axes of `x` and `y` (names, ticks, labels) around the data area, leaving
 /// `footer` rows at the bottom, and returns the data area; `None` if there is no room.
 pub fn draw_axes(
@@ -177,6 +212,13 @@ pub fn draw_axes(
         return None;
     }
     let canvas = Rect::new(area.x + label_w + 1, area.y + 1, width, height);
+    DRAWN.with(|d| {
+        d.borrow_mut().push(Drawn {
+            canvas,
+            x: (x.min, x.max),
+            y: (y.min, y.max),
+        })
+    });
     let (x0, y0) = (canvas.x, canvas.y);
     buf.set_stringn(area.x, area.y, &y.name, area.width as usize, s);
     for r in 0..canvas.height {
