@@ -763,3 +763,16 @@ fn to_edit_value(value: &toml::Value) -> toml_edit::Value {
             .into(),
     }
 }
+
+/// The leading comment of a session file's `text` (the `#` lines before anything else), as
+/// one line of text: what the session is about.
+pub fn description(text: &str) -> String {
+    text.lines()
+        .map(str::trim)
+        .take_while(|l| l.starts_with('#') || l.is_empty())
+        .filter_map(|l| l.strip_prefix('#'))
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+}

@@ -54,9 +54,13 @@ pub enum Overlay {
         purpose: InputPurpose,
         text: String,
     },
-    /// Session files to open.
+    /// Session files to open, and folders to look in, in `dir`.
     Picker {
+        dir: PathBuf,
+        /// `..` and the folders first, then the session files.
         files: Vec<PathBuf>,
+        /// What each is: a session's leading comment, or "folder".
+        about: Vec<String>,
         selected: usize,
     },
     /// A message too long for the status bar (why a session could not be opened): any key
@@ -162,6 +166,8 @@ pub struct App {
     pub filter: String,
     /// The session's text as last opened or saved: an undo back to it is no edit.
     saved_text: String,
+    /// What the session is about (its leading comment), as last opened or saved.
+    pub description: String,
     /// The mouse is the workbench's (config `mouse = false` leaves it to the terminal).
     pub mouse: bool,
     /// Where panes and plots were on the last frame, for the mouse.
@@ -209,6 +215,7 @@ impl App {
             filter: String::new(),
             saved_text: String::new(),
             mouse: true,
+            description: String::new(),
             layout: Default::default(),
             versions: Versions::default(),
             message: None,
@@ -221,6 +228,7 @@ impl App {
             last_full_poll: Instant::now(),
         };
         app.saved_text = app.session.to_text();
+        app.description = isola::session::schema::description(&app.saved_text);
         app.reload_session_state();
         app
     }
@@ -1336,21 +1344,59 @@ impl App {
         self.open_picker_in(&dir);
     }
 
-    /// Lists the session files of `dir` to open one.
+    /// Lists the session files of `dir` (with what each is about) and its folders, to open
+    /// one or look in another.
     pub fn open_picker_in(&mut self, dir: &Path) {
-        let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map(|rd| {
-                rd.filter_map(|e| e.ok().map(|e| e.path()))
-                    .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-                    .collect()
-            })
+        let entries: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
             .unwrap_or_default();
-        files.sort();
+        let hidden = |p: &Path| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        };
+        // folders to browse (not a session's results), then the sessions
+        let mut folders: Vec<PathBuf> = entries
+            .iter()
+            .filter(|p| p.is_dir() && !hidden(p) && p.extension().is_none_or(|x| x != "results"))
+            .cloned()
+            .collect();
+        let mut sessions: Vec<PathBuf> = entries
+            .into_iter()
+            .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "toml"))
+            .collect();
+        folders.sort();
+        sessions.sort();
+        let parent = dir.join("..");
+        let mut files = vec![parent];
+        files.extend(folders);
+        let first_session = files.len();
+        files.extend(sessions);
+        let about = files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                if i < first_session {
+                    return "folder".to_string();
+                }
+                // the leading comment is in the first few kB
+                let mut head = Vec::new();
+                if let Ok(file) = std::fs::File::open(f) {
+                    use std::io::Read;
+                    let _ = file.take(8192).read_to_end(&mut head);
+                }
+                isola::session::schema::description(&String::from_utf8_lossy(&head))
+            })
+            .collect();
         let selected = files
             .iter()
             .position(|f| *f == self.session.path)
-            .unwrap_or(0);
-        self.overlay = Some(Overlay::Picker { files, selected });
+            .unwrap_or(first_session.min(files.len() - 1));
+        self.overlay = Some(Overlay::Picker {
+            dir: dir.to_path_buf(),
+            files,
+            about,
+            selected,
+        });
     }
 
     /// Opens a session in place of this one.
@@ -1360,6 +1406,7 @@ impl App {
                 self.session = s;
                 self.modified = false;
                 self.saved_text = self.session.to_text();
+                self.description = isola::session::schema::description(&self.saved_text);
                 self.versions.clear();
                 self.frozen = None;
                 self.filter.clear();
@@ -1474,30 +1521,56 @@ impl App {
                 }
                 _ => self.overlay = Some(Overlay::Input { purpose, text }),
             },
-            Overlay::Picker { files, selected } => match (key.code, action) {
+            Overlay::Picker {
+                dir,
+                files,
+                about,
+                selected,
+            } => match (key.code, action) {
                 (KeyCode::Esc, _) => {}
-                (KeyCode::Enter, _) => {
-                    if let Some(f) = files.get(selected).cloned() {
-                        self.open_asking(f);
+                (KeyCode::Enter, _) => match files.get(selected) {
+                    // a folder: look in it (`..` kept short: the folder's own path)
+                    Some(f) if f.is_dir() => {
+                        let next = if f.ends_with("..") {
+                            dir.canonicalize()
+                                .ok()
+                                .and_then(|d| d.parent().map(Path::to_path_buf))
+                                .unwrap_or_else(|| f.clone())
+                        } else {
+                            f.clone()
+                        };
+                        self.open_picker_in(&next);
                     }
-                }
+                    Some(f) => self.open_asking(f.clone()),
+                    None => {}
+                },
                 (KeyCode::Char('/'), _) => {
                     self.overlay = Some(Overlay::Input {
                         purpose: InputPurpose::Open,
                         text: String::new(),
                     })
                 }
-                (_, Some(Action::Up)) => {
+                (_, Some(Action::Up | Action::Down)) => {
+                    let selected = if action == Some(Action::Up) {
+                        selected.saturating_sub(1)
+                    } else {
+                        (selected + 1).min(files.len().saturating_sub(1))
+                    };
                     self.overlay = Some(Overlay::Picker {
-                        selected: selected.saturating_sub(1),
+                        dir,
                         files,
+                        about,
+                        selected,
                     })
                 }
-                (_, Some(Action::Down)) => {
-                    let selected = (selected + 1).min(files.len().saturating_sub(1));
-                    self.overlay = Some(Overlay::Picker { files, selected })
+                _ => {
+                    self.overlay = Some(Overlay::Picker {
+                        dir,
+                        files,
+                        about,
+                        selected,
+                    })
                 }
-                _ => self.overlay = Some(Overlay::Picker { files, selected }),
             },
             Overlay::Notice { .. } => {}
             Overlay::Confirm { question, then } => match key.code {

@@ -73,6 +73,8 @@ macro_rules! snapshot {
             (r"[\d.]+ s in all", "[time] in all"),
             (r"in \S+config\.toml *", "in [config file] "),
             (r"log: \S+ *", "log: [log file] "),
+            // a test's own folder, and the border after it, whose length varies with it
+            (r"· \S*isola-tui-[^ ]+ ─+", "· [folder] ──"),
         ]}, {
             insta::assert_snapshot!($name, $value);
         });
@@ -890,7 +892,12 @@ fn the_mouse_selects_focuses_and_places_the_cursor() {
     assert_eq!(app.param_rows[app.param_row].label, "c̃");
     assert_eq!(app.focus, Focus::Params);
     // the plot: a click at ω_e 3.7, amplitude 0.42 lands on the hidden 1:2 response there
-    let frame = *app.layout.borrow().frames.first().expect("a plot was drawn");
+    let frame = *app
+        .layout
+        .borrow()
+        .frames
+        .first()
+        .expect("a plot was drawn");
     let (x, y) = (
         super::plots::frame::Axis::new("", frame.x.0, frame.x.1),
         super::plots::frame::Axis::new("", frame.y.0, frame.y.1),
@@ -900,7 +907,10 @@ fn the_mouse_selects_focuses_and_places_the_cursor() {
     click(&mut app, col, row, left);
     assert_eq!(app.focus, Focus::Plot);
     let screen = draw(&app, 80, 24);
-    assert!(screen.contains("ω 3.700") && screen.contains("A 0.4156"), "{screen}");
+    assert!(
+        screen.contains("ω 3.700") && screen.contains("A 0.4156"),
+        "{screen}"
+    );
     // over an overlay the mouse does nothing
     key(&mut app, KeyCode::Char('?'));
     click(&mut app, 3, 2, left);
@@ -1103,15 +1113,51 @@ fn help_small_terminals_and_the_session_picker() {
     assert!(small.contains("Quit? y / n"), "{small}");
     key(&mut app, KeyCode::Char('n'));
     app.modified = false;
-    // o lists the session files beside this one; Enter opens one
+    // o lists the session files beside this one, each with what it is about, and the
+    // folders; Enter on a folder looks in it, on a file opens it
     std::fs::write(path.with_file_name("other.toml"), OTHERS).unwrap();
+    let more = path.with_file_name("more");
+    std::fs::create_dir_all(&more).unwrap();
+    std::fs::write(more.join("third.toml"), format!("# A third one\n{OTHERS}")).unwrap();
     key(&mut app, KeyCode::Char('o'));
     let Some(Overlay::Picker { files, .. }) = &app.overlay else {
         panic!("no picker");
     };
-    assert_eq!(files.len(), 2);
-    key(&mut app, KeyCode::Char('j'));
-    key(&mut app, KeyCode::Char('k'));
+    let sessions = files.iter().filter(|f| f.is_file()).count();
+    assert_eq!(sessions, 2, "{files:?}");
+    assert!(files.iter().any(|f| f.ends_with("more")), "{files:?}");
+    assert!(
+        !files.iter().any(|f| f.ends_with("session.results")),
+        "{files:?}"
+    );
+    let picker = draw(&app, 80, 24);
+    assert!(picker.contains("Fig 4, on a coarse grid"), "{picker}");
+    snapshot!("picker_80x24", picker);
+    let at = files.iter().position(|f| f.ends_with("more")).unwrap();
+    if let Some(Overlay::Picker { selected, .. }) = &mut app.overlay {
+        *selected = at;
+    }
+    key(&mut app, KeyCode::Enter);
+    let Some(Overlay::Picker { files, .. }) = &app.overlay else {
+        panic!("no picker in the folder");
+    };
+    assert!(files.iter().any(|f| f.ends_with("third.toml")), "{files:?}");
+    assert!(draw(&app, 80, 24).contains("A third one"));
+    // .. goes back up
+    if let Some(Overlay::Picker { selected, .. }) = &mut app.overlay {
+        *selected = 0;
+    }
+    key(&mut app, KeyCode::Enter);
+    let Some(Overlay::Picker { files, .. }) = &app.overlay else {
+        panic!("no picker after ..");
+    };
+    let at = files
+        .iter()
+        .position(|f| f.ends_with("other.toml"))
+        .unwrap();
+    if let Some(Overlay::Picker { selected, .. }) = &mut app.overlay {
+        *selected = at;
+    }
     key(&mut app, KeyCode::Enter);
     assert_eq!(app.session.path.file_name().unwrap(), "other.toml");
     assert_eq!(app.session.analyses.len(), 6);

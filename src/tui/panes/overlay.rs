@@ -161,15 +161,47 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             ];
             (" ".into(), lines, 64)
         }
-        Overlay::Picker { files, selected } => {
+        Overlay::Picker {
+            dir,
+            files,
+            about,
+            selected,
+        } => {
+            let w = area.width.min(100);
+            let inner = w.saturating_sub(2) as usize;
+            let name_of = |f: &std::path::Path| {
+                if f.ends_with("..") {
+                    return "../".to_string();
+                }
+                let name = f
+                    .file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+                if f.is_dir() { format!("{name}/") } else { name }
+            };
+            let name_w = files
+                .iter()
+                .map(|f| name_of(f).chars().count())
+                .max()
+                .unwrap_or(0)
+                .min(inner / 2);
+            // a line per entry: its name and the start of what it is about
             let mut lines: Vec<Line> = files
                 .iter()
+                .zip(about)
                 .enumerate()
-                .map(|(i, f)| {
-                    let name = f
-                        .file_name()
-                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-                    let line = Line::raw(name);
+                .map(|(i, (f, about))| {
+                    let name: String = name_of(f).chars().take(name_w).collect();
+                    let room = inner.saturating_sub(name_w + 2);
+                    let about: String = if about.chars().count() > room {
+                        let cut: String = about.chars().take(room.saturating_sub(1)).collect();
+                        format!("{cut}…")
+                    } else {
+                        about.clone()
+                    };
+                    let line = Line::from(vec![
+                        Span::raw(format!("{name:<name_w$}  ")),
+                        Span::styled(about, t.muted()),
+                    ]);
                     if i == *selected {
                         line.style(t.selected())
                     } else {
@@ -177,14 +209,19 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                     }
                 })
                 .collect();
-            if lines.is_empty() {
-                lines.push(Line::styled("no session files here", t.muted()));
+            // the selected session's whole description below the list
+            if let Some(text) = about
+                .get(*selected)
+                .filter(|a| *a != "folder" && !a.is_empty())
+            {
+                lines.push(Line::raw(""));
+                lines.push(Line::styled(text.clone(), t.text()));
             }
             lines.push(Line::styled(
-                "Enter: open   /: type a path   Esc: cancel",
+                "Enter: open (a folder: look in it)   /: type a path   Esc: cancel",
                 t.muted(),
             ));
-            (" Open session ".into(), lines, 56)
+            (format!(" Open session · {} ", dir.display()), lines, w)
         }
     };
     // rows after wrapping, so the last line (the question, the keys) is never cut off
@@ -203,8 +240,12 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
     // keep the selected file visible in a long list
     let inner_h = rect.height.saturating_sub(2) as usize;
     let scroll = match overlay {
-        Overlay::Picker { selected, .. } => {
-            (selected + 1).saturating_sub(inner_h.saturating_sub(1)) as u16
+        Overlay::Picker {
+            selected, files, ..
+        } => {
+            // the rows under the list (the selected file's description, the keys) stay
+            let after = rows.saturating_sub(files.len());
+            (selected + 1).saturating_sub(inner_h.saturating_sub(after)) as u16
         }
         // as far down as asked, but never past the last line
         Overlay::Help => app.help_scroll.min(rows.saturating_sub(inner_h) as u16),

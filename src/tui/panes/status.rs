@@ -97,6 +97,20 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     }
     let mut spans = hints(&keys);
     let room = width.saturating_sub(cells(&spans) + marker.len());
+    // what the session is about, beside its name, where there is room
+    let about = &app.description;
+    let name = if !about.is_empty() && Span::raw(name.as_str()).width() + 12 < room {
+        let left = room - Span::raw(name.as_str()).width() - 3;
+        let about: String = if about.chars().count() > left {
+            let cut: String = about.chars().take(left - 1).collect();
+            format!("{cut}…")
+        } else {
+            about.clone()
+        };
+        format!("{about} · {name}")
+    } else {
+        name
+    };
     let name_w = Span::raw(name.as_str()).width();
     let name = if name_w <= room {
         name
