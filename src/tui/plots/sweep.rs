@@ -126,7 +126,7 @@ pub fn scalogram(
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
-                "τ {t:.0}  ω_e {w:.3}  strongest ω_r {ridge:.3}  ω_r/ω_e {:.3}",
+                "τ {t:.0}  ω_e {w:.3}  strongest ω_r {ridge:.3}  ω_r/ω_e\u{a0}{:.3}",
                 ridge / w.max(1e-12)
             )),
             Span::styled(
@@ -147,6 +147,26 @@ pub fn scalogram(
     } else {
         0
     };
+    // the colour scale: magnitude over the peak, on the square-root scale drawn
+    let mut scale = vec![Span::styled("|W|/peak ", theme.muted()), Span::raw("0 ")];
+    for k in 0..=8 {
+        let x = k as f64 / 8.0;
+        scale.push(if theme.monochrome {
+            Span::raw(SHADES[((x * (SHADES.len() - 1) as f64).round() as usize).min(SHADES.len() - 1)])
+        } else {
+            Span::styled("█", Style::default().fg(theme.ramp(x)))
+        });
+    }
+    scale.push(Span::raw(" 1"));
+    scale.push(Span::styled(
+        "  (√ scale: 0.25 at mid-ramp)",
+        theme.muted().add_modifier(Modifier::ITALIC),
+    ));
+    if nx > 0 && ridge_iy < s.frequencies.len() {
+        let here = level(ix, ridge_iy);
+        scale.push(Span::raw(format!("  cursor {:.2}", here * here)));
+    }
+    footer.push(Line::from(scale));
     let map = HeatMap {
         x: Axis::new("ω_e", first.min(last), first.max(last)),
         y: Axis::new(
