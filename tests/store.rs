@@ -927,6 +927,59 @@ fn an_edit_of_what_an_analysis_does_not_use_keeps_it_current() {
     }
 }
 
+/// A family or map over ADR sets ADR itself: editing the model's ADR leaves them current,
+/// and a fresh run with the new ADR computes the same bytes (the proof); a family over E_a
+/// and a frequency response use it and go stale. A model given as voltages (no ADR written)
+/// keys the family on them.
+#[test]
+fn an_edit_of_the_parameter_a_family_or_map_sets_keeps_it_current() {
+    let response = "[analysis.settings.response]\nomega = { min = 3.5, max = 4.0, points = 3 }\ndx = { min = -0.6, max = 0.6, points = 3 }\nv = { min = -0.8, max = 0.8, points = 2 }\n";
+    let session = |adr: &str| {
+        format!(
+            "schema = 1\n[model]\ne_a = 0.04\nadr = {adr}\n\n\
+             [[analysis]]\nname = \"response\"\nkind = \"frequency_response\"\n[analysis.settings]\nomega = {{ min = 3.5, max = 4.0, points = 3 }}\ndx = {{ min = -0.6, max = 0.6, points = 3 }}\nv = {{ min = -0.8, max = 0.8, points = 2 }}\n\n\
+             [[analysis]]\nname = \"by_adr\"\nkind = \"family\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = [0.6, 1.0]\n{response}\n\
+             [[analysis]]\nname = \"by_ea\"\nkind = \"family\"\n[analysis.settings]\nparameter = \"e_a\"\nvalues = [0.03, 0.04]\n{response}\n\
+             [[analysis]]\nname = \"map\"\nkind = \"map\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = {{ min = 0.5, max = 0.7, points = 2 }}\ncurves = false\n{response}"
+        )
+    };
+    let csv = |s: &Path, name: &str| {
+        std::fs::read(s.with_file_name(format!("s.results/{name}.csv"))).unwrap()
+    };
+    let (_a, first) = session_dir(&session("0.6"));
+    run_ok(&first, &[]);
+    let kept: Vec<Vec<u8>> = ["by_adr", "map"].iter().map(|n| csv(&first, n)).collect();
+    std::fs::write(&first, session("0.85")).unwrap();
+    let out = run_ok(&first, &[]);
+    for name in ["by_adr", "map"] {
+        assert_eq!(computed(&out, name), 0, "{name} was recomputed:\n{out}");
+    }
+    for name in ["response", "by_ea"] {
+        assert!(computed(&out, name) > 0, "{name} uses the ADR:\n{out}");
+    }
+    let (_b, fresh) = session_dir(&session("0.85"));
+    run_ok(&fresh, &[]);
+    for (name, kept) in ["by_adr", "map"].iter().zip(&kept) {
+        assert!(
+            csv(&fresh, name) == *kept,
+            "{name} depends on the model's ADR"
+        );
+    }
+    // given as voltages, the drive's E_a comes from them: the family keys on them
+    let s = Session::parse(
+        Path::new("v.toml"),
+        &session("0.6").replace("e_a = 0.04\nadr = 0.6", "phi_dc = 0.17\nphi_ac = 0.1"),
+    )
+    .unwrap();
+    let t = Session::parse(
+        Path::new("v.toml"),
+        &session("0.6").replace("e_a = 0.04\nadr = 0.6", "phi_dc = 0.17\nphi_ac = 0.12"),
+    )
+    .unwrap();
+    let i = s.analysis_index("by_adr").unwrap();
+    assert_ne!(s.fingerprint(&s.analyses[i]), t.fingerprint(&t.analyses[i]));
+}
+
 /// A result copied under another name (a duplicated or renamed analysis) or into another
 /// session's folder (save as) is a result of its own: verified before and after, with its own
 /// manifest; replacing the original later leaves the copy as it was; a damaged original is

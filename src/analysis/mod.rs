@@ -38,7 +38,9 @@ pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady
 /// change that alters a number any analysis writes (a new step rule, tolerance, seed or
 /// classification), so that chunks and results of builds with other numerics are never
 /// mixed with this build's. Changes that keep every result byte-identical keep it.
-pub const NUMERICS_VERSION: u32 = 1;
+/// 2: a drive given as (E_a, ADR) keeps them exactly, so drives rebuilt from it (family
+/// members, sweep frequencies, continuation starts) moved by up to an ulp.
+pub const NUMERICS_VERSION: u32 = 2;
 
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -16,11 +16,14 @@ pub enum DriveSpec {
     Phi { phi_dc: f64, phi_ac: f64 },
 }
 
-/// A validated drive, stored as its voltages (φ_DC ≥ 0, φ_AC ≥ 0).
+/// A validated drive, stored as its voltages (φ_DC ≥ 0, φ_AC ≥ 0), and as given if it was
+/// given as (E_a, ADR): those read back exactly, so a drive rebuilt from them (a family
+/// member, a frequency of a sweep) has the very voltages of the original.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive {
     phi_dc: f64,
     phi_ac: f64,
+    given: Option<(f64, f64)>,
 }
 
 impl Drive {
@@ -28,6 +31,7 @@ impl Drive {
     pub const OFF: Drive = Drive {
         phi_dc: 0.0,
         phi_ac: 0.0,
+        given: None,
     };
 
     /// From E_a = φ_DC² + φ_AC²/2 and ADR = φ_AC/φ_DC.
@@ -38,6 +42,7 @@ impl Drive {
         Ok(Drive {
             phi_dc,
             phi_ac: adr * phi_dc,
+            given: Some((e_a, adr)),
         })
     }
 
@@ -46,6 +51,7 @@ impl Drive {
         Ok(Drive {
             phi_dc: check_in("phi_dc", phi_dc, limits::PHI_DC.0, limits::PHI_DC.1)?,
             phi_ac: check_in("phi_ac", phi_ac, limits::PHI_AC.0, limits::PHI_AC.1)?,
+            given: None,
         })
     }
 
@@ -65,9 +71,12 @@ impl Drive {
         self.phi_ac
     }
 
-    /// E_a = φ_DC² + φ_AC²/2, the mean of φ².
+    /// E_a = φ_DC² + φ_AC²/2, the mean of φ² (as given, if it was).
     pub fn e_a(&self) -> f64 {
-        self.phi_dc * self.phi_dc + 0.5 * self.phi_ac * self.phi_ac
+        match self.given {
+            Some((e_a, _)) => e_a,
+            None => self.phi_dc * self.phi_dc + 0.5 * self.phi_ac * self.phi_ac,
+        }
     }
 
     /// E_b = 2 φ_DC φ_AC, the amplitude of φ² at ω_e.
@@ -80,9 +89,12 @@ impl Drive {
         0.5 * self.phi_ac * self.phi_ac
     }
 
-    /// ADR = φ_AC/φ_DC; `None` for a pure AC drive.
+    /// ADR = φ_AC/φ_DC (as given, if it was); `None` for a pure AC drive.
     pub fn adr(&self) -> Option<f64> {
-        (self.phi_dc > 0.0).then(|| self.phi_ac / self.phi_dc)
+        match self.given {
+            Some((_, adr)) => Some(adr),
+            None => (self.phi_dc > 0.0).then(|| self.phi_ac / self.phi_dc),
+        }
     }
 
     /// Peak voltage φ_DC + φ_AC.
@@ -147,6 +159,21 @@ mod tests {
             let th = 0.37 * i as f64;
             let expanded = d.e_a() + d.e_b() * th.cos() + d.e_c() * (2.0 * th).cos();
             assert!((d.phi_sq(th) - expanded).abs() < 1e-15);
+        }
+    }
+
+    /// A drive given as (E_a, ADR) reads them back exactly, so one rebuilt from its spec (a
+    /// family member, a frequency of a sweep) has the very same voltages, to the bit.
+    #[test]
+    fn a_drive_rebuilt_from_its_spec_is_the_same_to_the_bit() {
+        for (e_a, adr) in [(0.04, 0.6), (0.03, 1.0), (0.0523, 0.37), (0.04, 0.0)] {
+            let d = Drive::from_ea_adr(e_a, adr).unwrap();
+            assert_eq!((d.e_a(), d.adr()), (e_a, Some(adr)));
+            let again = Drive::from_spec(d.to_spec()).unwrap();
+            assert_eq!(
+                (again.phi_dc().to_bits(), again.phi_ac().to_bits()),
+                (d.phi_dc().to_bits(), d.phi_ac().to_bits())
+            );
         }
     }
 

@@ -226,22 +226,33 @@ impl Settings {
     /// rest, so an edit of something it does not use leaves its result current.
     pub fn model_use(&self) -> ModelUse {
         use crate::analysis::continuation::ContinuationParameter;
+        use crate::analysis::family::FamilyParameter;
+        // the model key a family or map parameter replaces: the model's own value is never
+        // read (E_a and ADR read back exactly as given, so a member's drive does not depend
+        // on the other's last bits)
+        let key = |p: FamilyParameter| match p {
+            FamilyParameter::Adr => "adr",
+            FamilyParameter::EA => "e_a",
+            FamilyParameter::CTilde => "c_tilde",
+            FamilyParameter::LambdaP => "lambda_p",
+            FamilyParameter::J => "j",
+        };
+        let along = |x: ContinuationParameter| match x {
+            ContinuationParameter::Omega => "omega",
+            ContinuationParameter::Model(p) => key(p),
+        };
         match self {
             // the force curves take λ_p, φ and J from their own settings
             Settings::ForceCurve(_) => ModelUse::Nothing,
             // each sweeps its own ω grid: the model's ω_e is never read
-            Settings::FrequencyResponse(_)
-            | Settings::SteppedSweep(_)
-            | Settings::Family(_)
-            | Settings::Hunt(_) => ModelUse::AllButOmega,
-            Settings::Map(spec) if spec.x == ContinuationParameter::Omega => ModelUse::AllButOmega,
+            Settings::FrequencyResponse(_) | Settings::SteppedSweep(_) | Settings::Hunt(_) => {
+                ModelUse::AllBut(vec!["omega"])
+            }
+            Settings::Family(spec) => ModelUse::AllBut(vec!["omega", key(spec.parameter)]),
+            Settings::Map(spec) => ModelUse::AllBut(vec![along(spec.x), key(spec.parameter)]),
             // a chirp's integrator is set up from the model's period; a basin and a time
-            // history run at the model's ω_e, a continuation starts there, and a map along
-            // another parameter holds it. (A family or map over a parameter still keys on
-            // that parameter's model value: the members' E_a is derived from the model's
-            // drive, to the last bit.)
-            Settings::Map(_)
-            | Settings::ChirpSweep(_)
+            // history run at the model's ω_e, and a continuation starts there
+            Settings::ChirpSweep(_)
             | Settings::TimeHistory(_)
             | Settings::Basin(_)
             | Settings::Continuation(_) => ModelUse::All,
@@ -250,11 +261,13 @@ impl Settings {
 }
 
 /// What of the model an analysis uses (see [`Settings::model_use`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ModelUse {
     All,
-    /// Everything but the forcing frequency ω_e (it sweeps its own).
-    AllButOmega,
+    /// Everything but these model keys (`omega`, which it sweeps; the parameter a family or
+    /// map sets itself). A key of the drive (`adr`, `e_a`) is left out only where the model
+    /// gives the drive in those terms: given as voltages, they are what is read.
+    AllBut(Vec<&'static str>),
     Nothing,
 }
 
@@ -484,9 +497,15 @@ impl Session {
             .unwrap_or(serde_json::Value::Null);
         match entry.settings.model_use() {
             ModelUse::All => {}
-            ModelUse::AllButOmega => {
+            ModelUse::AllBut(keys) => {
                 if let Some(object) = model.as_object_mut() {
-                    object.remove("omega");
+                    for key in keys {
+                        object.remove(key);
+                        if let Some(drive) = object.get_mut("drive").and_then(|d| d.as_object_mut())
+                        {
+                            drive.remove(key);
+                        }
+                    }
                 }
             }
             ModelUse::Nothing => model = serde_json::Value::Null,

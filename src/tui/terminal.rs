@@ -35,7 +35,12 @@ impl TerminalGuard {
         }
         let mut terminal = Terminal::new(CrosstermBackend::new(stdout()))?;
         terminal.hide_cursor()?;
-        terminal.clear()?;
+        // cleared without `Terminal::clear`, which asks the terminal where its cursor is: a
+        // terminal that never answers (a bare pty, some multiplexers) would stall the start
+        execute!(
+            stdout(),
+            crossterm::terminal::Clear(crossterm::terminal::ClearType::All)
+        )?;
         Ok(TerminalGuard { terminal })
     }
 }

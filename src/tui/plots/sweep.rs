@@ -152,7 +152,9 @@ pub fn scalogram(
     for k in 0..=8 {
         let x = k as f64 / 8.0;
         scale.push(if theme.monochrome {
-            Span::raw(SHADES[((x * (SHADES.len() - 1) as f64).round() as usize).min(SHADES.len() - 1)])
+            Span::raw(
+                SHADES[((x * (SHADES.len() - 1) as f64).round() as usize).min(SHADES.len() - 1)],
+            )
         } else {
             Span::styled("█", Style::default().fg(theme.ramp(x)))
         });
