@@ -162,6 +162,8 @@ pub struct App {
     focus_before_zoom: Option<Focus>,
     /// The view held on the plot (`f`) while results keep coming in.
     pub frozen: Option<Arc<ResultView>>,
+    /// The analysis whose result is drawn muted under the selected one's (`:compare`).
+    pub compare: Option<String>,
     /// Only analyses and parameters whose names contain this are listed (`/`).
     pub filter: String,
     /// The session's text as last opened or saved: an undo back to it is no edit.
@@ -212,6 +214,7 @@ impl App {
             cursor_moved: false,
             focus_before_zoom: None,
             frozen: None,
+            compare: None,
             filter: String::new(),
             saved_text: String::new(),
             mouse: true,
@@ -656,6 +659,22 @@ impl App {
         }
     }
 
+    /// What is drawn muted under the selected analysis' plot, and what it is called: the
+    /// previous settings' complete result while a partial one of the current settings is
+    /// shown, else the compared analysis' result.
+    pub fn underlay(&self) -> Option<(&ResultView, String)> {
+        let stored = self.stored.get(self.selected)?;
+        if matches!(stored.status, ResultStatus::Partial { .. })
+            && let Some(previous) = stored.previous.as_deref()
+        {
+            return Some((previous, "the previous settings, until done".into()));
+        }
+        let name = self.compare.as_ref()?;
+        let i = self.session.analysis_index(name)?;
+        let view = self.stored.get(i)?.view.as_deref()?;
+        (i != self.selected).then(|| (view, name.clone()))
+    }
+
     /// The analyses listed: those matching the filter (all, if none does or there is none).
     pub fn visible_analyses(&self) -> Vec<usize> {
         let names: Vec<String> = self
@@ -773,6 +792,22 @@ impl App {
                 }
             }
             Command::Key(action) => self.act(action),
+            Command::Compare(None) => {
+                self.compare = None;
+                self.say("comparison off", false);
+            }
+            Command::Compare(Some(name)) => match self.session.analysis_index(&name) {
+                None => self.say(format!("no analysis {name}"), true),
+                Some(i) if i == self.selected => self.say(
+                    format!("{name} is the one shown: select another first"),
+                    true,
+                ),
+                Some(_) => {
+                    self.say(format!("{name} drawn muted under this plot"), false);
+                    self.compare = Some(name);
+                    self.poll_results(true);
+                }
+            },
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }

@@ -54,6 +54,8 @@ pub enum Command {
         hz: bool,
     },
     Theme(String),
+    /// Draws analysis NAME's result muted under the selected one's (`None`: stop).
+    Compare(Option<String>),
     /// What a key does, by its name in the config (`zoom`, `cancel`, `undo`...).
     Key(super::keymap::Action),
     Help,
@@ -61,7 +63,7 @@ pub enum Command {
 }
 
 /// Every command: its words, its arguments and what it does (for the help overlay).
-pub const COMMANDS: [(&str, &str, &str); 14] = [
+pub const COMMANDS: [(&str, &str, &str); 15] = [
     (
         "run",
         "[all|stale|NAME]",
@@ -82,6 +84,11 @@ pub const COMMANDS: [(&str, &str, &str); 14] = [
     ),
     ("goto", "X [Y]", "move the cursor: 3.7 · 52 Hz · DX V"),
     ("theme", "NAME", "switch theme: dark, light, mono or a file"),
+    (
+        "compare",
+        "[NAME]",
+        "draw NAME's responses muted under these (none: stop)",
+    ),
     ("help", "", "the keys and commands"),
     ("quit", "", "quit (asks if jobs run)"),
 ];
@@ -151,6 +158,11 @@ pub fn parse(line: &str) -> Result<Command, String> {
         "quit" | "q" => Command::Quit,
         "goto" | "g" => goto(args).ok_or_else(|| usage("goto"))?,
         "theme" => Command::Theme(one("theme")?),
+        "compare" => match args {
+            [] => Command::Compare(None),
+            [name] => Command::Compare(Some(name.to_string())),
+            _ => return Err(usage("compare")),
+        },
         other if args.is_empty() && super::keymap::Action::parse(other).is_some() => {
             Command::Key(super::keymap::Action::parse(other).expect("checked"))
         }
@@ -225,7 +237,8 @@ pub fn complete(line: &str, analyses: &[String]) -> Option<String> {
                 .map(|s| s.to_string())
                 .chain(analyses.iter().cloned())
                 .collect(),
-            "delete" | "select" => analyses.to_vec(),
+            "delete" | "select" | "compare" => analyses.to_vec(),
+            "theme" => ["dark", "light", "mono"].map(String::from).to_vec(),
             _ => return None,
         },
         _ => return None,

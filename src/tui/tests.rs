@@ -1311,6 +1311,18 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
     watch_until(&mut app, 0, |s| s == ResultStatus::Complete);
     assert!(app.stored[0].previous.is_none());
     assert!(!draw(&app, 80, 24).contains("previous settings"));
+    // kept and compared: a copy under other settings, with the original drawn under it
+    command(&mut app, "dup stiffer");
+    command(&mut app, "set c_tilde 0.06");
+    command(&mut app, "run");
+    settle(&mut app);
+    command(&mut app, "compare response");
+    let screen = draw(&app, 80, 24);
+    assert!(screen.contains("⣿ response"), "{screen}");
+    command(&mut app, "compare stiffer");
+    assert!(app.message.as_ref().unwrap().error, "not with itself");
+    command(&mut app, "compare");
+    assert!(!draw(&app, 80, 24).contains("⣿ response"));
 }
 
 #[test]

@@ -194,15 +194,13 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let lambda_p = entry
         .and_then(|e| app.session.params(Some(e)).ok())
         .map_or(1.0, |p| p.lambda_p());
-    // the settings before's complete result, drawn under a partial one until it completes
-    let previous = app
-        .stored
-        .get(app.selected)
-        .filter(|s| matches!(s.status, ResultStatus::Partial { .. }))
-        .and_then(|s| s.previous.as_deref());
+    // the previous settings' complete result under a partial one until it completes, or a
+    // compared analysis' result
+    let underlay = app.underlay();
+    let previous = underlay.as_ref().map(|(v, _)| *v);
     let with_previous = |mut plot: plots::frame::XyPlot| {
-        if let Some(p) = previous {
-            plots::previous::beneath(&mut plot, p, t);
+        if let Some((view, label)) = &underlay {
+            plots::previous::beneath(&mut plot, view, label, t);
         }
         plot
     };

@@ -1,5 +1,6 @@
-//! The complete result of the settings before, drawn muted under a new result while the new
-//! one computes, so that a parameter change can be compared at a glance.
+//! Another result drawn muted under the one shown: the complete result of the settings
+//! before while the new one computes, or an analysis asked for with `:compare`, so that a
+//! parameter change can be compared at a glance.
 
 use ratatui::text::{Line, Span};
 
@@ -8,10 +9,10 @@ use crate::tui::theme::Theme;
 use isola::session::results::{HuntView, ResponsePoint, ResultView};
 
 /// The footer line that says what the muted points are.
-pub fn legend(theme: &Theme) -> Line<'static> {
+pub fn legend(label: &str, theme: &Theme) -> Line<'static> {
     Line::from(vec![
         Span::styled("⣿", ratatui::style::Style::default().fg(theme.muted)),
-        Span::styled(" the previous settings, until done", theme.muted()),
+        Span::styled(format!(" {label}"), theme.muted()),
     ])
 }
 
@@ -30,8 +31,8 @@ fn response_points(view: &ResultView) -> Option<Vec<&ResponsePoint>> {
 }
 
 /// Draws `previous` (if it is a response-like view) in the muted colour under the layers of
-/// `plot`, widening its amplitude axis to hold both.
-pub fn beneath(plot: &mut XyPlot, previous: &ResultView, theme: &Theme) {
+/// `plot`, widening its amplitude axis to hold both; the legend calls it `label`.
+pub fn beneath(plot: &mut XyPlot, previous: &ResultView, label: &str, theme: &Theme) {
     let Some(points) = response_points(previous) else {
         return;
     };
@@ -53,5 +54,5 @@ pub fn beneath(plot: &mut XyPlot, previous: &ResultView, theme: &Theme) {
             color: theme.muted,
         },
     );
-    plot.footer.push(legend(theme));
+    plot.footer.push(legend(label, theme));
 }
