@@ -264,3 +264,26 @@ fn export_selects_rows() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A model value set for one analysis only goes into its own `model` table (made inline if it
+/// has none, the other form of the same quantity replaced); the session's model and the other
+/// analyses keep theirs, and the file reads back the same.
+#[test]
+fn a_model_value_overridden_for_one_analysis_leaves_the_others() {
+    let text = "# two\nschema = 1\n[model]\nadr = 0.6\n\n[[analysis]]\nname = \"a\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 5 }\n\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\nmodel = { frequency_hz = 50.0 }\n";
+    let mut s = Session::parse(Path::new("two.toml"), text).unwrap();
+    s.override_model_key(0, "adr", 1.0).unwrap();
+    s.override_model_key(1, "omega", 3.5).unwrap();
+    let written = s.to_text();
+    assert!(written.contains("model = { adr = 1.0 }"), "{written}");
+    assert!(written.contains("model = { omega = 3.5 }"), "{written}");
+    let again = Session::parse(Path::new("two.toml"), &written).unwrap();
+    let adr = |i: usize| {
+        let p = again.params(Some(&again.analyses[i])).unwrap();
+        p.drive_i().adr().unwrap()
+    };
+    assert_eq!((adr(0), adr(1)), (1.0, 0.6));
+    assert_eq!(again.params(Some(&again.analyses[1])).unwrap().omega(), 3.5);
+    assert_eq!(again.params(None).unwrap().drive_i().adr(), Some(0.6));
+    assert!(written.starts_with("# two\n"));
+}

@@ -568,6 +568,43 @@ impl Session {
         self.replace_document(document)
     }
 
+    /// Sets model key `key` for analysis `index` only: in its own `model` table (made if it
+    /// has none), so the session's model and the other analyses keep theirs.
+    pub fn override_model_key(
+        &mut self,
+        index: usize,
+        key: &str,
+        value: f64,
+    ) -> Result<(), SessionError> {
+        let mut document = self.document.clone();
+        let table = document["analysis"]
+            .as_array_of_tables_mut()
+            .and_then(|a| a.get_mut(index))
+            .ok_or_else(|| SessionError::Syntax {
+                path: self.path.clone(),
+                message: format!("no analysis number {index}"),
+            })?;
+        if !table.contains_key("model") {
+            table.insert(
+                "model",
+                toml_edit::Item::Value(toml_edit::Value::InlineTable(Default::default())),
+            );
+        }
+        let model = table["model"]
+            .as_table_like_mut()
+            .ok_or_else(|| SessionError::Syntax {
+                path: self.path.clone(),
+                message: format!("analysis {index}: model is not a table"),
+            })?;
+        for other in same_quantity(key) {
+            if *other != key {
+                model.remove(other);
+            }
+        }
+        model.insert(key, toml_edit::value(value));
+        self.replace_document(document)
+    }
+
     /// The settings of analysis `index` as a TOML table, every default filled in.
     pub fn settings_table(&self, index: usize) -> toml::Table {
         self.analyses

@@ -756,7 +756,8 @@ impl App {
                     then: Confirmed::Delete(index, name),
                 });
             }
-            Command::Set { field, value } => self.set_field(&field, &value),
+            Command::Set { field, value } => self.set_field(&field, &value, false),
+            Command::Override { field, value } => self.set_field(&field, &value, true),
             Command::Select { name } => match self.session.analysis_index(&name) {
                 Some(i) => self.select(i),
                 None => self.say(format!("no analysis {name}"), true),
@@ -881,7 +882,7 @@ impl App {
 
     /// `set FIELD VALUE` on the selected analysis: FIELD as the parameter pane labels it
     /// (`ADR`, `omega.points`) or as the session file writes it (`adr`, `omega`, `c_tilde`).
-    fn set_field(&mut self, field: &str, value: &str) {
+    fn set_field(&mut self, field: &str, value: &str, own: bool) {
         let row = self.param_rows.iter().position(|r| {
             r.label.eq_ignore_ascii_case(field)
                 || matches!(&r.target, Target::Model { key, .. } if *key == field)
@@ -892,8 +893,14 @@ impl App {
                 true,
             );
         };
+        if own && !matches!(self.param_rows[row].target, Target::Model { .. }) {
+            return self.say(
+                format!("{field}: a setting is this analysis' own already: set it"),
+                true,
+            );
+        }
         self.param_row = row;
-        self.commit_edit(value);
+        self.commit_edit_in(value, own);
         if let Some(e) = self.param_error.take() {
             self.say(e, true);
         }
@@ -1025,6 +1032,12 @@ impl App {
 
     /// Applies the typed value; on error the edit stays open with the reason shown.
     pub fn commit_edit(&mut self, text: &str) {
+        self.commit_edit_in(text, false);
+    }
+
+    /// [`App::commit_edit`]; `own`: a model value goes into the selected analysis' own model
+    /// table, not the session's.
+    fn commit_edit_in(&mut self, text: &str, own: bool) {
         let Some(row) = self.param_rows.get(self.param_row).cloned() else {
             return;
         };
@@ -1037,6 +1050,9 @@ impl App {
         };
         let before = self.version(format!("{} = {}", row.label, text.trim()));
         let result = match edit {
+            Edit::Model { key, value } if own => {
+                self.session.override_model_key(self.selected, key, value)
+            }
             Edit::Model { key, value } => {
                 self.session.set_model_key(Some(self.selected), key, value)
             }

@@ -36,6 +36,11 @@ pub enum Command {
         field: String,
         value: String,
     },
+    /// A model value for the selected analysis only.
+    Override {
+        field: String,
+        value: String,
+    },
     Select {
         name: String,
     },
@@ -63,7 +68,7 @@ pub enum Command {
 }
 
 /// Every command: its words, its arguments and what it does (for the help overlay).
-pub const COMMANDS: [(&str, &str, &str); 15] = [
+pub const COMMANDS: [(&str, &str, &str); 16] = [
     (
         "run",
         "[all|stale|NAME]",
@@ -74,6 +79,11 @@ pub const COMMANDS: [(&str, &str, &str); 15] = [
     ("rename", "NAME", "rename the selected analysis"),
     ("delete", "[NAME]", "delete an analysis (asks)"),
     ("set", "FIELD VALUE", "set a parameter: set omega 50 Hz"),
+    (
+        "override",
+        "FIELD VALUE",
+        "set a model value for this analysis only",
+    ),
     ("select", "NAME", "select an analysis"),
     ("save", "[FILE]", "save the session (as FILE)"),
     ("open", "FILE", "open a session"),
@@ -143,6 +153,13 @@ pub fn parse(line: &str) -> Result<Command, String> {
                 value: value.join(" "),
             },
             _ => return Err(usage("set")),
+        },
+        "override" => match args {
+            [field, value @ ..] if !value.is_empty() => Command::Override {
+                field: field.to_string(),
+                value: value.join(" "),
+            },
+            _ => return Err(usage("override")),
         },
         "select" | "sel" => Command::Select {
             name: one("select")?,

@@ -1313,7 +1313,17 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
     assert!(!draw(&app, 80, 24).contains("previous settings"));
     // kept and compared: a copy under other settings, with the original drawn under it
     command(&mut app, "dup stiffer");
-    command(&mut app, "set c_tilde 0.06");
+    command(&mut app, "override c_tilde 0.06");
+    let stiffer = app.session.analysis("stiffer").unwrap();
+    assert_eq!(app.session.params(Some(stiffer)).unwrap().c_tilde(), 0.06);
+    let response = app.session.analysis("response").unwrap();
+    assert_eq!(app.session.params(Some(response)).unwrap().c_tilde(), 0.04);
+    app.sync_results();
+    assert_eq!(
+        app.status_of(0),
+        ResultStatus::Complete,
+        "the original stays current"
+    );
     command(&mut app, "run");
     settle(&mut app);
     command(&mut app, "compare response");
