@@ -325,7 +325,7 @@ impl App {
                             seconds,
                             assembled_here,
                         } => format!(
-                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s in all{})",
+                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s of computing{})",
                             if assembled_here {
                                 ""
                             } else {

@@ -70,7 +70,7 @@ macro_rules! snapshot {
         insta::with_settings!({filters => vec![
             // a time and the padding after it, whose width varies with it
             (r"\d+(\.\d+)?s\b *", "[time] "),
-            (r"[\d.]+ s in all", "[time] in all"),
+            (r"[\d.]+ s of computing", "[time] of computing"),
             (r"in \S+config\.toml *", "in [config file] "),
             (r"log: \S+ *", "log: [log file] "),
             // a test's own folder, and the border after it, whose length varies with it

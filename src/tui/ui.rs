@@ -90,10 +90,11 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
 }
 
-/// Work under way on an analysis, here or on other hosts, as the plot title says it:
-/// `40/99 chunks · computing on node1 (4), node2 (4) · 12/min, about 5 min left`.
-fn work_state(work: &Survey) -> String {
-    let mut text = format!("{}/{} chunks", work.done.len(), work.chunks);
+/// Work under way on an analysis, here or on other hosts, as the plot title says it, in
+/// `width` cells: `40/99 chunks · computing on node1 (4), node2 (4) · 12/min, about 5 min
+/// left`, or as much of it as fits (the parts after the count go first).
+fn work_state(work: &Survey, width: usize) -> String {
+    let count = format!("{}/{} chunks", work.done.len(), work.chunks);
     let hosts = work.by_host(std::time::SystemTime::now());
     let busy: Vec<String> = hosts
         .iter()
@@ -101,18 +102,24 @@ fn work_state(work: &Survey) -> String {
         .map(|h| format!("{} ({})", h.host, h.claimed))
         .collect();
     if busy.is_empty() {
-        text.push_str(" · nothing computing");
-        return text;
+        return format!("{count} · nothing computing");
     }
-    text.push_str(&format!(" · computing on {}", busy.join(", ")));
+    let mut candidates = Vec::new();
+    let on = format!("{count} · computing on {}", busy.join(", "));
     let rate = HostWork::total_per_minute(&hosts);
-    if let Some(left) = work.seconds_left(&hosts) {
-        text.push_str(&format!(
-            " · {rate:.0}/min, about {} left",
-            budget::duration(left)
-        ));
+    let left = work.seconds_left(&hosts).map(budget::duration);
+    if let Some(left) = &left {
+        candidates.push(format!("{on} · {rate:.0}/min, about {left} left"));
+        candidates.push(format!("{on} · about {left} left"));
     }
-    text
+    candidates.push(on);
+    if let Some(left) = &left {
+        candidates.push(format!("{count} · about {left} left"));
+    }
+    candidates.push(count);
+    let fits = |s: &String| s.chars().count() <= width;
+    let last = candidates.pop().expect("the count");
+    candidates.into_iter().find(fits).unwrap_or(last)
 }
 
 /// The plot pane: the selected analysis' view, or the picked orbit.
@@ -126,7 +133,11 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let work = app.stored.get(app.selected).and_then(|s| s.work.as_deref());
     let state = match (status, work) {
         (ResultStatus::Complete, _) => "done".to_string(),
-        (_, Some(work)) => work_state(work),
+        // the title's room: the pane's width, less borders, spaces and the name
+        (_, Some(work)) => work_state(
+            work,
+            (area.width as usize).saturating_sub(name.chars().count() + 8),
+        ),
         (ResultStatus::Partial { done, total }, None) => format!("{done}/{total} chunks"),
         (ResultStatus::Stale, None) => "stale: model or settings changed".into(),
         (ResultStatus::Missing, None) => "not run".into(),

@@ -344,9 +344,10 @@ pub fn wrap_footer(footer: &[Line<'static>], width: u16, max_rows: usize) -> Vec
     out
 }
 
-/// How many footer rows a plot of `height` rows may give away and keep 6 rows of data.
+/// How many footer rows a plot of `height` rows may give away: half of what the axes leave
+/// (the readout and legend come first in every footer, what a view found after them).
 pub fn footer_room(height: u16) -> usize {
-    height.saturating_sub(3 + 6).max(1) as usize
+    (height.saturating_sub(3) / 2).max(1) as usize
 }
 
 /// Draws `footer` lines under the x labels of `canvas`.

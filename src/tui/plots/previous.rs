@@ -54,5 +54,7 @@ pub fn beneath(plot: &mut XyPlot, previous: &ResultView, label: &str, theme: &Th
             color: theme.muted,
         },
     );
-    plot.footer.push(legend(label, theme));
+    // right after the readout: it says what half the points on the plot are
+    let at = plot.footer.len().min(1);
+    plot.footer.insert(at, legend(label, theme));
 }
