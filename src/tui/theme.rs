@@ -217,11 +217,13 @@ impl Theme {
     }
 
     /// `color` faded halfway to the muted colour: a previous result drawn under a new one.
+    /// A 256-colour index is faded through its RGB and back; with 16 colours or none, the
+    /// muted colour itself.
     pub fn dim(&self, color: Color) -> Color {
-        match (color, self.muted) {
-            (Color::Rgb(r, g, b), Color::Rgb(mr, mg, mb)) => {
+        match (rgb_of(color), rgb_of(self.muted)) {
+            (Some((r, g, b)), Some((mr, mg, mb))) if self.mode != ColorMode::Ansi16 => {
                 let mix = |a: u8, m: u8| ((a as u16 + m as u16) / 2) as u8;
-                Color::Rgb(mix(r, mr), mix(g, mg), mix(b, mb))
+                downgrade(Color::Rgb(mix(r, mr), mix(g, mg), mix(b, mb)), self.mode)
             }
             _ => self.muted,
         }
@@ -317,6 +319,24 @@ fn dist2(a: (u8, u8, u8), b: (u8, u8, u8)) -> i32 {
 }
 
 /// The xterm 256-colour index nearest to (r, g, b): the 6×6×6 cube or the grey ramp.
+/// The RGB of a true colour or of an xterm 256-colour index past the first 16 (whose
+/// colours each terminal sets its own way).
+fn rgb_of(color: Color) -> Option<(u8, u8, u8)> {
+    const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+    match color {
+        Color::Rgb(r, g, b) => Some((r, g, b)),
+        Color::Indexed(i @ 16..=231) => {
+            let i = (i - 16) as usize;
+            Some((LEVELS[i / 36], LEVELS[i / 6 % 6], LEVELS[i % 6]))
+        }
+        Color::Indexed(i @ 232..) => {
+            let grey = 8 + 10 * (i - 232);
+            Some((grey, grey, grey))
+        }
+        _ => None,
+    }
+}
+
 fn nearest_256(r: u8, g: u8, b: u8) -> u8 {
     const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
     let level = |x: u8| {
@@ -376,6 +396,27 @@ fn nearest_16(r: u8, g: u8, b: u8) -> Color {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A faded colour keeps its hue in true colour and in 256 colours (an index is faded
+    /// through its RGB), and is the muted colour itself with 16.
+    #[test]
+    fn a_faded_colour_keeps_its_hue() {
+        for mode in [ColorMode::Truecolor, ColorMode::Ansi256] {
+            let t = Theme::load("dark", mode, None).unwrap();
+            let (blue, orange) = (t.type_color("1:1"), t.type_color("1:2"));
+            let (a, b) = (t.dim(blue), t.dim(orange));
+            assert!(
+                a != b && a != t.muted && b != t.muted,
+                "{mode:?}: {a:?} {b:?}"
+            );
+            let (r, _, bl) = rgb_of(a).unwrap();
+            assert!(bl > r, "{mode:?}: the 1:1 blue stays bluish: {a:?}");
+        }
+        let t = Theme::load("dark", ColorMode::Ansi16, None).unwrap();
+        assert_eq!(t.dim(t.type_color("1:2")), t.muted);
+        assert_eq!(rgb_of(Color::Indexed(16 + 36 * 5)), Some((255, 0, 0)));
+        assert_eq!(rgb_of(Color::Indexed(232)), Some((8, 8, 8)));
+    }
 
     #[test]
     fn every_built_in_theme_loads_in_every_mode() {
