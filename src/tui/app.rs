@@ -69,6 +69,10 @@ pub enum Overlay {
         title: String,
         text: String,
     },
+    /// The kinds of analysis, to add one (`a`).
+    KindPicker {
+        selected: usize,
+    },
     /// A question before something that cannot be undone: `y` does it.
     Confirm {
         question: String,
@@ -98,6 +102,8 @@ pub enum InputPurpose {
     Command,
     /// The filter (`/`), applied as it is typed.
     Filter,
+    /// The name of a new analysis of kind `KINDS[i]`.
+    NewName(usize),
 }
 
 /// An orbit picked off a plot, being computed or shown.
@@ -512,6 +518,7 @@ impl App {
                     text: String::new(),
                 })
             }
+            Action::Add => self.overlay = Some(Overlay::KindPicker { selected: 0 }),
             Action::Undo => self.undo(),
             Action::Redo => self.redo(),
             Action::Freeze => self.toggle_freeze(),
@@ -812,6 +819,21 @@ impl App {
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }
+    }
+
+    /// A name for a new analysis of `kind` no analysis has: `basin`, else `basin2`, ...
+    fn unused_name(&self, kind: &str) -> String {
+        let short = kind.split('_').next().unwrap_or(kind);
+        (1..)
+            .map(|n| {
+                if n == 1 {
+                    short.to_string()
+                } else {
+                    format!("{short}{n}")
+                }
+            })
+            .find(|name| self.session.analysis(name).is_none())
+            .expect("some number is free")
     }
 
     fn selected_name(&self) -> String {
@@ -1548,6 +1570,10 @@ impl App {
                         InputPurpose::Open => self.open_asking(path),
                         InputPurpose::Command => self.execute(&text),
                         InputPurpose::Filter => {}
+                        InputPurpose::NewName(kind) => {
+                            let kind = isola::session::schema::KINDS[kind];
+                            self.execute(&format!("add {kind} {}", text.trim()));
+                        }
                     }
                 }
                 KeyCode::Tab if purpose == InputPurpose::Command => {
@@ -1622,6 +1648,28 @@ impl App {
                         selected,
                     })
                 }
+            },
+            Overlay::KindPicker { selected } => match (key.code, action) {
+                (KeyCode::Esc, _) => {}
+                (KeyCode::Enter, _) => {
+                    let kind = isola::session::schema::KINDS[selected];
+                    self.overlay = Some(Overlay::Input {
+                        purpose: InputPurpose::NewName(selected),
+                        text: self.unused_name(kind),
+                    });
+                }
+                (_, Some(Action::Up)) => {
+                    self.overlay = Some(Overlay::KindPicker {
+                        selected: selected.saturating_sub(1),
+                    })
+                }
+                (_, Some(Action::Down)) => {
+                    let last = isola::session::schema::KINDS.len() - 1;
+                    self.overlay = Some(Overlay::KindPicker {
+                        selected: (selected + 1).min(last),
+                    })
+                }
+                _ => self.overlay = Some(Overlay::KindPicker { selected }),
             },
             Overlay::Notice { .. } => {}
             Overlay::Confirm { question, then } => match key.code {

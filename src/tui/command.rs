@@ -103,6 +103,47 @@ pub const COMMANDS: [(&str, &str, &str); 16] = [
     ("quit", "", "quit (asks if jobs run)"),
 ];
 
+/// What each kind of analysis computes, for the kind picker (`a`).
+pub const KIND_ABOUT: [(&str, &str); 10] = [
+    ("force_curve", "the membranes' net force over Δλ (Fig 2)"),
+    (
+        "time_history",
+        "one orbit, its transient and steady part (Fig 4/5)",
+    ),
+    (
+        "chirp_sweep",
+        "a slow sweep of ω_e up or down: jumps, envelope (Fig 3)",
+    ),
+    (
+        "stepped_sweep",
+        "ω_e stepped from the last state: what sweeps reach",
+    ),
+    (
+        "frequency_response",
+        "all responses per ω_e from many starts (Fig 4/5)",
+    ),
+    (
+        "basin",
+        "which start goes to which response, at one ω_e (Fig 6)",
+    ),
+    (
+        "family",
+        "frequency responses over a parameter's values (Fig 7–12)",
+    ),
+    (
+        "continuation",
+        "orbits followed in a parameter, with their stability",
+    ),
+    (
+        "hunt",
+        "a response, its subharmonic branches continued: isolas",
+    ),
+    (
+        "map",
+        "stable responses over ω_e and a parameter, with folds",
+    ),
+];
+
 /// Parses a command line.
 pub fn parse(line: &str) -> Result<Command, String> {
     let words: Vec<&str> = line.split_whitespace().collect();

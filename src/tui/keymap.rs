@@ -39,11 +39,13 @@ pub enum Action {
     Freeze,
     /// Shows only the analyses and parameters whose names contain a text.
     Filter,
+    /// Adds an analysis: a kind to pick, then its name.
+    Add,
 }
 
 impl Action {
     /// Every action with its config name and a few words for the help overlay.
-    pub const ALL: [(Action, &'static str, &'static str); 27] = [
+    pub const ALL: [(Action, &'static str, &'static str); 28] = [
         (Action::Quit, "quit", "quit (asks if jobs run)"),
         (Action::Help, "help", "this help"),
         (Action::FocusNext, "focus_next", "next pane"),
@@ -71,6 +73,7 @@ impl Action {
         (Action::Redo, "redo", "redo what was undone"),
         (Action::Freeze, "freeze", "hold the plot / resume"),
         (Action::Filter, "filter", "filter the lists"),
+        (Action::Add, "new", "add an analysis (pick a kind)"),
     ];
 
     /// The action of config (and command) name `name`.
@@ -160,7 +163,7 @@ pub struct Keymap {
 
 impl Default for Keymap {
     fn default() -> Self {
-        let defaults: [(Action, &[&str]); 27] = [
+        let defaults: [(Action, &[&str]); 28] = [
             (Action::Quit, &["q"]),
             (Action::Help, &["?"]),
             (Action::FocusNext, &["tab"]),
@@ -188,6 +191,7 @@ impl Default for Keymap {
             (Action::Redo, &["ctrl-r"]),
             (Action::Freeze, &["f"]),
             (Action::Filter, &["/"]),
+            (Action::Add, &["a"]),
         ];
         Keymap {
             bindings: defaults

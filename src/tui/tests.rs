@@ -702,6 +702,43 @@ fn the_command_line_makes_and_changes_analyses() {
         assert!(m.error && m.text.contains(says), "{line}: {}", m.text);
     }
     assert_eq!(app.session.analyses.len(), n + 1);
+    // a, the kind picker: each kind with what it computes; Enter asks the name, a free one
+    // proposed
+    for (i, (kind, _)) in super::command::KIND_ABOUT.iter().enumerate() {
+        assert_eq!(*kind, isola::session::schema::KINDS[i]);
+    }
+    key(&mut app, KeyCode::Char('a'));
+    for _ in 0..5 {
+        key(&mut app, KeyCode::Down);
+    }
+    let picker = draw(&app, 80, 24);
+    assert!(
+        picker.contains("which start goes to which response"),
+        "{picker}"
+    );
+    snapshot!("kind_picker_80x24", picker);
+    key(&mut app, KeyCode::Enter);
+    let Some(Overlay::Input { text, .. }) = &app.overlay else {
+        panic!("no name asked");
+    };
+    assert_eq!(text, "basin2", "basin is taken");
+    key(&mut app, KeyCode::Enter);
+    let added = &app.session.analyses[app.selected];
+    assert_eq!(
+        (added.name.as_str(), added.settings.kind()),
+        ("basin2", "basin")
+    );
+    // help, open and quit as commands
+    command(&mut app, "help");
+    assert_eq!(app.overlay, Some(Overlay::Help));
+    key(&mut app, KeyCode::Esc);
+    key(&mut app, KeyCode::Char('s'));
+    let other = path.with_file_name("commands-other.toml");
+    std::fs::write(&other, OTHERS).unwrap();
+    command(&mut app, &format!("open {}", other.display()));
+    assert_eq!(app.session.path, other);
+    command(&mut app, "quit");
+    assert!(app.should_quit);
 }
 
 /// Edits are undone and redone (u, Ctrl-R, :undo) back to the session as it was saved;
@@ -1076,10 +1113,10 @@ fn help_small_terminals_and_the_session_picker() {
         "{help}"
     );
     snapshot!("help_80x24", help);
-    // at 120×40 in two columns, down to the commands and the log's place
+    // at 120×40 in two columns, down to the commands
     let wide = draw(&app, 120, 40);
     assert!(
-        wide.contains(":goto X [Y]") && wide.contains("log: "),
+        wide.contains(":goto X [Y]") && wide.contains("C-r :redo"),
         "{wide}"
     );
     snapshot!("help_120x40", wide);

@@ -8,6 +8,9 @@ use ratatui::widgets::{Block, Borders, Paragraph, Widget};
 use crate::tui::app::{App, Focus};
 use crate::tui::jobs::JobState;
 
+/// The width of a running job's readouts after its bar.
+const TAIL_W: usize = 28;
+
 /// `12.3k/s`.
 fn rate_text(r: f64) -> String {
     if r >= 1e6 {
@@ -72,10 +75,14 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             match &e.state {
                 JobState::Running if e.progress.in_open_phase() || e.progress.get().1 == 0 => {
                     // work of unknown length (continuation points): counted, no fraction
+                    // as wide as a gauge's readouts, so the bar keeps its width between phases
                     let tail = format!(
-                        " {:>6} points  {:>9}",
-                        e.progress.open_steps(),
-                        e.step_rate().map_or(String::new(), rate_text),
+                        "{:<TAIL_W$}",
+                        format!(
+                            " {:>6} points {:>9}",
+                            e.progress.open_steps(),
+                            e.step_rate().map_or(String::new(), rate_text),
+                        )
                     );
                     let bar_w = w.saturating_sub(label_w + 1 + tail.chars().count()).max(4);
                     // a block that moves a cell per step: alive, and no percentage
@@ -89,11 +96,14 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
                     let f = e.progress.fraction();
                     // the readouts padded to fixed widths, so the bar keeps its width
                     let tail = format!(
-                        " {:>3.0}% {:>9} {:<12}",
-                        f * 100.0,
-                        e.rate().map_or(String::new(), rate_text),
-                        e.eta()
-                            .map_or(String::new(), |s| format!("eta {}", seconds_text(s)))
+                        "{:<TAIL_W$}",
+                        format!(
+                            " {:>3.0}% {:>9} {:<12}",
+                            f * 100.0,
+                            e.rate().map_or(String::new(), rate_text),
+                            e.eta()
+                                .map_or(String::new(), |s| format!("eta {}", seconds_text(s)))
+                        )
                     );
                     let bar_w = w.saturating_sub(label_w + 1 + tail.chars().count()).max(4);
                     let full = ((f * bar_w as f64) as usize).min(bar_w);

@@ -6,7 +6,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
 
 use crate::tui::app::{App, InputPurpose, Overlay};
-use crate::tui::command::COMMANDS;
+use crate::tui::command::{COMMANDS, KIND_ABOUT};
 use crate::tui::config;
 use crate::tui::keymap::Action;
 
@@ -123,6 +123,36 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             lines.push(Line::styled("any key closes", t.muted()));
             (format!(" {title} "), lines, 76)
         }
+        Overlay::KindPicker { selected } => {
+            let w = area.width.min(84);
+            let room = (w as usize).saturating_sub(2 + 20);
+            let mut lines: Vec<Line> = KIND_ABOUT
+                .iter()
+                .enumerate()
+                .map(|(i, (kind, about))| {
+                    let about: String = if about.chars().count() > room {
+                        let cut: String = about.chars().take(room.saturating_sub(1)).collect();
+                        format!("{cut}…")
+                    } else {
+                        about.to_string()
+                    };
+                    let line = Line::from(vec![
+                        Span::raw(format!("{kind:<19} ")),
+                        Span::styled(about, t.muted()),
+                    ]);
+                    if i == *selected {
+                        line.style(t.selected())
+                    } else {
+                        line
+                    }
+                })
+                .collect();
+            lines.push(Line::styled(
+                "Enter: name it (settings at their defaults)   Esc: cancel",
+                t.muted(),
+            ));
+            (" Add an analysis ".into(), lines, w)
+        }
         Overlay::Confirm { question, .. } => {
             let lines = vec![
                 Line::raw(question.clone()),
@@ -150,6 +180,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             let what = match purpose {
                 InputPurpose::SaveAs => "Save session as:",
                 InputPurpose::Export => "Export result to CSV file:",
+                InputPurpose::NewName(_) => "Name of the new analysis:",
                 InputPurpose::Open | InputPurpose::Command | InputPurpose::Filter => {
                     "Open session file:"
                 }
