@@ -287,3 +287,97 @@ fn a_model_value_overridden_for_one_analysis_leaves_the_others() {
     assert_eq!(again.params(None).unwrap().drive_i().adr(), Some(0.6));
     assert!(written.starts_with("# two\n"));
 }
+
+/// Every `frequency_hz` and `time_s` written follows the session's `[device]`: with 4× the
+/// mass, frequencies are half the default device's (the map's column once always used the
+/// default device).
+#[test]
+fn frequencies_and_times_follow_the_device() {
+    let response = "[analysis.settings.response]\nomega = { min = 3.5, max = 4.0, points = 2 }\ndx = { min = -0.6, max = 0.6, points = 2 }\nv = { min = -0.8, max = 0.8, points = 2 }\n";
+    let text = format!(
+        "schema = 1\n[device]\nmu = 400e3\nj = 16.0\nl1 = 20e-3\nl2 = 200e-3\nl3 = 0.1e-3\nmass = 200e-3\nepsilon = 2.48e-11\n[model]\nadr = 0.6\n\n\
+         [[analysis]]\nname = \"response\"\nkind = \"frequency_response\"\n[analysis.settings]\nomega = {{ min = 3.5, max = 4.0, points = 2 }}\ndx = {{ min = -0.6, max = 0.6, points = 2 }}\nv = {{ min = -0.8, max = 0.8, points = 2 }}\n\n\
+         [[analysis]]\nname = \"stepped\"\nkind = \"stepped_sweep\"\n[analysis.settings]\nomega = {{ min = 3.0, max = 4.0, points = 3 }}\n\n\
+         [[analysis]]\nname = \"chirp\"\nkind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 3.0\nomega_end = 3.5\nspan = 300.0\n\n\
+         [[analysis]]\nname = \"family\"\nkind = \"family\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = [0.6]\n{response}\n\
+         [[analysis]]\nname = \"map\"\nkind = \"map\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = {{ min = 0.5, max = 0.6, points = 2 }}\ncurves = false\n{response}\n\
+         [[analysis]]\nname = \"orbit\"\nkind = \"time_history\"\n[analysis.settings]\ndx0 = 0.3\n"
+    );
+    let dir = scratch("device");
+    let path = dir.join("s.toml");
+    std::fs::write(&path, &text).unwrap();
+    let session = Session::load(&path).unwrap();
+    let device = session.device();
+    let silicone = isola::model::Device::silicone();
+    assert!(
+        (device.hz(3.7) - 0.5 * silicone.hz(3.7)).abs() < 1e-12,
+        "4× the mass"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_isola"))
+        .arg("run")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut checked = 0;
+    let results = dir.join("s.results");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&results)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
+        .collect();
+    files.sort();
+    for file in &files {
+        let mut reader = csv::Reader::from_path(file).unwrap();
+        let headers = reader.headers().unwrap().clone();
+        let col = |name: &str| headers.iter().position(|h| h == name);
+        let pairs = [("omega", "frequency_hz"), ("tau", "time_s")];
+        for (from, to) in pairs {
+            let (Some(a), Some(b)) = (col(from), col(to)) else {
+                continue;
+            };
+            for row in reader.records() {
+                let row = row.unwrap();
+                let (x, written) = (&row[a], &row[b]);
+                if x.is_empty() || written.is_empty() {
+                    continue;
+                }
+                let x: f64 = x.parse().unwrap();
+                let written: f64 = written.parse().unwrap();
+                let expected = if to == "time_s" {
+                    device.seconds(x)
+                } else {
+                    device.hz(x)
+                };
+                // as printed: 4 decimals of Hz (8 of seconds), and ω itself to 6
+                let tolerance = 6e-5 + 1e-6 * expected.abs();
+                assert!(
+                    (written - expected).abs() < tolerance,
+                    "{}: {to} {written} for {from} {x}: {expected} for this device",
+                    file.display()
+                );
+                checked += 1;
+            }
+            break;
+        }
+    }
+    assert!(checked > 20, "only {checked} values checked in {files:?}");
+    // the map, the family's responses, the stepped sweep and the chirp each have the column
+    for name in [
+        "map.csv",
+        "stepped.csv",
+        "chirp.csv",
+        "response.csv",
+        "orbit.csv",
+    ] {
+        assert!(
+            files.iter().any(|f| f.ends_with(name)),
+            "{name} missing: {files:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -140,6 +140,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
             (args.x.name(), name),
             &spec.response.omega.values(),
             &rows,
+            &isola::model::Device::silicone(),
             path,
         )?;
         println!("wrote {}", path.display());

@@ -480,13 +480,15 @@ pub fn hunt_family_csv(
     })
 }
 
-/// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e; empty otherwise)`,
+/// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e, for `device`; empty
+/// otherwise)`,
 /// stable, largest_amplitude_stretch, largest_type, hidden, subharmonic, collision_share,
 /// non_periodic_share`, the parameters named in the header.
 pub fn map_csv(
     (x, parameter): (&str, &str),
     xs: &[f64],
     rows: &[crate::analysis::map::MapRow],
+    device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
     let is_omega = x == "omega";
@@ -509,7 +511,7 @@ pub fn map_csv(
                     row.value.to_string(),
                     format!("{at:.6}"),
                     if is_omega {
-                        format!("{:.4}", Device::silicone().hz(*at))
+                        format!("{:.4}", device.hz(*at))
                     } else {
                         String::new()
                     },

@@ -425,7 +425,7 @@ impl Run<'_> {
                         export::curves_csv(&curves, &export::curves_path(csv))?;
                         let omegas = spec.response.omega.values();
                         let names = (spec.x.name(), spec.parameter.name());
-                        export::map_csv(names, &omegas, &rows, csv)
+                        export::map_csv(names, &omegas, &rows, &self.session.device(), csv)
                     },
                 )
             }
