@@ -116,7 +116,8 @@ fn summary_shows_physical_units() {
 /// and per located bifurcation.
 #[test]
 fn continue_switches_at_period_doublings_into_one_csv() {
-    let csv = std::env::temp_dir().join(format!("isola-switch-{}.csv", std::process::id()));
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("switch.csv");
     let out = isola(&[
         "continue",
         "--adr",

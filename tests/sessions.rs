@@ -8,11 +8,12 @@ use isola::session::run::{Shard, is_current, run_analysis};
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("isola-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder, removed when the returned guard is dropped (at the test's end).
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("isola-test-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn examples() -> Vec<PathBuf> {
@@ -42,7 +43,8 @@ fn every_example_session_loads_and_its_cheapest_analysis_runs() {
             "{fig}"
         );
     }
-    let dir = scratch("examples");
+    let guard = scratch("examples");
+    let dir = guard.path().to_path_buf();
     for file in files {
         let copy = dir.join(file.file_name().unwrap());
         std::fs::copy(&file, &copy).unwrap();
@@ -68,13 +70,13 @@ fn every_example_session_loads_and_its_cheapest_analysis_runs() {
         assert!(is_current(&session, cheap), "{}", file.display());
         assert!(ResultPaths::new(&session, &cheap.name).csv.exists());
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Load → edit → save → load keeps the user's comments and layout, and applies the edit.
 #[test]
 fn round_trip_keeps_comments() {
-    let dir = scratch("roundtrip");
+    let guard = scratch("roundtrip");
+    let dir = guard.path().to_path_buf();
     let src = examples()
         .into_iter()
         .find(|p| p.to_string_lossy().contains("fig04"))
@@ -98,7 +100,6 @@ fn round_trip_keeps_comments() {
     assert!(text.contains("# starts in the 1:2 basin"));
     let again = Session::load(&path).unwrap();
     assert_eq!(again.params(None).unwrap().lambda_p(), 1.03);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn error_of(text: &str) -> String {
@@ -192,7 +193,8 @@ fn physical_model_values_are_converted() {
 /// A changed setting makes the stored result stale rather than mixing it in.
 #[test]
 fn changed_settings_make_results_stale() {
-    let dir = scratch("stale");
+    let guard = scratch("stale");
+    let dir = guard.path().to_path_buf();
     let path = dir.join("s.toml");
     std::fs::write(
         &path,
@@ -206,13 +208,13 @@ fn changed_settings_make_results_stale() {
     s.set_model_key(None, "omega", 1.8).unwrap();
     let entry = s.analyses[0].clone();
     assert!(!is_current(&s, &entry));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A write that fails before its rename leaves the old file as it was, and no temporary.
 #[test]
 fn interrupted_save_leaves_the_old_file() {
-    let dir = scratch("atomic");
+    let guard = scratch("atomic");
+    let dir = guard.path().to_path_buf();
     let path = dir.join("r.csv");
     std::fs::write(&path, "old,contents\n").unwrap();
     let result = isola::session::export::write_atomic(&path, |w| {
@@ -226,13 +228,13 @@ fn interrupted_save_leaves_the_old_file() {
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names.len(), 1, "no temporary left behind: {names:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `isola export --where` selects rows of a stored result.
 #[test]
 fn export_selects_rows() {
-    let dir = scratch("export");
+    let guard = scratch("export");
+    let dir = guard.path().to_path_buf();
     let path = dir.join("s.toml");
     std::fs::write(&path, "schema = 1\n[model]\nomega = 3.7\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 11 }\nv = { min = -1.0, max = 1.0, points = 11 }\n").unwrap();
     let s = Session::load(&path).unwrap();
@@ -262,7 +264,6 @@ fn export_selects_rows() {
         assert_eq!(cells[3], "1:2");
         assert!(cells[0].parse::<f64>().unwrap() >= 0.0);
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A model value set for one analysis only goes into its own `model` table (made inline if it
@@ -303,7 +304,8 @@ fn frequencies_and_times_follow_the_device() {
          [[analysis]]\nname = \"map\"\nkind = \"map\"\n[analysis.settings]\nparameter = \"adr\"\nvalues = {{ min = 0.5, max = 0.6, points = 2 }}\ncurves = false\n{response}\n\
          [[analysis]]\nname = \"orbit\"\nkind = \"time_history\"\n[analysis.settings]\ndx0 = 0.3\n"
     );
-    let dir = scratch("device");
+    let guard = scratch("device");
+    let dir = guard.path().to_path_buf();
     let path = dir.join("s.toml");
     std::fs::write(&path, &text).unwrap();
     let session = Session::load(&path).unwrap();
@@ -379,5 +381,4 @@ fn frequencies_and_times_follow_the_device() {
             "{name} missing: {files:?}"
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

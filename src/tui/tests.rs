@@ -17,14 +17,16 @@ use super::keymap::Keymap;
 use super::theme::{ColorMode, Theme};
 use super::ui;
 
-/// A session file in a fresh folder of its own.
-fn fixture(test: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("isola-tui-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("session.toml");
+/// A session file in a fresh folder of its own, removed with the returned guard (at the
+/// test's end).
+fn fixture(test: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("isola-tui-{test}-"))
+        .tempdir()
+        .unwrap();
+    let path = dir.path().join("session.toml");
     std::fs::write(&path, text).unwrap();
-    path
+    (dir, path)
 }
 
 fn app(path: &Path, mode: ColorMode) -> App {
@@ -106,7 +108,7 @@ v = { min = -1.0, max = 1.0, points = 51 }
 
 #[test]
 fn a_frequency_response_runs_and_draws_with_its_isola() {
-    let path = fixture("response", RESPONSE);
+    let (_dir, path) = fixture("response", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     snapshot!("response_not_run_80x24", draw(&app, 80, 24));
     key(&mut app, KeyCode::Char('r'));
@@ -189,7 +191,7 @@ fn a_frequency_response_runs_and_draws_with_its_isola() {
 
 #[test]
 fn a_basin_draws_live_and_in_monochrome() {
-    let path = fixture("basin", RESPONSE);
+    let (_dir, path) = fixture("basin", RESPONSE);
     let mut app = app(&path, ColorMode::None);
     key(&mut app, KeyCode::Down);
     assert_eq!(app.selected, 1);
@@ -290,7 +292,7 @@ v = { min = -0.6, max = 0.6, points = 4 }
 
 #[test]
 fn every_other_view_draws() {
-    let path = fixture("views", OTHERS);
+    let (_dir, path) = fixture("views", OTHERS);
     let mut app = app(&path, ColorMode::Truecolor);
     for i in 0..6 {
         app.selected = i;
@@ -381,7 +383,7 @@ v = { min = -1.0, max = 1.0, points = 5 }
 /// draws its cells, hidden marks and curves, in colour and without.
 #[test]
 fn continued_branches_draw_over_the_brute_force() {
-    let path = fixture("hunt", HUNT);
+    let (_dir, path) = fixture("hunt", HUNT);
     let mut app = app(&path, ColorMode::Truecolor);
     for i in 0..3 {
         app.selected = i;
@@ -442,7 +444,7 @@ fn continued_branches_draw_over_the_brute_force() {
 
 #[test]
 fn a_parameter_edit_is_checked_applied_and_saved() {
-    let path = fixture("edit", RESPONSE);
+    let (_dir, path) = fixture("edit", RESPONSE);
     let original = std::fs::read_to_string(&path).unwrap();
     let mut app = app(&path, ColorMode::Truecolor);
     key(&mut app, KeyCode::Tab);
@@ -516,7 +518,7 @@ fn a_parameter_edit_is_checked_applied_and_saved() {
 
 #[test]
 fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
-    let path = fixture("export", RESPONSE);
+    let (_dir, path) = fixture("export", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     key(&mut app, KeyCode::Char('e'));
     assert!(app.overlay.is_none(), "nothing to export before a run");
@@ -596,7 +598,7 @@ fn command(app: &mut App, line: &str) {
 /// why on the status bar.
 #[test]
 fn the_command_line_makes_and_changes_analyses() {
-    let path = fixture("command", RESPONSE);
+    let (_dir, path) = fixture("command", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     let n = app.session.analyses.len();
     // Tab completes the command and the kind
@@ -746,7 +748,7 @@ fn the_command_line_makes_and_changes_analyses() {
 /// switches the colours; every key's name is a command.
 #[test]
 fn undo_filter_freeze_goto_and_theme() {
-    let path = fixture("undo", RESPONSE);
+    let (_dir, path) = fixture("undo", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     let saved = app.session.to_text();
     command(&mut app, "set adr 1.0");
@@ -908,7 +910,7 @@ fn click(app: &mut App, column: u16, row: u16, kind: crossterm::event::MouseEven
 fn the_mouse_selects_focuses_and_places_the_cursor() {
     use crossterm::event::{MouseButton, MouseEventKind};
     let left = MouseEventKind::Down(MouseButton::Left);
-    let path = fixture("mouse", RESPONSE);
+    let (_dir, path) = fixture("mouse", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     command(&mut app, "run");
     settle(&mut app);
@@ -958,7 +960,7 @@ fn the_mouse_selects_focuses_and_places_the_cursor() {
 /// box any key closes; the open session stays.
 #[test]
 fn a_malformed_session_says_why_in_full() {
-    let path = fixture("malformed", RESPONSE);
+    let (_dir, path) = fixture("malformed", RESPONSE);
     let bad = path.with_file_name("bad.toml");
     std::fs::write(&bad, "schema = 1\n[model]\nadr = -2\n").unwrap();
     let mut app = app(&path, ColorMode::Truecolor);
@@ -980,7 +982,7 @@ fn a_malformed_session_says_why_in_full() {
 /// `o` with unsaved edits and `S` over another file ask first; `n` changes nothing.
 #[test]
 fn opening_over_edits_and_saving_over_a_file_ask_first() {
-    let path = fixture("ask", RESPONSE);
+    let (_dir, path) = fixture("ask", RESPONSE);
     let other = path.with_file_name("other.toml");
     std::fs::write(&other, OTHERS).unwrap();
     let mut app = app(&path, ColorMode::Truecolor);
@@ -1050,7 +1052,7 @@ fn opening_over_edits_and_saving_over_a_file_ask_first() {
 
 #[test]
 fn a_running_job_cancels_and_quitting_asks_first() {
-    let path = fixture(
+    let (_dir, path) = fixture(
         "cancel",
         &RESPONSE
             .replace("points = 41", "points = 201")
@@ -1091,7 +1093,7 @@ fn a_running_job_cancels_and_quitting_asks_first() {
 
 #[test]
 fn ctrl_c_quits_even_from_an_edit() {
-    let path = fixture("ctrlc", RESPONSE);
+    let (_dir, path) = fixture("ctrlc", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     key(&mut app, KeyCode::Tab);
     key(&mut app, KeyCode::Enter);
@@ -1102,7 +1104,7 @@ fn ctrl_c_quits_even_from_an_edit() {
 
 #[test]
 fn help_small_terminals_and_the_session_picker() {
-    let path = fixture("help", RESPONSE);
+    let (_dir, path) = fixture("help", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     key(&mut app, KeyCode::Char('?'));
     assert_eq!(app.overlay, Some(Overlay::Help));
@@ -1202,7 +1204,7 @@ fn help_small_terminals_and_the_session_picker() {
 
 #[test]
 fn a_headless_run_is_watched_live() {
-    let path = fixture("watch", RESPONSE);
+    let (_dir, path) = fixture("watch", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Missing);
@@ -1296,7 +1298,7 @@ fn watch_until(app: &mut App, i: usize, wanted: impl Fn(ResultStatus) -> bool) {
 /// cancelled run loses nothing.
 #[test]
 fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
-    let path = fixture("previous", RESPONSE);
+    let (_dir, path) = fixture("previous", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
     let whole = isola::session::run::Shard { index: 0, count: 1 };
     let progress = isola::analysis::Progress::new(0);
@@ -1374,7 +1376,7 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
 
 #[test]
 fn the_config_file_sets_theme_colours_and_keys() {
-    let path = fixture("config", RESPONSE);
+    let (_dir, path) = fixture("config", RESPONSE);
     let config = path.with_file_name("config.toml");
     std::fs::write(
         &config,
