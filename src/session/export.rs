@@ -32,6 +32,16 @@ pub fn csv_bytes(
     Ok(bytes)
 }
 
+/// A number as the shortest text that reads back to exactly the same f64 (`0.1`, `1e-12`,
+/// `3.7`): nothing a result computed is lost in its CSV.
+pub fn num(x: f64) -> String {
+    if x.is_finite() {
+        ryu::Buffer::new().format_finite(x).to_string()
+    } else {
+        x.to_string()
+    }
+}
+
 /// The columns describing one steady state.
 pub const STEADY_COLUMNS: [&str; 7] = [
     "class",
@@ -44,7 +54,7 @@ pub const STEADY_COLUMNS: [&str; 7] = [
 ];
 
 pub fn steady_fields(s: &SteadyState) -> [String; 7] {
-    let opt = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:.9}"));
+    let opt = |x: Option<f64>| x.map_or(String::new(), num);
     [
         s.class.as_str().into(),
         s.period.map_or(String::new(), |k| k.to_string()),
@@ -61,7 +71,7 @@ fn poincare_fields(s: &SteadyState) -> [String; 2] {
     [0, 1].map(|i| {
         s.poincare
             .iter()
-            .map(|p| format!("{:.9}", p[i]))
+            .map(|p| num(p[i]))
             .collect::<Vec<_>>()
             .join(";")
     })
@@ -75,8 +85,8 @@ pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> 
         for (c, &label) in b.labels.iter().enumerate() {
             let r = &b.table.attractors[label].response;
             w.write_record([
-                format!("{:.6}", b.dx[c / nv]),
-                format!("{:.6}", b.v[c % nv]),
+                num(b.dx[c / nv]),
+                num(b.v[c % nv]),
                 label.to_string(),
                 r.ratio.map_or(r.class.as_str().into(), |r| r.to_string()),
             ])?;
@@ -94,7 +104,7 @@ pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> 
                 a.id.to_string(),
                 params.omega().to_string(),
                 a.count.to_string(),
-                format!("{:.6}", b.fraction(a.id)),
+                num(b.fraction(a.id)),
             ];
             row.extend(steady_fields(&a.response));
             row.extend(poincare_fields(&a.response));
@@ -119,12 +129,12 @@ fn response_fields(
     device: &Device,
 ) -> Vec<String> {
     let mut row = vec![
-        format!("{:.6}", r.omega),
-        format!("{:.4}", device.hz(r.omega)),
+        num(r.omega),
+        num(device.hz(r.omega)),
         r.branch.map_or(String::new(), |b| b.to_string()),
         r.hidden.map_or(String::new(), |h| h.to_string()),
         r.seeded.to_string(),
-        format!("{:.6}", r.share),
+        num(r.share),
     ];
     row.extend(steady_fields(&r.steady));
     row.extend(poincare_fields(&r.steady));
@@ -186,8 +196,8 @@ pub fn force_csv(
                 w.write_record([
                     c.lambda_p.to_string(),
                     c.phi_i.to_string(),
-                    format!("{:.6}", p[0]),
-                    format!("{:.9}", p[1]),
+                    num(p[0]),
+                    num(p[1]),
                 ])?;
             }
         }
@@ -222,11 +232,11 @@ pub fn history_bytes(
         ])?;
         for s in &h.samples {
             w.write_record([
-                format!("{:.6}", s.tau),
-                format!("{:.8}", device.seconds(s.tau)),
-                format!("{:.9}", s.lambda),
-                format!("{:.9}", s.v),
-                format!("{:.6}", s.phi_i),
+                num(s.tau),
+                num(device.seconds(s.tau)),
+                num(s.lambda),
+                num(s.v),
+                num(s.phi_i),
                 s.steady.to_string(),
             ])?;
         }
@@ -253,11 +263,11 @@ pub fn chirp_csv(
         for (j, (&lambda, &omega)) in s.lambda.iter().zip(&s.omega).enumerate() {
             let envelope = s.envelope.get(j / per_window).map_or(0.0, |e| e[2]);
             w.write_record([
-                format!("{:.4}", j as f64 * s.dt),
-                format!("{omega:.6}"),
-                format!("{:.4}", device.hz(omega)),
-                format!("{lambda:.9}"),
-                format!("{envelope:.9}"),
+                num(j as f64 * s.dt),
+                num(omega),
+                num(device.hz(omega)),
+                num(lambda),
+                num(envelope),
             ])?;
         }
         Ok(())
@@ -277,8 +287,8 @@ pub fn stepped_csv(
         for (i, s) in steps.iter().enumerate() {
             let mut row = vec![
                 i.to_string(),
-                format!("{:.6}", s.omega),
-                format!("{:.4}", device.hz(s.omega)),
+                num(s.omega),
+                num(device.hz(s.omega)),
                 s.restarted.to_string(),
             ];
             row.extend(steady_fields(&s.steady));
@@ -317,10 +327,10 @@ pub fn family_csv(
                     b.period.to_string(),
                     b.ratio.to_string(),
                     b.response_type.clone(),
-                    format!("{:.6}", b.omega_min),
-                    format!("{:.6}", b.omega_max),
-                    format!("{:.9}", b.peak_amplitude),
-                    format!("{:.6}", b.peak_omega),
+                    num(b.omega_min),
+                    num(b.omega_max),
+                    num(b.peak_amplitude),
+                    num(b.peak_omega),
                     b.points.to_string(),
                     b.hidden.to_string(),
                     b.partly_hidden.to_string(),
@@ -384,16 +394,16 @@ pub fn continued_csv(
                     b.period.to_string(),
                     verdict.to_string(),
                     kind.to_string(),
-                    format!("{par:.10}"),
-                    format!("{omega:.10}"),
-                    format!("{:.10}", x[0]),
-                    format!("{:.10}", x[1]),
-                    format!("{amp:.10}"),
+                    num(par),
+                    num(omega),
+                    num(x[0]),
+                    num(x[1]),
+                    num(amp),
                     stable.map(|s| s.to_string()).unwrap_or_default(),
                 ];
                 for mu in m.0 {
-                    r.push(format!("{:.10}", mu.re));
-                    r.push(format!("{:.10}", mu.im));
+                    r.push(num(mu.re));
+                    r.push(num(mu.im));
                 }
                 r
             };
@@ -455,7 +465,7 @@ pub fn hunt_family_csv(
                         .bifurcations
                         .iter()
                         .filter(|f| kinds.contains(&f.kind))
-                        .map(|f| format!("{:.9}", f.omega))
+                        .map(|f| num(f.omega))
                         .collect::<Vec<_>>()
                         .join(";")
                 };
@@ -464,10 +474,10 @@ pub fn hunt_family_csv(
                     b.branch.period.to_string(),
                     b.verdict.as_str().to_string(),
                     b.hidden.to_string(),
-                    format!("{:.9}", b.omega_min),
-                    format!("{:.9}", b.omega_max),
-                    format!("{:.9}", b.peak_amplitude),
-                    format!("{:.6}", b.peak_omega),
+                    num(b.omega_min),
+                    num(b.omega_max),
+                    num(b.peak_amplitude),
+                    num(b.peak_omega),
                     located(&[BifurcationKind::Fold]),
                     located(&[
                         BifurcationKind::PeriodDoubling,
@@ -509,20 +519,19 @@ pub fn map_csv(
             for (cell, at) in row.cells.iter().zip(xs) {
                 w.write_record([
                     row.value.to_string(),
-                    format!("{at:.6}"),
+                    num(*at),
                     if is_omega {
-                        format!("{:.4}", device.hz(*at))
+                        num(device.hz(*at))
                     } else {
                         String::new()
                     },
                     cell.stable.to_string(),
-                    cell.largest_amplitude
-                        .map_or(String::new(), |a| format!("{a:.9}")),
+                    cell.largest_amplitude.map_or(String::new(), num),
                     cell.largest_type.clone().unwrap_or_default(),
                     cell.hidden.to_string(),
                     cell.subharmonic.to_string(),
-                    format!("{:.6}", cell.collision_share),
-                    format!("{:.6}", cell.non_periodic_share),
+                    num(cell.collision_share),
+                    num(cell.non_periodic_share),
                 ])?;
             }
         }
@@ -566,9 +575,9 @@ pub fn curves_csv(
                     c.period.to_string(),
                     "point".into(),
                     String::new(),
-                    format!("{:.10}", p.first),
-                    format!("{:.10}", p.second),
-                    format!("{:.10}", p.amplitude),
+                    num(p.first),
+                    num(p.second),
+                    num(p.amplitude),
                 ])?;
             }
             for e in &c.extrema {
@@ -582,9 +591,9 @@ pub fn curves_csv(
                     c.period.to_string(),
                     if e.minimum { "minimum" } else { "maximum" }.into(),
                     of.into(),
-                    format!("{:.10}", e.point.first),
-                    format!("{:.10}", e.point.second),
-                    format!("{:.10}", e.point.amplitude),
+                    num(e.point.first),
+                    num(e.point.second),
+                    num(e.point.amplitude),
                 ])?;
             }
         }
