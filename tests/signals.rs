@@ -2,36 +2,14 @@
 //! SIGHUP each end it with the conventional status (128 + the signal's number), the terminal
 //! back in cooked mode with echo, off the alternate screen and with the cursor shown.
 
+mod common;
+
 use std::fs::File;
 use std::io::Read;
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
-use std::os::unix::process::{CommandExt, ExitStatusExt};
-use std::process::{Command, Stdio};
+use std::os::fd::{AsRawFd, OwnedFd};
+use std::os::unix::process::ExitStatusExt;
+use std::process::Command;
 use std::time::{Duration, Instant};
-
-/// A pseudo-terminal pair of 100 × 30.
-fn open_pty() -> (OwnedFd, OwnedFd) {
-    let (mut master, mut slave) = (0, 0);
-    let size = libc::winsize {
-        ws_row: 30,
-        ws_col: 100,
-        ws_xpixel: 0,
-        ws_ypixel: 0,
-    };
-    // SAFETY: valid out-pointers; no name or termios asked for.
-    let rc = unsafe {
-        libc::openpty(
-            &mut master,
-            &mut slave,
-            std::ptr::null_mut(),
-            std::ptr::null(),
-            &size,
-        )
-    };
-    assert_eq!(rc, 0, "openpty: {}", std::io::Error::last_os_error());
-    // SAFETY: openpty returned two open descriptors that nothing else owns.
-    unsafe { (OwnedFd::from_raw_fd(master), OwnedFd::from_raw_fd(slave)) }
-}
 
 fn modes(slave: &OwnedFd) -> libc::termios {
     // SAFETY: a zeroed termios is a valid out-value for tcgetattr.
@@ -83,31 +61,16 @@ fn every_catchable_signal_restores_the_terminal_with_its_status() {
         (libc::SIGTERM, 143),
         (libc::SIGHUP, 129),
     ] {
-        let (master, slave) = open_pty();
+        let (master, slave) = common::open_pty(100, 30);
         let before = modes(&slave);
         assert!(before.c_lflag & libc::ECHO != 0 && before.c_lflag & libc::ICANON != 0);
-        let tty = || File::from(slave.try_clone().unwrap());
-        let slave_fd = slave.as_raw_fd();
         let mut command = Command::new(env!("CARGO_BIN_EXE_isola"));
         command
             .arg("tui")
             .arg(&session)
-            .env("TERM", "xterm-256color")
             .env("XDG_STATE_HOME", dir.path())
-            .env("XDG_CONFIG_HOME", dir.path())
-            .stdin(Stdio::from(tty()))
-            .stdout(Stdio::from(tty()))
-            .stderr(Stdio::from(tty()));
-        // SAFETY: only async-signal-safe calls between fork and exec.
-        unsafe {
-            command.pre_exec(move || {
-                if libc::setsid() < 0 || libc::ioctl(slave_fd, libc::TIOCSCTTY, 0) < 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let mut child = command.spawn().unwrap();
+            .env("XDG_CONFIG_HOME", dir.path());
+        let mut child = common::spawn_on(command, &slave);
         let mut screen = File::from(master);
         let drawn = read_until(&mut screen, "Analyses", Duration::from_secs(20));
         assert!(

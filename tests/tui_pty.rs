@@ -4,17 +4,15 @@
 //! screen, quits, and the terminal is given back (main screen, cursor shown); the work of a
 //! session made in the workbench survives it; closing the terminal ends it.
 
+mod common;
+
 use std::fs::File;
 use std::io::{Read, Write};
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
-use std::os::unix::process::CommandExt;
+use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-
-/// Held while a terminal is opened and its workbench spawned.
-static SPAWNING: Mutex<()> = Mutex::new(());
 
 /// The workbench in a pseudo-terminal: what it draws goes through a terminal emulator.
 struct Pty {
@@ -30,62 +28,15 @@ struct Pty {
 impl Pty {
     /// `isola tui SESSION` in a new 80×24 terminal, its state and config in `home`.
     fn start(session: &Path, home: &Path) -> Pty {
-        // a terminal opened while another test spawns its workbench must not leak into it
-        // (it would hold that terminal open): open, mark close-on-exec and spawn one at a time
-        let _one_at_a_time = SPAWNING.lock().unwrap_or_else(|e| e.into_inner());
-        let (mut master, mut slave) = (0, 0);
-        let size = libc::winsize {
-            ws_row: 24,
-            ws_col: 80,
-            ws_xpixel: 0,
-            ws_ypixel: 0,
-        };
-        // SAFETY: valid out-pointers; no name or termios asked for.
-        let rc = unsafe {
-            libc::openpty(
-                &mut master,
-                &mut slave,
-                std::ptr::null_mut(),
-                std::ptr::null(),
-                &size,
-            )
-        };
-        assert_eq!(rc, 0, "openpty: {}", std::io::Error::last_os_error());
-        for fd in [master, slave] {
-            // SAFETY: fcntl on a descriptor just opened.
-            assert_eq!(
-                unsafe { libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC) },
-                0
-            );
-        }
-        // SAFETY: openpty returned two open descriptors that nothing else owns.
-        let (master, slave) =
-            unsafe { (OwnedFd::from_raw_fd(master), OwnedFd::from_raw_fd(slave)) };
-        let tty = || File::from(slave.try_clone().unwrap());
-        let slave_fd = slave.as_raw_fd();
         let mut command = Command::new(env!("CARGO_BIN_EXE_isola"));
         command
             .arg("tui")
             .arg(session)
-            .env("TERM", "xterm-256color")
             .env("XDG_STATE_HOME", home)
-            .env("XDG_CONFIG_HOME", home)
-            .stdin(Stdio::from(tty()))
-            .stdout(Stdio::from(tty()))
-            .stderr(Stdio::from(tty()));
-        // SAFETY: only async-signal-safe calls between fork and exec.
-        unsafe {
-            command.pre_exec(move || {
-                if libc::setsid() < 0 || libc::ioctl(slave_fd, libc::TIOCSCTTY, 0) < 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let child = command.spawn().unwrap();
+            .env("XDG_CONFIG_HOME", home);
+        let (child, keyboard, slave) = common::spawn_in_pty(command, 80, 24);
         // only the workbench holds the terminal's far end now: reads end when it exits
         drop(slave);
-        let keyboard = File::from(master);
         let mut display = keyboard.try_clone().unwrap();
         let screen = Arc::new(Mutex::new(vt100::Parser::new(24, 80, 0)));
         let fed = screen.clone();

@@ -568,6 +568,21 @@ impl Session {
         self.replace_document(document)
     }
 
+    /// The `[[analysis]]` table number `index` of `document`.
+    fn analysis_table_mut<'d>(
+        &self,
+        document: &'d mut toml_edit::DocumentMut,
+        index: usize,
+    ) -> Result<&'d mut toml_edit::Table, SessionError> {
+        document["analysis"]
+            .as_array_of_tables_mut()
+            .and_then(|a| a.get_mut(index))
+            .ok_or_else(|| SessionError::Syntax {
+                path: self.path.clone(),
+                message: format!("no analysis number {index}"),
+            })
+    }
+
     /// Sets model key `key` for analysis `index` only: in its own `model` table (made if it
     /// has none), so the session's model and the other analyses keep theirs.
     pub fn override_model_key(
@@ -577,13 +592,7 @@ impl Session {
         value: f64,
     ) -> Result<(), SessionError> {
         let mut document = self.document.clone();
-        let table = document["analysis"]
-            .as_array_of_tables_mut()
-            .and_then(|a| a.get_mut(index))
-            .ok_or_else(|| SessionError::Syntax {
-                path: self.path.clone(),
-                message: format!("no analysis number {index}"),
-            })?;
+        let table = self.analysis_table_mut(&mut document, index)?;
         if !table.contains_key("model") {
             table.insert(
                 "model",
@@ -623,13 +632,7 @@ impl Session {
     ) -> Result<(), SessionError> {
         let full = self.settings_table(index);
         let mut document = self.document.clone();
-        let analysis = document["analysis"]
-            .as_array_of_tables_mut()
-            .and_then(|a| a.get_mut(index))
-            .ok_or_else(|| SessionError::Syntax {
-                path: self.path.clone(),
-                message: format!("no analysis number {index}"),
-            })?;
+        let analysis = self.analysis_table_mut(&mut document, index)?;
         if !analysis.contains_key("settings") {
             analysis.insert("settings", toml_edit::table());
         }

@@ -5,3 +5,13 @@ pub mod jobs;
 pub mod overlay;
 pub mod params;
 pub mod status;
+
+/// `text` in at most `room` characters: cut with `…` if longer.
+pub fn ellipsis(text: &str, room: usize) -> String {
+    if text.chars().count() > room {
+        let cut: String = text.chars().take(room.saturating_sub(1)).collect();
+        format!("{cut}…")
+    } else {
+        text.to_string()
+    }
+}

@@ -9,9 +9,18 @@ use crate::tui::app::{App, InputPurpose, Overlay};
 use crate::tui::command::{COMMANDS, KIND_ABOUT};
 use crate::tui::config;
 use crate::tui::keymap::Action;
+use crate::tui::panes::ellipsis;
 
 /// The help's width with two columns of keys.
 const HELP_WIDTH: u16 = 96;
+
+/// A line of a list to choose from: a name, then what it is, muted.
+fn choice(name: String, about: String, app: &App) -> Line<'static> {
+    Line::from(vec![
+        Span::raw(name),
+        Span::styled(about, app.theme.muted()),
+    ])
+}
 
 /// A box of `w × h` centred in `area` (clipped to it).
 fn centred(area: Rect, w: u16, h: u16) -> Rect {
@@ -130,16 +139,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 .iter()
                 .enumerate()
                 .map(|(i, (kind, about))| {
-                    let about: String = if about.chars().count() > room {
-                        let cut: String = about.chars().take(room.saturating_sub(1)).collect();
-                        format!("{cut}…")
-                    } else {
-                        about.to_string()
-                    };
-                    let line = Line::from(vec![
-                        Span::raw(format!("{kind:<19} ")),
-                        Span::styled(about, t.muted()),
-                    ]);
+                    let line = choice(format!("{kind:<19} "), ellipsis(about, room), app);
                     if i == *selected {
                         line.style(t.selected())
                     } else {
@@ -223,16 +223,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 .map(|(i, (f, about))| {
                     let name: String = name_of(f).chars().take(name_w).collect();
                     let room = inner.saturating_sub(name_w + 2);
-                    let about: String = if about.chars().count() > room {
-                        let cut: String = about.chars().take(room.saturating_sub(1)).collect();
-                        format!("{cut}…")
-                    } else {
-                        about.clone()
-                    };
-                    let line = Line::from(vec![
-                        Span::raw(format!("{name:<name_w$}  ")),
-                        Span::styled(about, t.muted()),
-                    ]);
+                    let line = choice(format!("{name:<name_w$}  "), ellipsis(about, room), app);
                     if i == *selected {
                         line.style(t.selected())
                     } else {

@@ -289,12 +289,7 @@ impl Widget for ParamsPane<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let t = self.theme;
         let inner = Block::default().borders(Borders::ALL).inner(area);
-        let error_rows = self.error.map_or(0, |e| {
-            (e.chars().count() as u16)
-                .div_ceil(inner.width.max(1))
-                .min(4)
-        });
-        let list_h = inner.height.saturating_sub(error_rows) as usize;
+        let (list_h, error_rows) = self.heights(inner);
         let (lines, selected_line, _) = self.lines(inner.width as usize);
         let skip = (selected_line + 1).saturating_sub(list_h);
         let (above, below) = (skip, lines.len().saturating_sub(skip + list_h));
@@ -334,15 +329,20 @@ impl ParamsPane<'_> {
     /// heading.
     pub fn shown(&self, area: Rect) -> Vec<Option<usize>> {
         let inner = Block::default().borders(Borders::ALL).inner(area);
+        let (list_h, _) = self.heights(inner);
+        let (_, selected_line, row_of_line) = self.lines(inner.width as usize);
+        let skip = (selected_line + 1).saturating_sub(list_h);
+        row_of_line.into_iter().skip(skip).take(list_h).collect()
+    }
+
+    /// The rows of the list and of the error under it (wrapped, at most 4) inside `inner`.
+    fn heights(&self, inner: Rect) -> (usize, u16) {
         let error_rows = self.error.map_or(0, |e| {
             (e.chars().count() as u16)
                 .div_ceil(inner.width.max(1))
                 .min(4)
         });
-        let list_h = inner.height.saturating_sub(error_rows) as usize;
-        let (_, selected_line, row_of_line) = self.lines(inner.width as usize);
-        let skip = (selected_line + 1).saturating_sub(list_h);
-        row_of_line.into_iter().skip(skip).take(list_h).collect()
+        (inner.height.saturating_sub(error_rows) as usize, error_rows)
     }
 
     /// Every line of the pane at `width` cells, the line of the selected row, and the row on

@@ -101,13 +101,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let about = &app.description;
     let name = if !about.is_empty() && Span::raw(name.as_str()).width() + 12 < room {
         let left = room - Span::raw(name.as_str()).width() - 3;
-        let about: String = if about.chars().count() > left {
-            let cut: String = about.chars().take(left - 1).collect();
-            format!("{cut}…")
-        } else {
-            about.clone()
-        };
-        format!("{about} · {name}")
+        format!("{} · {name}", super::ellipsis(about, left))
     } else {
         name
     };
