@@ -173,3 +173,31 @@ fn continue_switches_at_period_doublings_into_one_csv() {
     assert!((4.930032..4.94).contains(&low_end), "{low_end}");
     let _ = std::fs::remove_file(&csv);
 }
+
+/// `--version` names the commit the build comes from; the workbench without a terminal says
+/// what to do instead of a system error.
+#[test]
+fn version_names_the_commit_and_the_workbench_needs_a_terminal() {
+    let out = Command::new(env!("CARGO_BIN_EXE_isola"))
+        .arg("--version")
+        .output()
+        .unwrap();
+    let version = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        version.starts_with("isola 0.") && version.contains('+'),
+        "{version}"
+    );
+    for args in [&[][..], &["tui"][..]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_isola"))
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains("needs a terminal") && err.contains("isola run"),
+            "{err}"
+        );
+    }
+}

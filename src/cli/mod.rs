@@ -22,7 +22,7 @@ use clap::{Parser, Subcommand};
 
 /// isola: nonlinear dynamics of antagonistic pure-shear dielectric elastomer actuators.
 #[derive(Debug, Parser)]
-#[command(name = "isola", version, about)]
+#[command(name = "isola", version = isola::BUILD, about)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,

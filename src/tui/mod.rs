@@ -114,6 +114,14 @@ pub fn build_app(args: &TuiArgs) -> anyhow::Result<App> {
 /// Runs the TUI until the user quits or a signal asks it to; returns the exit status (0, or
 /// 128 + the signal's number: 130 after Ctrl-C or SIGINT, 131 SIGQUIT, 143 SIGTERM, 129 SIGHUP).
 pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
+    use std::io::IsTerminal;
+    if !(std::io::stdin().is_terminal() && std::io::stdout().is_terminal()) {
+        anyhow::bail!(
+            "the workbench needs a terminal, and stdin or stdout is not one; run it in a \
+             terminal, or headless: `isola run SESSION` computes a session's analyses, \
+             `isola status SESSION` shows them, `isola --help` lists the rest"
+        );
+    }
     // nothing may write to the screen while the TUI runs
     isola::logging::log_to(&config::log_path())?;
     let mut app = build_app(args)?;
