@@ -201,3 +201,29 @@ fn version_names_the_commit_and_the_workbench_needs_a_terminal() {
         );
     }
 }
+
+/// Shell completions and the man page come from the commands' own definitions.
+#[test]
+fn completions_and_the_man_page_list_the_commands() {
+    let bash = isola(&["completions", "bash"]);
+    assert!(bash.status.success());
+    let script = String::from_utf8_lossy(&bash.stdout);
+    assert!(
+        script.contains("_isola") && script.contains("slurm"),
+        "{script}"
+    );
+    let man = isola(&["man"]);
+    assert!(man.status.success());
+    let page = String::from_utf8_lossy(&man.stdout);
+    assert!(
+        page.starts_with(".ie") || page.contains(".TH isola"),
+        "{page}"
+    );
+    assert!(
+        page.contains("completions") && page.contains("export"),
+        "{page}"
+    );
+    let bad = isola(&["completions", "tcsh"]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("bash"));
+}

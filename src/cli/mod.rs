@@ -2,6 +2,7 @@
 
 mod basin;
 mod continue_cmd;
+mod docs;
 mod family;
 mod force;
 mod hunt;
@@ -61,6 +62,10 @@ enum Command {
     /// Write (and with --submit, submit) a Slurm job array that computes a session's analyses
     /// on many nodes, and a job that assembles and verifies them.
     Slurm(slurm::SlurmArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(docs::CompletionsArgs),
+    /// Print the man page (roff).
+    Man,
     /// The terminal workbench (also what a bare `isola` opens).
     #[cfg(feature = "tui")]
     Tui(crate::tui::TuiArgs),
@@ -89,6 +94,8 @@ pub fn run() -> ExitCode {
         Command::Export(args) => run::export(&args),
         Command::Status(args) => status::run(&args),
         Command::Slurm(args) => slurm::run(&args),
+        Command::Completions(args) => docs::completions(&args),
+        Command::Man => docs::man(),
         #[cfg(feature = "tui")]
         Command::Tui(args) => return finish_with(crate::tui::run(&args)),
     };
