@@ -49,12 +49,12 @@ impl Progress {
         self.open.load(Ordering::Relaxed)
     }
 
-    /// True while the work of known size is done and work of unknown length goes on (a map's
-    /// curves after its rows; a continuation, which announces no total): a fraction then says
-    /// nothing.
+    /// True while a fraction says nothing: no work of known size announced yet (a
+    /// continuation announces none), or all of it done while work of unknown length goes on
+    /// (a map's curves after its rows).
     pub fn in_open_phase(&self) -> bool {
         let (done, total) = self.get();
-        done >= total && self.open_steps() > 0
+        total == 0 || (done >= total && self.open_steps() > 0)
     }
 
     /// Announces `n` more units of work (an analysis made of several calls adds each one's).

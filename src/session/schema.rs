@@ -225,22 +225,9 @@ impl Settings {
     /// What of the model an analysis with these settings uses. Its fingerprint leaves out the
     /// rest, so an edit of something it does not use leaves its result current.
     pub fn model_use(&self) -> ModelUse {
-        use crate::analysis::continuation::ContinuationParameter;
-        use crate::analysis::family::FamilyParameter;
-        // the model key a family or map parameter replaces: the model's own value is never
-        // read (E_a and ADR read back exactly as given, so a member's drive does not depend
-        // on the other's last bits)
-        let key = |p: FamilyParameter| match p {
-            FamilyParameter::Adr => "adr",
-            FamilyParameter::EA => "e_a",
-            FamilyParameter::CTilde => "c_tilde",
-            FamilyParameter::LambdaP => "lambda_p",
-            FamilyParameter::J => "j",
-        };
-        let along = |x: ContinuationParameter| match x {
-            ContinuationParameter::Omega => "omega",
-            ContinuationParameter::Model(p) => key(p),
-        };
+        // a family or map parameter's name is the model key it replaces: the model's own
+        // value is never read (E_a and ADR read back exactly as given, so a member's drive
+        // does not depend on the other's last bits)
         match self {
             // the force curves take λ_p, φ and J from their own settings
             Settings::ForceCurve(_) => ModelUse::Nothing,
@@ -248,8 +235,8 @@ impl Settings {
             Settings::FrequencyResponse(_) | Settings::SteppedSweep(_) | Settings::Hunt(_) => {
                 ModelUse::AllBut(vec!["omega"])
             }
-            Settings::Family(spec) => ModelUse::AllBut(vec!["omega", key(spec.parameter)]),
-            Settings::Map(spec) => ModelUse::AllBut(vec![along(spec.x), key(spec.parameter)]),
+            Settings::Family(spec) => ModelUse::AllBut(vec!["omega", spec.parameter.name()]),
+            Settings::Map(spec) => ModelUse::AllBut(vec![spec.x.name(), spec.parameter.name()]),
             // a chirp's integrator is set up from the model's period; a basin and a time
             // history run at the model's ω_e, and a continuation starts there
             Settings::ChirpSweep(_)
@@ -559,12 +546,7 @@ impl Session {
                     })?
             }
         };
-        for other in same_quantity(key) {
-            if *other != key {
-                table.remove(other);
-            }
-        }
-        table.insert(key, toml_edit::value(value));
+        put_model_key(table, key, value);
         self.replace_document(document)
     }
 
@@ -605,12 +587,7 @@ impl Session {
                 path: self.path.clone(),
                 message: format!("analysis {index}: model is not a table"),
             })?;
-        for other in same_quantity(key) {
-            if *other != key {
-                model.remove(other);
-            }
-        }
-        model.insert(key, toml_edit::value(value));
+        put_model_key(model, key, value);
         self.replace_document(document)
     }
 
@@ -821,6 +798,17 @@ fn to_edit_value(value: &toml::Value) -> toml_edit::Value {
             .collect::<toml_edit::InlineTable>()
             .into(),
     }
+}
+
+/// `key = value` in a model table, the other form of the same quantity (`omega` and
+/// `frequency_hz`, ...) removed.
+fn put_model_key(table: &mut dyn toml_edit::TableLike, key: &str, value: f64) {
+    for other in same_quantity(key) {
+        if *other != key {
+            table.remove(other);
+        }
+    }
+    table.insert(key, toml_edit::value(value));
 }
 
 /// The leading comment of a session file's `text` (the `#` lines before anything else), as

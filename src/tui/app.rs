@@ -174,12 +174,10 @@ pub struct App {
     pub filter: String,
     /// The session's text as last opened or saved: an undo back to it is no edit.
     saved_text: String,
-    /// What the session is about (its leading comment), as last opened or saved.
-    pub description: String,
     /// The mouse is the workbench's (config `mouse = false` leaves it to the terminal).
     pub mouse: bool,
     /// Where panes and plots were on the last frame, for the mouse.
-    pub layout: super::mouse::LayoutCell,
+    pub layout: std::cell::RefCell<super::mouse::Layout>,
     versions: Versions,
     pub message: Option<Message>,
     pub theme: Theme,
@@ -224,7 +222,6 @@ impl App {
             filter: String::new(),
             saved_text: String::new(),
             mouse: true,
-            description: String::new(),
             layout: Default::default(),
             versions: Versions::default(),
             message: None,
@@ -237,7 +234,6 @@ impl App {
             last_full_poll: Instant::now(),
         };
         app.saved_text = app.session.to_text();
-        app.description = isola::session::schema::description(&app.saved_text);
         app.reload_session_state();
         app
     }
@@ -537,23 +533,23 @@ impl App {
         if hz {
             at[0] = self.session.device().omega_from_hz(at[0]);
         }
-        let moved = match &mut self.picked {
-            Some(p) => p.view.as_ref().and_then(|view| {
-                p.cursor = plots::cursor_near(view, p.cursor, &at)?;
-                Some(())
-            }),
-            None => self
-                .view()
-                .and_then(|view| plots::cursor_near(view, self.cursor, &at))
-                .map(|cursor| {
-                    self.cursor = cursor;
-                    self.cursor_moved = true;
-                }),
-        };
-        match moved {
+        match self.place_cursor(&at) {
             Some(()) => self.focus = Focus::Plot,
             None => self.say("no point to go to on this plot", true),
         }
+    }
+
+    /// The plot cursor (the picked orbit's, if one is shown) on the point nearest `at`, in
+    /// the view's coordinates; `None` if the view has no such point.
+    fn place_cursor(&mut self, at: &[f64]) -> Option<()> {
+        match &mut self.picked {
+            Some(p) => p.cursor = plots::cursor_near(p.view.as_ref()?, p.cursor, at)?,
+            None => {
+                self.cursor = plots::cursor_near(self.view()?, self.cursor, at)?;
+                self.cursor_moved = true;
+            }
+        }
+        Some(())
     }
 
     /// A click on `target`: its pane focused, its row selected, the plot cursor on the point.
@@ -577,26 +573,7 @@ impl App {
             }
             Target::Point(x, y) => {
                 self.focus = Focus::Plot;
-                match &mut self.picked {
-                    Some(p) => {
-                        if let Some(c) = p
-                            .view
-                            .as_ref()
-                            .and_then(|v| plots::cursor_near(v, p.cursor, &[x, y]))
-                        {
-                            p.cursor = c;
-                        }
-                    }
-                    None => {
-                        if let Some(c) = self
-                            .view()
-                            .and_then(|v| plots::cursor_near(v, self.cursor, &[x, y]))
-                        {
-                            self.cursor = c;
-                            self.cursor_moved = true;
-                        }
-                    }
-                }
+                let _ = self.place_cursor(&[x, y]);
             }
             Target::Pane(pane) => self.focus = pane,
             Target::Nothing => {}
@@ -819,6 +796,11 @@ impl App {
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }
+    }
+
+    /// What the session is about: the leading comment of the file as last opened or saved.
+    pub fn description(&self) -> String {
+        isola::session::schema::description(&self.saved_text)
     }
 
     /// A name for a new analysis of `kind` no analysis has: `basin`, else `basin2`, ...
@@ -1479,7 +1461,6 @@ impl App {
                 self.session = s;
                 self.modified = false;
                 self.saved_text = self.session.to_text();
-                self.description = isola::session::schema::description(&self.saved_text);
                 self.versions.clear();
                 self.frozen = None;
                 self.filter.clear();

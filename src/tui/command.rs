@@ -188,20 +188,21 @@ pub fn parse(line: &str) -> Result<Command, String> {
             },
             _ => return Err(usage("delete")),
         },
-        "set" => match args {
-            [field, value @ ..] if !value.is_empty() => Command::Set {
-                field: field.to_string(),
-                value: value.join(" "),
-            },
-            _ => return Err(usage("set")),
-        },
-        "override" => match args {
-            [field, value @ ..] if !value.is_empty() => Command::Override {
-                field: field.to_string(),
-                value: value.join(" "),
-            },
-            _ => return Err(usage("override")),
-        },
+        "set" | "override" => {
+            // FIELD, then the value: the rest, units and all (`50 Hz`)
+            let [field, value @ ..] = args else {
+                return Err(usage(verb));
+            };
+            if value.is_empty() {
+                return Err(usage(verb));
+            }
+            let (field, value) = (field.to_string(), value.join(" "));
+            if verb == "set" {
+                Command::Set { field, value }
+            } else {
+                Command::Override { field, value }
+            }
+        }
         "select" | "sel" => Command::Select {
             name: one("select")?,
         },

@@ -65,16 +65,19 @@ pub struct JobEntry {
 impl JobEntry {
     /// Work units per second over the last few seconds.
     pub fn rate(&self) -> Option<f64> {
-        let (first, last) = (self.samples.first()?, self.samples.last()?);
-        let dt = last.0.duration_since(first.0).as_secs_f64();
-        (dt > 0.2).then(|| (last.1 - first.1) as f64 / dt)
+        self.per_second(|s| s.1)
     }
 
     /// Steps of unknown-length work (continuation points) per second.
     pub fn step_rate(&self) -> Option<f64> {
+        self.per_second(|s| s.2)
+    }
+
+    /// How fast the `count` of the samples grew over the last few seconds.
+    fn per_second(&self, count: impl Fn(&(Instant, usize, usize)) -> usize) -> Option<f64> {
         let (first, last) = (self.samples.first()?, self.samples.last()?);
         let dt = last.0.duration_since(first.0).as_secs_f64();
-        (dt > 0.2).then(|| (last.2 - first.2) as f64 / dt)
+        (dt > 0.2).then(|| (count(last) - count(first)) as f64 / dt)
     }
 
     /// Seconds left at the current rate.

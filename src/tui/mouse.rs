@@ -2,8 +2,6 @@
 //! wheel moves the selection of the pane under it. Panes are found in the layout of the last
 //! frame drawn.
 
-use std::cell::RefCell;
-
 use crossterm::event::{MouseButton, MouseEvent, MouseEventKind};
 use ratatui::layout::Rect;
 
@@ -72,9 +70,6 @@ impl Layout {
         }
     }
 }
-
-/// The layout an app keeps between drawing and the next event.
-pub type LayoutCell = RefCell<Layout>;
 
 impl App {
     /// A mouse event: clicks focus and select, the wheel scrolls the pane under it.

@@ -319,10 +319,12 @@ fn dist2(a: (u8, u8, u8), b: (u8, u8, u8)) -> i32 {
 }
 
 /// The xterm 256-colour index nearest to (r, g, b): the 6×6×6 cube or the grey ramp.
+/// The levels of each channel in the xterm 256-colour cube (indices 16 to 231).
+const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+
 /// The RGB of a true colour or of an xterm 256-colour index past the first 16 (whose
 /// colours each terminal sets its own way).
 fn rgb_of(color: Color) -> Option<(u8, u8, u8)> {
-    const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
     match color {
         Color::Rgb(r, g, b) => Some((r, g, b)),
         Color::Indexed(i @ 16..=231) => {
@@ -338,7 +340,6 @@ fn rgb_of(color: Color) -> Option<(u8, u8, u8)> {
 }
 
 fn nearest_256(r: u8, g: u8, b: u8) -> u8 {
-    const LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
     let level = |x: u8| {
         (0..6)
             .min_by_key(|&i| (LEVELS[i] as i32 - x as i32).abs())

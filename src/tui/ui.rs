@@ -55,8 +55,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         panes::analyses::draw(app, list, buf);
         // the rows the filter lists, and the selected one among them
         let visible = app.visible_rows();
-        let rows: Vec<panes::params::Row> =
-            visible.iter().map(|&i| app.param_rows[i].clone()).collect();
+        let rows: Vec<&panes::params::Row> = visible.iter().map(|&i| &app.param_rows[i]).collect();
         let filtered = rows.len() < app.param_rows.len();
         let pane = ParamsPane {
             rows: &rows,

@@ -34,22 +34,12 @@ impl Versions {
 
     /// The version to go back to from `now` (which can then be redone), if any.
     pub fn undo(&mut self, now: Version) -> Option<Version> {
-        let back = self.undo.pop()?;
-        self.redo.push(Version {
-            what: back.what.clone(),
-            ..now
-        });
-        Some(back)
+        step(&mut self.undo, &mut self.redo, now)
     }
 
     /// The version undone last, going forward from `now`.
     pub fn redo(&mut self, now: Version) -> Option<Version> {
-        let forward = self.redo.pop()?;
-        self.undo.push(Version {
-            what: forward.what.clone(),
-            ..now
-        });
-        Some(forward)
+        step(&mut self.redo, &mut self.undo, now)
     }
 
     /// Forgets everything (another session was opened).
@@ -57,6 +47,17 @@ impl Versions {
         self.undo.clear();
         self.redo.clear();
     }
+}
+
+/// The last version of `from`, with `now` put on `to` (under the same edit's name) to come
+/// back to.
+fn step(from: &mut Vec<Version>, to: &mut Vec<Version>, now: Version) -> Option<Version> {
+    let there = from.pop()?;
+    to.push(Version {
+        what: there.what.clone(),
+        ..now
+    });
+    Some(there)
 }
 
 #[cfg(test)]

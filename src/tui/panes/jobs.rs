@@ -73,7 +73,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             let label: String = e.label.chars().take(label_w).collect();
             let mut spans = vec![Span::raw(format!("{label:<label_w$} "))];
             match &e.state {
-                JobState::Running if e.progress.in_open_phase() || e.progress.get().1 == 0 => {
+                JobState::Running if e.progress.in_open_phase() => {
                     // work of unknown length (continuation points): counted, no fraction
                     // as wide as a gauge's readouts, so the bar keeps its width between phases
                     let tail = format!(

@@ -14,12 +14,17 @@ use crate::tui::panes::ellipsis;
 /// The help's width with two columns of keys.
 const HELP_WIDTH: u16 = 96;
 
-/// A line of a list to choose from: a name, then what it is, muted.
-fn choice(name: String, about: String, app: &App) -> Line<'static> {
-    Line::from(vec![
+/// A line of a list to choose from: a name, then what it is, muted; highlighted if selected.
+fn choice(name: String, about: String, selected: bool, app: &App) -> Line<'static> {
+    let line = Line::from(vec![
         Span::raw(name),
         Span::styled(about, app.theme.muted()),
-    ])
+    ]);
+    if selected {
+        line.style(app.theme.selected())
+    } else {
+        line
+    }
 }
 
 /// A box of `w × h` centred in `area` (clipped to it).
@@ -139,12 +144,12 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 .iter()
                 .enumerate()
                 .map(|(i, (kind, about))| {
-                    let line = choice(format!("{kind:<19} "), ellipsis(about, room), app);
-                    if i == *selected {
-                        line.style(t.selected())
-                    } else {
-                        line
-                    }
+                    choice(
+                        format!("{kind:<19} "),
+                        ellipsis(about, room),
+                        i == *selected,
+                        app,
+                    )
                 })
                 .collect();
             lines.push(Line::styled(
@@ -223,12 +228,12 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 .map(|(i, (f, about))| {
                     let name: String = name_of(f).chars().take(name_w).collect();
                     let room = inner.saturating_sub(name_w + 2);
-                    let line = choice(format!("{name:<name_w$}  "), ellipsis(about, room), app);
-                    if i == *selected {
-                        line.style(t.selected())
-                    } else {
-                        line
-                    }
+                    choice(
+                        format!("{name:<name_w$}  "),
+                        ellipsis(about, room),
+                        i == *selected,
+                        app,
+                    )
                 })
                 .collect();
             // the selected session's whole description below the list

@@ -274,7 +274,7 @@ pub fn error_line(e: &SessionError) -> String {
 
 /// The pane's state as drawn.
 pub struct ParamsPane<'a> {
-    pub rows: &'a [Row],
+    pub rows: &'a [&'a Row],
     pub selected: usize,
     /// The text being typed, if editing.
     pub editing: Option<&'a str>,

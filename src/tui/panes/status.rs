@@ -98,10 +98,10 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let mut spans = hints(&keys);
     let room = width.saturating_sub(cells(&spans) + marker.len());
     // what the session is about, beside its name, where there is room
-    let about = &app.description;
+    let about = app.description();
     let name = if !about.is_empty() && Span::raw(name.as_str()).width() + 12 < room {
         let left = room - Span::raw(name.as_str()).width() - 3;
-        format!("{} · {name}", super::ellipsis(about, left))
+        format!("{} · {name}", super::ellipsis(&about, left))
     } else {
         name
     };

@@ -126,17 +126,12 @@ pub fn draw(
     }
     let done = b.labels.iter().filter(|l| l.is_some()).count();
     if done < b.labels.len() {
-        footer.push(Line::styled(
-            format!(
-                "{done} of {} cells so far{}",
-                b.labels.len(),
-                if previous.is_some() {
-                    "; faded: the previous settings' basin"
-                } else {
-                    ""
-                }
-            ),
-            theme.muted(),
+        footer.push(super::previous::so_far(
+            done,
+            b.labels.len(),
+            "cells",
+            previous.map(|_| "basin"),
+            theme,
         ));
     }
     let map = HeatMap {

@@ -154,17 +154,12 @@ pub fn draw(
     }
     let done = m.rows.iter().filter(|r| r.is_some()).count();
     if done < m.rows.len() {
-        footer.push(Line::styled(
-            format!(
-                "{done} of {} rows so far{}",
-                m.rows.len(),
-                if previous.is_some() {
-                    "; faded: the previous settings' map"
-                } else {
-                    ""
-                }
-            ),
-            theme.muted(),
+        footer.push(super::previous::so_far(
+            done,
+            m.rows.len(),
+            "rows",
+            previous.map(|_| "map"),
+            theme,
         ));
     }
     let map = HeatMap {

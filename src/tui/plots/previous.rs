@@ -58,3 +58,21 @@ pub fn beneath(plot: &mut XyPlot, previous: &ResultView, label: &str, theme: &Th
     let at = plot.footer.len().min(1);
     plot.footer.insert(at, legend(label, theme));
 }
+
+/// The footer line of a grid still computing: `done` of `total` `cells` so far, and, if the
+/// previous settings' `what` shows faded in the rest, that it does.
+pub fn so_far(
+    done: usize,
+    total: usize,
+    cells: &str,
+    faded: Option<&str>,
+    theme: &Theme,
+) -> Line<'static> {
+    let faded = faded.map_or(String::new(), |what| {
+        format!("; faded: the previous settings' {what}")
+    });
+    Line::styled(
+        format!("{done} of {total} {cells} so far{faded}"),
+        theme.muted(),
+    )
+}
