@@ -9,8 +9,12 @@ use std::sync::atomic::AtomicBool;
 
 use isola::analysis::batch::steady_states;
 use isola::analysis::{SteadyStateSpec, steady_state};
+use isola::model::equations::lanes::EquationLanes;
+use isola::model::equations::{EquationModel, ModelDefinition};
 use isola::model::{DriveSpec, ParamSpec, Params};
-use isola::solver::isa::Isa;
+use isola::solver::general::GeneralRk4;
+use isola::solver::general_lanes::Lanes;
+use isola::solver::isa::{self, Isa};
 use isola::solver::{Resolution, Rk4};
 
 const PERIODS: usize = 200;
@@ -64,6 +68,59 @@ fn rk4_steps(c: &mut Criterion) {
     g.finish();
 }
 
+/// The paper's model written as equations (`sessions/user_model_paper.toml`) on the general
+/// engine, against the built-in on one lane, at the same steps per period.
+fn written_model_steps(c: &mut Criterion) {
+    let text = include_str!("../sessions/user_model_paper.toml");
+    let def = ModelDefinition::from_session_text(text).unwrap().unwrap();
+    let model = EquationModel::new(&def, text).unwrap();
+    let mut values = model.defaults();
+    values[model.parameter("omega").unwrap()] = 3.7;
+    let mut sys = model.system(&values).unwrap();
+    let p = Params::baseline();
+    let rk = Rk4::new(&p, &Resolution::default());
+    let general = GeneralRk4::new(&sys, &Resolution::default());
+    let steps = (PERIODS * rk.steps_per_period()) as u64;
+    let mut g = c.benchmark_group("written_model_steps");
+    g.measurement_time(Duration::from_secs(4)).sample_size(20);
+    g.throughput(Throughput::Elements(steps));
+    g.bench_function("slack/built_in_1_lane", |b| {
+        b.iter(|| run_lanes::<1>(&rk, isa::chosen(), black_box(0.01)))
+    });
+    g.bench_function("slack/written", |b| {
+        b.iter(|| {
+            let mut traj = general.start(&mut sys, &[black_box(p.lambda_p() - 0.005), 0.0]);
+            for _ in 0..PERIODS {
+                general.advance_period(&mut sys, &mut traj, |_, _, _| {});
+            }
+            traj.x[0]
+        })
+    });
+    g.throughput(Throughput::Elements(8 * steps));
+    g.bench_function("slack/written_8_lanes", |b| {
+        b.iter(|| {
+            let mut eval = EquationLanes::<8>::new(&sys);
+            let mut lanes = Lanes::<8>::idle(sys.origin());
+            for l in 0..8 {
+                let mut x0 = *sys.origin();
+                x0[0] = black_box(p.lambda_p() + 0.01 * (l as f64 / 8.0 - 0.5));
+                x0[1] = 0.01 * l as f64 / 8.0;
+                general.restart_lane(&mut sys, &mut lanes, l, &x0);
+            }
+            for _ in 0..PERIODS * general.steps_per_period() {
+                general.advance_lanes(&mut sys, &mut eval, &mut lanes);
+            }
+            lanes.x[0][0]
+        })
+    });
+    let built_in_16 = steps * 16;
+    g.throughput(Throughput::Elements(built_in_16));
+    g.bench_function("slack/built_in_16_lanes", |b| {
+        b.iter(|| run_lanes::<16>(&rk, isa::chosen(), black_box(0.01)))
+    });
+    g.finish();
+}
+
 fn classify(c: &mut Criterion) {
     let p = Params::baseline();
     let spec = SteadyStateSpec::default();
@@ -107,5 +164,5 @@ fn classify(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, rk4_steps, classify);
+criterion_group!(benches, rk4_steps, written_model_steps, classify);
 criterion_main!(benches);

@@ -418,3 +418,93 @@ fn numbers_read_back_from_a_csv_are_the_ones_computed() {
         );
     }
 }
+
+/// The paper's model written as equations (`sessions/user_model_paper.toml`) gives the
+/// built-in model's results through the session path: the same responses (type, hidden flag,
+/// share of starts, branch) at each ω_e with amplitudes within 1e-7, and the same basin label
+/// in every cell with the same attractor counts.
+#[test]
+fn the_paper_model_written_as_equations_gives_the_built_in_results() {
+    let dir = scratch("written");
+    let written = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/user_model_paper.toml"),
+    )
+    .unwrap();
+    let model =
+        &written[written.find("\n[model]\n").unwrap()..written.find("\n[[analysis]]").unwrap()];
+    let analyses = r#"
+[[analysis]]
+name = "response"
+kind = "frequency_response"
+[analysis.settings]
+omega = { min = 3.6, max = 3.8, points = 3 }
+dx = { min = -0.8, max = 0.8, points = 5 }
+v = { min = -1.0, max = 1.0, points = 5 }
+
+[[analysis]]
+name = "basin"
+kind = "basin"
+model = { omega = 3.7 }
+[analysis.settings]
+dx = { min = -0.8, max = 0.8, points = 9 }
+v = { min = -1.0, max = 1.0, points = 11 }
+"#;
+    let built_in = format!("schema = 1\n[model]\nadr = 0.6\ne_a = 0.04\n{analyses}");
+    let written = format!("schema = 1\n{model}\n{analyses}");
+    let mut csv = Vec::new();
+    for (name, text) in [("built_in", built_in), ("written", written)] {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let session = Session::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        for entry in &session.analyses {
+            run_analysis(&session, entry, Shard::ALL, &Progress::new(0)).unwrap();
+        }
+        let read = |file: &str| -> Vec<std::collections::HashMap<String, String>> {
+            let mut r = csv::Reader::from_path(session.results_dir().join(file)).unwrap();
+            r.deserialize().map(|row| row.unwrap()).collect()
+        };
+        csv.push((
+            read("response.csv"),
+            read("basin.csv"),
+            read("basin.attractors.csv"),
+        ));
+    }
+    let key = |r: &std::collections::HashMap<String, String>| {
+        [
+            "omega",
+            "response_type",
+            "hidden",
+            "seeded",
+            "branch",
+            "share",
+        ]
+        .map(|c| r[c].clone())
+    };
+    let (b, w) = (&csv[0], &csv[1]);
+    assert_eq!(b.0.len(), w.0.len());
+    for (rb, rw) in b.0.iter().zip(&w.0) {
+        assert_eq!(key(rb), key(rw));
+        if let (Ok(x), Ok(y)) = (
+            rb["amplitude_stretch"].parse::<f64>(),
+            rw["amplitude_stretch"].parse::<f64>(),
+        ) {
+            assert!((x - y).abs() < 1e-7, "{x} {y}");
+        }
+    }
+    let labels = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
+        rows.iter()
+            .map(|r| format!("{} {}", r["attractor"], r["ratio"]))
+            .collect()
+    };
+    assert_eq!(labels(&b.1), labels(&w.1));
+    let counts = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
+        rows.iter()
+            .map(|r| format!("{} {}", r["ratio"], r["cells"]))
+            .collect()
+    };
+    assert_eq!(counts(&b.2), counts(&w.2));
+    assert!(
+        b.2.len() >= 2,
+        "the basin shows the 1:1 response and the 1:2 isola"
+    );
+}

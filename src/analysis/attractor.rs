@@ -80,6 +80,7 @@ mod tests {
             ratio: Some(Ratio::new(1, points.len() as u32)),
             amplitude: Some(0.4),
             poincare: points,
+            states: Vec::new(),
             transient_periods: 10,
             lambda_min: Some(0.8),
             lambda_max: Some(1.2),

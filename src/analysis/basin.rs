@@ -5,9 +5,10 @@ use serde::{Deserialize, Serialize};
 
 use super::AnalysisError;
 use super::attractor::{AttractorTable, SAME_POINT_TOL};
-use super::batch::{KnownAttractors, LANES, steady_states};
+use super::batch::{KnownAttractors, LANES};
 use super::capture::Verification;
-use super::grid::{Axis, starts};
+use super::grid::Axis;
+use super::oscillator::Oscillator;
 use super::progress::Progress;
 use super::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::Params;
@@ -93,19 +94,19 @@ pub struct BasinChunk {
 
 /// Computes the basin of attraction of `params` over `spec`'s grid on the current rayon pool.
 /// The result does not depend on the number of threads.
-pub fn basin(
-    params: &Params,
+pub fn basin<O: Oscillator>(
+    params: &O,
     spec: &BasinSpec,
     progress: &Progress,
     on_chunk: &(dyn Fn(BasinChunk) + Sync),
 ) -> Result<Basin, AnalysisError> {
     let plan = BasinPlan::new(params, spec, progress)?;
     progress.grow_total(plan.cells());
-    let chunks: Vec<Option<Vec<SteadyState>>> = (0..plan.chunks())
+    let chunks: Vec<Result<Vec<SteadyState>, AnalysisError>> = (0..plan.chunks())
         .into_par_iter()
         .map(|n| {
             let out = plan.chunk(n, progress);
-            if let Some(outcomes) = &out {
+            if let Ok(outcomes) = &out {
                 on_chunk(BasinChunk {
                     start: n * CHUNK_CELLS,
                     outcomes: outcomes.clone(),
@@ -114,35 +115,34 @@ pub fn basin(
             out
         })
         .collect();
-    let chunks: Vec<Vec<SteadyState>> = chunks
-        .into_iter()
-        .collect::<Option<_>>()
-        .ok_or(AnalysisError::Cancelled)?;
+    let chunks: Vec<Vec<SteadyState>> = chunks.into_iter().collect::<Result<_, _>>()?;
     Ok(plan.assemble(chunks))
 }
 
 /// A validated basin computation cut into chunks of [`CHUNK_CELLS`] cells, addressed by index,
 /// so that chunks can be computed in any order, on any machine, and saved as they finish.
-pub struct BasinPlan<'a> {
-    params: &'a Params,
+pub struct BasinPlan<'a, O: Oscillator = Params> {
+    params: &'a O,
     spec: &'a BasinSpec,
-    ics: Vec<[f64; 2]>,
+    ics: Vec<O::State>,
     seeds: Option<KnownAttractors>,
 }
 
-impl<'a> BasinPlan<'a> {
+impl<'a, O: Oscillator> BasinPlan<'a, O> {
     /// Validates the spec and finds the seed attractors every chunk starts from.
     pub fn new(
-        params: &'a Params,
+        params: &'a O,
         spec: &'a BasinSpec,
         progress: &Progress,
     ) -> Result<Self, AnalysisError> {
         spec.validate()?;
-        let ics = starts(params.lambda_p(), &spec.dx, &spec.v);
-        let seeds = if spec.early_stop {
-            Some(seed_attractors(params, spec, &ics, progress)?)
-        } else {
-            None
+        let (dx, v) = (&spec.dx, &spec.v);
+        let ics: Vec<O::State> = (0..dx.points * v.points)
+            .map(|c| params.grid_start([dx.at(c / v.points), v.at(c % v.points)]))
+            .collect();
+        let seeds = match spec.early_stop {
+            true => seed_attractors(params, spec, &ics, progress)?,
+            false => None,
         };
         Ok(BasinPlan {
             params,
@@ -161,17 +161,16 @@ impl<'a> BasinPlan<'a> {
     }
 
     /// The initial states of chunk `n`.
-    pub fn chunk_cells(&self, n: usize) -> &[[f64; 2]] {
+    pub fn chunk_cells(&self, n: usize) -> &[O::State] {
         let start = n * CHUNK_CELLS;
         &self.ics[start..(start + CHUNK_CELLS).min(self.ics.len())]
     }
 
-    /// The outcomes of chunk `n`'s cells; `None` if cancelled.
-    pub fn chunk(&self, n: usize, progress: &Progress) -> Option<Vec<SteadyState>> {
+    /// The outcomes of chunk `n`'s cells.
+    pub fn chunk(&self, n: usize, progress: &Progress) -> Result<Vec<SteadyState>, AnalysisError> {
         let cells = self.chunk_cells(n);
         let mut known = self.seeds.clone();
-        steady_states(
-            self.params,
+        self.params.steady_states(
             cells,
             &self.spec.steady,
             known.as_mut(),
@@ -203,35 +202,27 @@ const SEED_SIDE: usize = 12;
 /// Attractors found from a fixed [`SEED_SIDE`]² sub-grid, integrated in full (in parallel):
 /// the starting knowledge of every chunk, so results do not depend on which chunk runs first.
 /// The more attractors known up front, the fewer regions each chunk verifies on its own.
-fn seed_attractors(
-    params: &Params,
+fn seed_attractors<O: Oscillator>(
+    params: &O,
     spec: &BasinSpec,
-    ics: &[[f64; 2]],
+    ics: &[O::State],
     progress: &Progress,
-) -> Result<KnownAttractors, AnalysisError> {
+) -> Result<Option<KnownAttractors>, AnalysisError> {
+    let Some(mut known) = params.known_attractors(&spec.steady, spec.capture) else {
+        return Ok(None);
+    };
     let (nx, nv) = (spec.dx.points, spec.v.points);
     let last = SEED_SIDE - 1;
     let pick = |n: usize, j: usize| if n <= 1 { 0 } else { j * (n - 1) / last };
-    let mut sample: Vec<[f64; 2]> = (0..SEED_SIDE * SEED_SIDE)
+    let mut sample: Vec<O::State> = (0..SEED_SIDE * SEED_SIDE)
         .map(|j| ics[pick(nx, j / SEED_SIDE) * nv + pick(nv, j % SEED_SIDE)])
         .collect();
     sample.dedup();
     let outcomes: Vec<SteadyState> = sample
         .par_chunks(LANES)
-        .map(|part| {
-            steady_states(
-                params,
-                part,
-                &spec.steady,
-                None,
-                progress.cancel_flag(),
-                |_| {},
-            )
-        })
-        .collect::<Option<Vec<Vec<_>>>>()
-        .ok_or(AnalysisError::Cancelled)?
+        .map(|part| params.steady_states(part, &spec.steady, None, progress.cancel_flag(), |_| {}))
+        .collect::<Result<Vec<Vec<_>>, _>>()?
         .concat();
-    let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
     known.learn_all(&outcomes, SAME_POINT_TOL, Verification::Covered);
-    Ok(known)
+    Ok(Some(known))
 }

@@ -172,8 +172,8 @@ pub fn response(spec: &FrequencyResponseSpec, at_omega: Option<f64>) -> Result<C
     Ok(cost)
 }
 
-pub fn basin(spec: &BasinSpec, params: &Params) -> Result<Cost, ParamError> {
-    let steady = steady_cost(&spec.steady, params.omega(), "steady.")?;
+pub fn basin(spec: &BasinSpec, omega: f64) -> Result<Cost, ParamError> {
+    let steady = steady_cost(&spec.steady, omega, "steady.")?;
     let cells = (spec.dx.points * spec.v.points) as f64;
     // a label and the CSV's row per cell in memory while assembling (the chunks are read one
     // at a time: a 1001 × 1001 basin peaks at 56 MB); the chunks on disk
@@ -247,8 +247,8 @@ pub fn continuation(
     .with_steady(&one))
 }
 
-pub fn time_history(spec: &TimeHistorySpec, params: &Params) -> Result<Cost, ParamError> {
-    let steady = steady_cost(&spec.steady, params.omega(), "steady.")?;
+pub fn time_history(spec: &TimeHistorySpec, omega: f64) -> Result<Cost, ParamError> {
+    let steady = steady_cost(&spec.steady, omega, "steady.")?;
     let periods = spec
         .max_transient_periods
         .min(spec.steady.max_forcing_periods) as f64
@@ -319,7 +319,7 @@ mod tests {
     #[test]
     fn the_papers_basin_and_an_absurd_one() {
         let p = Params::baseline();
-        let fig6 = basin(&BasinSpec::default(), &p).unwrap();
+        let fig6 = basin(&BasinSpec::default(), p.omega()).unwrap();
         // 50451 cells × 6000 periods × 64 steps
         assert_eq!(fig6.steps, 50451.0 * 6000.0 * 64.0);
         assert!(
@@ -329,7 +329,7 @@ mod tests {
         );
         let mut spec = BasinSpec::default();
         spec.steady.resolution.max_step = 1e-6;
-        let e = basin(&spec, &Params::paper(0.6, 0.01).unwrap()).unwrap_err();
+        let e = basin(&spec, Params::paper(0.6, 0.01).unwrap().omega()).unwrap_err();
         assert_eq!(e.field, "steady.resolution.max_step");
     }
 }

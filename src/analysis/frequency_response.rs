@@ -10,10 +10,10 @@ use serde::{Deserialize, Serialize};
 use super::AnalysisError;
 use super::Ratio;
 use super::attractor::{SAME_POINT_TOL, same_attractor};
-use super::batch::{KnownAttractors, steady_states};
+use super::batch::KnownAttractors;
 use super::capture::Verification;
-use super::continuation::ContinuationParameter;
-use super::grid::{Axis, starts};
+use super::grid::Axis;
+use super::oscillator::Oscillator;
 use super::progress::Progress;
 use super::steady_state::{Class, SteadyState, SteadyStateSpec};
 use super::stepped_sweep::{SweepStep, stepped_sweep_over};
@@ -197,8 +197,8 @@ impl FrequencyResponse {
 }
 
 /// Computes the frequency response of `params` (its ω_e is replaced by the spec's grid).
-pub fn frequency_response(
-    params: &Params,
+pub fn frequency_response<O: Oscillator>(
+    params: &O,
     spec: &FrequencyResponseSpec,
     progress: &Progress,
 ) -> Result<FrequencyResponse, AnalysisError> {
@@ -207,8 +207,8 @@ pub fn frequency_response(
 
 /// The same, handing the grid's responses at each ω_e to `on_omega` as soon as they are known
 /// (before seeding, sweeps and branches), for a live view.
-pub fn frequency_response_live(
-    params: &Params,
+pub fn frequency_response_live<O: Oscillator>(
+    params: &O,
     spec: &FrequencyResponseSpec,
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
@@ -224,10 +224,10 @@ pub fn frequency_response_live(
 /// `work` says who announces its [`FrequencyResponseSpec::work`] on `progress`: the call
 /// itself, or its caller (the rows of a map, the members of a family: announced together, so
 /// that a gauge runs once from 0 to 100 %).
-pub fn frequency_response_over(
-    params: &Params,
+pub fn frequency_response_over<O: Oscillator>(
+    params: &O,
     spec: &FrequencyResponseSpec,
-    parameter: ContinuationParameter,
+    parameter: O::Parameter,
     progress: &Progress,
     work: Work,
 ) -> Result<FrequencyResponse, AnalysisError> {
@@ -248,56 +248,56 @@ pub enum Work {
 }
 
 /// Runs a plan whose work is announced already.
-fn run_plan(
-    plan: &ResponsePlan,
+fn run_plan<O: Oscillator>(
+    plan: &ResponsePlan<O>,
     progress: &Progress,
     on_omega: &(dyn Fn(&[Response]) + Sync),
 ) -> Result<FrequencyResponse, AnalysisError> {
-    let per_omega: Vec<Option<Vec<Response>>> = (0..plan.chunks())
+    let per_omega: Vec<Result<Vec<Response>, AnalysisError>> = (0..plan.chunks())
         .into_par_iter()
         .map(|i| {
             let found = plan.grid_at(i, progress)?;
             on_omega(&found);
-            Some(found)
+            Ok(found)
         })
         .collect();
-    let per_omega: Vec<Vec<Response>> = per_omega
-        .into_iter()
-        .collect::<Option<_>>()
-        .ok_or(AnalysisError::Cancelled)?;
+    let per_omega: Vec<Vec<Response>> = per_omega.into_iter().collect::<Result<_, _>>()?;
     plan.finish(per_omega, progress)
 }
 
 /// A validated frequency response cut into chunks, one per ω_e of the grid (its grid of initial
 /// states); seeding, sweeps and branches follow once every chunk is done.
-pub struct ResponsePlan<'a> {
-    params: &'a Params,
+pub struct ResponsePlan<'a, O: Oscillator = Params> {
+    params: &'a O,
     spec: &'a FrequencyResponseSpec,
     omegas: Vec<f64>,
-    at_omega: Vec<Params>,
-    ics: Vec<[f64; 2]>,
+    at_omega: Vec<O>,
+    ics: Vec<O::State>,
 }
 
-impl<'a> ResponsePlan<'a> {
-    pub fn new(params: &'a Params, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
-        Self::over(params, spec, ContinuationParameter::Omega)
+impl<'a, O: Oscillator> ResponsePlan<'a, O> {
+    pub fn new(params: &'a O, spec: &'a FrequencyResponseSpec) -> Result<Self, AnalysisError> {
+        Self::over(params, spec, params.frequency())
     }
 
     /// The same with the grid's values taken as values of `parameter` (a response against a
     /// model parameter at the model's ω_e; its sweeps step that parameter quasi-statically,
     /// and each response's `omega` holds the value).
     pub fn over(
-        params: &'a Params,
+        params: &'a O,
         spec: &'a FrequencyResponseSpec,
-        parameter: ContinuationParameter,
+        parameter: O::Parameter,
     ) -> Result<Self, AnalysisError> {
         spec.validate()?;
         let omegas = spec.omega.values();
         let at_omega = omegas
             .iter()
-            .map(|&w| parameter.apply(params, w))
+            .map(|&w| params.with(parameter, w))
             .collect::<Result<_, _>>()?;
-        let ics = starts(params.lambda_p(), &spec.dx, &spec.v);
+        let (dx, v) = (&spec.dx, &spec.v);
+        let ics = (0..dx.points * v.points)
+            .map(|c| params.grid_start([dx.at(c / v.points), v.at(c % v.points)]))
+            .collect();
         Ok(ResponsePlan {
             params,
             spec,
@@ -318,16 +318,15 @@ impl<'a> ResponsePlan<'a> {
         self.spec.work()
     }
 
-    /// The distinct responses from the grid of initial states at ω_e index `i`; `None` if
-    /// cancelled.
-    pub fn grid_at(&self, i: usize, progress: &Progress) -> Option<Vec<Response>> {
+    /// The distinct responses from the grid of initial states at ω_e index `i`.
+    pub fn grid_at(&self, i: usize, progress: &Progress) -> Result<Vec<Response>, AnalysisError> {
         let spec = self.spec;
         let at_omega = &self.at_omega[i];
         let mut known = spec
             .early_stop
-            .then(|| KnownAttractors::new(at_omega, &spec.steady.resolution, spec.capture));
-        let outcomes = steady_states(
-            at_omega,
+            .then(|| at_omega.known_attractors(&spec.steady, spec.capture))
+            .flatten();
+        let outcomes = at_omega.steady_states(
             &self.ics,
             &spec.steady,
             known.as_mut(),
@@ -353,7 +352,7 @@ impl<'a> ResponsePlan<'a> {
         for r in &mut found {
             r.share = r.count as f64 / self.ics.len() as f64;
         }
-        Some(found)
+        Ok(found)
     }
 
     /// Seeds each ω_e from its neighbours, runs the sweeps, marks hidden responses and links
@@ -385,10 +384,9 @@ impl<'a> ResponsePlan<'a> {
             }
         }
         let (forward, backward) = if spec.sweeps {
-            let rest = [params.lambda_p(), 0.0];
-            let up: Vec<(f64, Params)> =
-                omegas.iter().copied().zip(self.at_omega.clone()).collect();
-            let down: Vec<(f64, Params)> = up.iter().rev().cloned().collect();
+            let rest = params.rest();
+            let up: Vec<(f64, O)> = omegas.iter().copied().zip(self.at_omega.clone()).collect();
+            let down: Vec<(f64, O)> = up.iter().rev().cloned().collect();
             let (fw, bw) = rayon::join(
                 || stepped_sweep_over(&up, rest, &spec.steady, cancel, |_| progress.add(1)),
                 || stepped_sweep_over(&down, rest, &spec.steady, cancel, |_| progress.add(1)),
@@ -438,26 +436,27 @@ fn same_response(a: &SteadyState, b: &SteadyState) -> bool {
 struct Seeding {
     /// Responses of the neighbours below and above already integrated here.
     used: [usize; 2],
-    /// This ω_e's responses with their capture regions, verified once and kept.
-    known: Option<KnownAttractors>,
+    /// This ω_e's responses with their capture regions, verified once and kept (None
+    /// inside for a model that cannot verify them).
+    known: Option<Option<KnownAttractors>>,
 }
 
 /// Integrates the periodic responses of ω_e index `from` not yet seeded at index `i`; adds
 /// what is new.
-fn seed_from(
+fn seed_from<O: Oscillator>(
     per_omega: &mut [Vec<Response>],
     seeding: &mut Seeding,
     i: usize,
     from: usize,
-    (omega, params): (f64, &Params),
+    (omega, params): (f64, &O),
     spec: &FrequencyResponseSpec,
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<usize, AnalysisError> {
     let used = &mut seeding.used[usize::from(from > i)];
-    let seeds: Vec<[f64; 2]> = per_omega[from][*used..]
+    let seeds: Vec<O::State> = per_omega[from][*used..]
         .iter()
         .filter(|r| r.steady.class == Class::Periodic)
-        .flat_map(|r| r.steady.poincare.iter().copied())
+        .flat_map(|r| params.poincare_states(&r.steady))
         .collect();
     *used = per_omega[from].len();
     if seeds.is_empty() {
@@ -465,13 +464,12 @@ fn seed_from(
     }
     // the responses found here, and those seeding adds (learnt as they are reached)
     let known = seeding.known.get_or_insert_with(|| {
-        let mut known = KnownAttractors::new(params, &spec.steady.resolution, spec.capture);
+        let mut known = params.known_attractors(&spec.steady, spec.capture)?;
         let found: Vec<SteadyState> = per_omega[i].iter().map(|r| r.steady.clone()).collect();
         known.learn_all(&found, SAME_POINT_TOL, Verification::OneReturn);
-        known
+        Some(known)
     });
-    let outcomes = steady_states(params, &seeds, &spec.steady, Some(known), cancel, |_| {})
-        .ok_or(AnalysisError::Cancelled)?;
+    let outcomes = params.steady_states(&seeds, &spec.steady, known.as_mut(), cancel, |_| {})?;
     let mut new = 0;
     for s in outcomes {
         if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))

@@ -19,6 +19,7 @@ pub mod hunt;
 pub mod hunt_family;
 pub mod isola_limits;
 pub mod map;
+pub mod oscillator;
 pub mod period_detector;
 pub mod period_map;
 pub mod progress;
@@ -29,6 +30,7 @@ pub mod steady_state;
 pub mod stepped_sweep;
 pub mod time_history;
 
+pub use oscillator::Oscillator;
 pub use period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};
 pub use progress::Progress;
 pub use ratio::Ratio;
@@ -55,4 +57,12 @@ pub enum AnalysisError {
     NoPeriodicSeed { dx0: f64, v0: f64, class: String },
     #[error("cancelled")]
     Cancelled,
+    #[error(
+        "the model gives a value that is not finite at τ = {tau}, from the state {state:?}: {expression}"
+    )]
+    NotFinite {
+        tau: f64,
+        state: Vec<f64>,
+        expression: String,
+    },
 }

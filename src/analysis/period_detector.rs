@@ -4,17 +4,24 @@ use std::collections::VecDeque;
 
 use super::steady_state::SteadyStateSpec;
 
-/// Watches stroboscopic points and says when, and with which period, they have converged.
+/// Watches stroboscopic points of `N` numbers and says when, and with which period, they have
+/// converged (max-norm over the `N`).
 #[derive(Debug, Clone)]
-pub struct PeriodDetector {
-    history: VecDeque<[f64; 2]>,
+pub struct PeriodDetector<const N: usize = 2> {
+    history: VecDeque<[f64; N]>,
     max_period: usize,
     tol_converged: f64,
     tol_match: f64,
     periods: usize,
 }
 
-impl PeriodDetector {
+/// max_i |a_i − b_i|.
+#[inline]
+fn distance<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    (1..N).fold((a[0] - b[0]).abs(), |m, i| m.max((a[i] - b[i]).abs()))
+}
+
+impl<const N: usize> PeriodDetector<N> {
     pub fn new(spec: &SteadyStateSpec) -> Self {
         PeriodDetector {
             history: VecDeque::with_capacity(2 * spec.max_period + 1),
@@ -32,7 +39,7 @@ impl PeriodDetector {
 
     /// Takes the next point; returns the period k once some k ≤ `max_period` repeats to
     /// `tol_converged`: the smallest k that repeats to `tol_match`.
-    pub fn push(&mut self, point: [f64; 2]) -> Option<usize> {
+    pub fn push(&mut self, point: [f64; N]) -> Option<usize> {
         self.periods += 1;
         if self.history.len() == 2 * self.max_period {
             self.history.pop_front();
@@ -41,11 +48,8 @@ impl PeriodDetector {
         // cheap precheck: the newest point must be back within tol_converged of the point k
         // periods before for some k, or nothing has converged
         let n = self.history.len();
-        let newest = self.history[n - 1];
-        let near = |k: usize| {
-            let b = self.history[n - 1 - k];
-            (newest[0] - b[0]).abs().max((newest[1] - b[1]).abs()) < self.tol_converged
-        };
+        let newest = &self.history[n - 1];
+        let near = |k: usize| distance(newest, &self.history[n - 1 - k]) < self.tol_converged;
         if !(1..=self.max_period).any(|k| 2 * k <= n && near(k)) {
             return None;
         }
@@ -75,10 +79,7 @@ impl PeriodDetector {
         let h = &self.history;
         let n = h.len() - back;
         (0..k)
-            .map(|j| {
-                let (a, b) = (h[n - 1 - j], h[n - 1 - j - k]);
-                (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
-            })
+            .map(|j| distance(&h[n - 1 - j], &h[n - 1 - j - k]))
             .fold(0.0, f64::max)
     }
 }

@@ -106,8 +106,13 @@ pub struct SteadyState {
     /// max − min of λ_I over one response period (over the last `max_period` forcing periods
     /// for a non-periodic response; none after a collision).
     pub amplitude: Option<f64>,
-    /// The k stroboscopic points [λ_I, v] at τ = nT, in time order.
+    /// The k stroboscopic points [λ_I, v] at τ = nT, in time order (for a written model,
+    /// its two grid states).
     pub poincare: Vec<[f64; 2]>,
+    /// A written model's whole states at those points, when it has more than its two grid
+    /// states (empty otherwise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub states: Vec<Vec<f64>>,
     /// Forcing periods integrated before the steady state was accepted.
     pub transient_periods: usize,
     pub lambda_min: Option<f64>,
@@ -196,6 +201,7 @@ pub(crate) fn from_record(
         ratio: periodic.then(|| Ratio::of_samples(&rec.samples, k)),
         amplitude: Some(rec.amplitude()),
         poincare,
+        states: Vec::new(),
         transient_periods: n,
         lambda_min: Some(rec.lambda_min),
         lambda_max: Some(rec.lambda_max),
@@ -211,6 +217,7 @@ pub(crate) fn collided(c: Collision, n: usize) -> SteadyState {
         ratio: None,
         amplitude: None,
         poincare: Vec::new(),
+        states: Vec::new(),
         transient_periods: n,
         lambda_min: None,
         lambda_max: None,

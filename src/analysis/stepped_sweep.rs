@@ -4,7 +4,8 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::AnalysisError;
-use super::steady_state::{SteadyState, SteadyStateSpec, steady_state};
+use super::oscillator::Oscillator;
+use super::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::Params;
 
 /// One step of a stepped sweep.
@@ -35,9 +36,9 @@ pub fn stepped_sweep(
 
 /// The same through any sequence of (value, model): a quasi-static sweep of whichever
 /// parameter the values are of (the step's `omega` field then holds the value).
-pub fn stepped_sweep_over(
-    steps: &[(f64, Params)],
-    start: [f64; 2],
+pub fn stepped_sweep_over<O: Oscillator>(
+    steps: &[(f64, O)],
+    start: O::State,
     spec: &SteadyStateSpec,
     cancel: &AtomicBool,
     mut on_step: impl FnMut(&SweepStep),
@@ -50,7 +51,7 @@ pub fn stepped_sweep_over(
         if cancel.load(Ordering::Relaxed) {
             return Err(AnalysisError::Cancelled);
         }
-        let steady = steady_state(p, state[0], state[1], spec);
+        let steady = p.steady_state(state, spec)?;
         let step = SweepStep {
             omega: *value,
             steady,
@@ -58,12 +59,11 @@ pub fn stepped_sweep_over(
         };
         // the last stroboscopic point is the state at a period boundary: phase 0 again
         restarted = step.steady.poincare.is_empty();
-        state = step
-            .steady
-            .poincare
+        state = p
+            .poincare_states(&step.steady)
             .last()
             .copied()
-            .unwrap_or([p.lambda_p(), 0.0]);
+            .unwrap_or_else(|| p.rest());
         on_step(&step);
         out.push(step);
     }

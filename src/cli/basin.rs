@@ -43,7 +43,7 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
         ..BasinSpec::default()
     };
     spec.validate()?;
-    super::check_memory("basin", isola::analysis::cost::basin(&spec, &params))?;
+    super::check_memory("basin", isola::analysis::cost::basin(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
@@ -74,7 +74,7 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        isola::session::export::basin_csv(&result, &params, path)?;
+        isola::session::export::basin_csv(&result, params.omega(), path)?;
         println!("wrote {} and its .attractors.csv", path.display());
     }
     Ok(())

@@ -2,11 +2,13 @@
 //! of tension, and physical units. Pure functions, no I/O.
 
 pub mod drive;
+pub mod equations;
 pub mod error;
 pub mod forces;
 pub mod forcing;
 pub mod limits;
 pub mod params;
+pub mod system;
 pub mod units;
 
 pub use drive::{Drive, DriveSpec};

@@ -6,6 +6,7 @@ use crate::analysis::cost::{self, Cost};
 use crate::model::ParamError;
 
 use super::schema::{AnalysisEntry, Session, Settings};
+use super::written::ModelPoint;
 
 /// Integration steps per second and thread assumed for estimates (the RK4 lanes run at
 /// 1.6e7 to 1.8e8 per core on the reference machine; slack orbits are the slow end).
@@ -170,18 +171,23 @@ impl Budget {
 
 /// The worst-case cost of `entry` in `session`.
 pub fn cost_of(session: &Session, entry: &AnalysisEntry) -> Result<Cost, BudgetError> {
-    let params = session.params(Some(entry)).map_err(BudgetError::Setting)?;
+    let point = session.point(Some(entry)).map_err(BudgetError::Setting)?;
+    let omega = match &point {
+        ModelPoint::BuiltIn(p) => p.omega(),
+        ModelPoint::Written(sys) => sys.omega(),
+    };
     match &entry.settings {
         Settings::ForceCurve(s) => Ok(cost::force(s)),
-        Settings::TimeHistory(s) => cost::time_history(s, &params),
+        Settings::TimeHistory(s) => cost::time_history(s, omega),
         Settings::ChirpSweep(s) => cost::chirp(s),
         Settings::SteppedSweep(s) => cost::stepped(&s.omega, &s.steady),
         Settings::FrequencyResponse(s) => cost::response(s, None),
-        Settings::Basin(s) => cost::basin(s, &params),
+        Settings::Basin(s) => cost::basin(s, omega),
         Settings::Family(s) => cost::family(s),
-        Settings::Continuation(s) => cost::continuation(&s.continuation, &s.steady, params.omega()),
+        Settings::Continuation(s) => cost::continuation(&s.continuation, &s.steady, omega),
         Settings::Hunt(s) => cost::hunt(s),
-        Settings::Map(s) => cost::map(s, &params),
+        // a written model's map is refused as the session is read (`params` says why)
+        Settings::Map(s) => session.params(Some(entry)).and_then(|p| cost::map(s, &p)),
     }
     .map_err(BudgetError::Setting)
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use crate::analysis::SteadyState;
 use crate::analysis::basin::Basin;
 use crate::analysis::frequency_response::FrequencyResponse;
-use crate::model::{Device, Params};
+use crate::model::Device;
 
 /// Writes a CSV file whole (see [`super::output`]: a regular file is replaced atomically, a
 /// FIFO or device written through): the rows are built in memory, so a failure while filling
@@ -78,7 +78,7 @@ fn poincare_fields(s: &SteadyState) -> [String; 2] {
 }
 
 /// One row per cell (`dx_stretch, v_per_tau, attractor`) and, beside it, the attractor table.
-pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> {
+pub fn basin_csv(b: &Basin, omega: f64, path: &Path) -> anyhow::Result<()> {
     write_atomic(path, |w| {
         w.write_record(["dx_stretch", "v_per_tau", "attractor", "ratio"])?;
         let nv = b.v.len();
@@ -102,7 +102,7 @@ pub fn basin_csv(b: &Basin, params: &Params, path: &Path) -> anyhow::Result<()> 
         for a in &b.table.attractors {
             let mut row = vec![
                 a.id.to_string(),
-                params.omega().to_string(),
+                omega.to_string(),
                 a.count.to_string(),
                 num(b.fraction(a.id)),
             ];
@@ -239,6 +239,32 @@ pub fn history_bytes(
                 num(s.phi_i),
                 s.steady.to_string(),
             ])?;
+        }
+        Ok(())
+    })
+}
+
+/// One row per sample of a written model's time history: τ, its two grid states first, the
+/// other states, the amplitude's output, and whether the sample is on the steady response.
+pub fn state_history_bytes(
+    h: &crate::analysis::oscillator::history::StateHistory,
+    grid: [usize; 2],
+) -> anyhow::Result<Vec<u8>> {
+    let mut order: Vec<usize> = vec![grid[0]];
+    if grid[1] != grid[0] {
+        order.push(grid[1]);
+    }
+    order.extend((0..h.states.len()).filter(|i| !grid.contains(i)));
+    csv_bytes(|w| {
+        let mut header = vec!["tau"];
+        header.extend(order.iter().map(|&i| h.states[i].as_str()));
+        header.extend(["amplitude_output", "steady"]);
+        w.write_record(&header)?;
+        for s in &h.samples {
+            let mut row = vec![num(s.tau)];
+            row.extend(order.iter().map(|&i| num(s.state[i])));
+            row.extend([num(s.output), s.steady.to_string()]);
+            w.write_record(&row)?;
         }
         Ok(())
     })

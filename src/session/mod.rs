@@ -13,5 +13,6 @@ pub mod run;
 pub mod schema;
 pub mod select;
 pub mod store;
+pub mod written;
 
 pub use schema::{AnalysisEntry, Session, SessionError, SessionFile, Settings};

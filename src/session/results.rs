@@ -693,10 +693,15 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
         }
         Settings::TimeHistory(_) => {
             let mut h = HistoryView::default();
+            // a written model's history has its two grid states after τ, under their names
+            let (x, v) = match c.0.contains_key("lambda_stretch") {
+                true => ("lambda_stretch".to_string(), "v_per_tau".to_string()),
+                false => (c.name_at(1)?, c.name_at(2)?),
+            };
             for r in &rows {
                 h.tau.push(c.f64(r, "tau")?);
-                h.lambda.push(c.f64(r, "lambda_stretch")?);
-                h.v.push(c.f64(r, "v_per_tau")?);
+                h.lambda.push(c.f64(r, &x)?);
+                h.v.push(c.f64(r, &v)?);
                 h.steady.push(c.str(r, "steady")? == "true");
             }
             ResultView::History(h)

@@ -17,6 +17,7 @@ use super::store::finite::first_non_finite;
 use super::store::manifest::{MANIFEST_FORMAT, Manifest};
 use super::store::survey::{Survey, survey};
 use super::store::{self, ResultPaths, Work, lock, unix_now};
+use super::written::ModelPoint;
 use crate::analysis::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::branch_from_state::branch_from_state;
 use crate::analysis::chirp_sweep::chirp_sweep;
@@ -25,9 +26,12 @@ use crate::analysis::force_curve::force_curves;
 use crate::analysis::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
 use crate::analysis::hunt::{HuntSpec, hunt_in};
 use crate::analysis::map::{MapRow, MapSpec, map_curves, map_row};
-use crate::analysis::stepped_sweep::stepped_sweep;
+use crate::analysis::oscillator::history::state_history;
+use crate::analysis::stepped_sweep::{stepped_sweep, stepped_sweep_over};
 use crate::analysis::time_history::time_history;
-use crate::analysis::{AnalysisError, Progress, SteadyState};
+use crate::analysis::{AnalysisError, Oscillator, Progress, SteadyState};
+use crate::model::Params;
+use crate::model::equations::EquationSystem;
 
 impl ResultPaths {
     /// Where analysis `name` of `session` keeps its result.
@@ -343,66 +347,16 @@ impl Run<'_> {
 
     fn run(&self) -> anyhow::Result<Outcome> {
         let entry = self.entry;
-        let params = self.session.params(Some(entry))?;
+        let params = match self.session.point(Some(entry))? {
+            ModelPoint::BuiltIn(params) => params,
+            ModelPoint::Written(sys) => return self.run_written(&sys),
+        };
         let progress = self.progress;
         let named = self.named();
         match &entry.settings {
-            Settings::Basin(spec) => {
-                let plan = BasinPlan::new(&params, spec, progress).map_err(&named)?;
-                progress.grow_total(plan.cells());
-                let (dx, v) = (spec.dx.values(), spec.v.values());
-                self.chunked(
-                    |i| progress.add(plan.chunk_cells(i).len()),
-                    |i| Ok(plan.chunk(i, progress)),
-                    |i, outcomes: &Vec<SteadyState>| basin_content(spec, i, outcomes),
-                    |i| {
-                        let first = i * CHUNK_CELLS;
-                        let last = (first + CHUNK_CELLS).min(dx.len() * v.len()) - 1;
-                        let at =
-                            |c: usize| format!("(Δλ {}, v {})", dx[c / v.len()], v[c % v.len()]);
-                        format!("cells {first}–{last}, {} to {}", at(first), at(last))
-                    },
-                    |chunks, csv| {
-                        let mut failed = None;
-                        let basin = plan
-                            .assemble(chunks.map_while(|c| c.map_err(|e| failed = Some(e)).ok()));
-                        if let Some(e) = failed {
-                            return Err(e);
-                        }
-                        finite(&basin, "the assembled basin")?;
-                        export::basin_csv(&basin, &params, csv)
-                    },
-                )
-            }
-            Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
-                let plan = ResponsePlan::new(&params, spec).map_err(&named)?;
-                progress.grow_total(plan.work());
-                let per_chunk = spec.dx.points * spec.v.points;
-                let device = self.session.device();
-                self.chunked(
-                    |_| progress.add(per_chunk),
-                    |i| Ok(plan.grid_at(i, progress)),
-                    |i, responses: &Vec<Response>| response_content(spec, i, responses),
-                    |i| format!("ω_e = {}", spec.omega.at(i)),
-                    |chunks, csv| {
-                        let per_omega: Vec<Vec<Response>> =
-                            chunks.collect::<anyhow::Result<_>>()?;
-                        let fr = plan.finish(per_omega, progress).map_err(&named)?;
-                        if let Settings::Hunt(hunt) = &entry.settings {
-                            let found = hunt_in(&params, fr, &hunt.continuation, progress)
-                                .map_err(&named)?;
-                            finite(&found, "the hunt")?;
-                            let branches: Vec<_> =
-                                found.branches.iter().map(|h| &h.branch).collect();
-                            export::continued_csv(&branches, &export::branches_path(csv))?;
-                            export::response_csv(&found.response, &device, csv)
-                        } else {
-                            finite(&fr, "the frequency response")?;
-                            export::response_csv(&fr, &device, csv)
-                        }
-                    },
-                )
-            }
+            Settings::Basin(spec) => self.basin(&params, spec, params.omega()),
+            Settings::FrequencyResponse(spec) => self.response(&params, spec, None),
+            Settings::Hunt(hunt) => self.response(&params, &hunt.response, Some((&params, hunt))),
             Settings::Map(spec) => {
                 spec.validate(&params)?;
                 // the rows' work announced at once (rows found done count as done), so the
@@ -449,12 +403,97 @@ impl Run<'_> {
                     },
                 )
             }
-            single => self.whole(single, &params),
+            single => {
+                let device = self.session.device();
+                self.whole(|csv| run_single(single, &params, &device, csv, progress))
+            }
         }
     }
 
+    /// An analysis of a written model.
+    fn run_written(&self, sys: &EquationSystem) -> anyhow::Result<Outcome> {
+        let progress = self.progress;
+        match &self.entry.settings {
+            Settings::Basin(spec) => self.basin(sys, spec, sys.omega()),
+            Settings::FrequencyResponse(spec) => self.response(sys, spec, None),
+            single => self.whole(|csv| run_written_single(single, sys, csv, progress)),
+        }
+    }
+
+    /// A basin, chunk by chunk; `omega` for its attractor table.
+    fn basin<O: Oscillator>(
+        &self,
+        osc: &O,
+        spec: &BasinSpec,
+        omega: f64,
+    ) -> anyhow::Result<Outcome> {
+        let progress = self.progress;
+        let named = self.named();
+        let plan = BasinPlan::new(osc, spec, progress).map_err(&named)?;
+        progress.grow_total(plan.cells());
+        let (dx, v) = (spec.dx.values(), spec.v.values());
+        self.chunked(
+            |i| progress.add(plan.chunk_cells(i).len()),
+            |i| optional(plan.chunk(i, progress)),
+            |i, outcomes: &Vec<SteadyState>| basin_content(spec, i, outcomes),
+            |i| {
+                let first = i * CHUNK_CELLS;
+                let last = (first + CHUNK_CELLS).min(dx.len() * v.len()) - 1;
+                let at = |c: usize| format!("(Δλ {}, v {})", dx[c / v.len()], v[c % v.len()]);
+                format!("cells {first}–{last}, {} to {}", at(first), at(last))
+            },
+            |chunks, csv| {
+                let mut failed = None;
+                let basin =
+                    plan.assemble(chunks.map_while(|c| c.map_err(|e| failed = Some(e)).ok()));
+                if let Some(e) = failed {
+                    return Err(e);
+                }
+                finite(&basin, "the assembled basin")?;
+                export::basin_csv(&basin, omega, csv)
+            },
+        )
+    }
+
+    /// A frequency response (and, with `hunt`, the built-in model's isola hunt on it), one
+    /// chunk per ω_e.
+    fn response<O: Oscillator>(
+        &self,
+        osc: &O,
+        spec: &FrequencyResponseSpec,
+        hunt: Option<(&Params, &HuntSpec)>,
+    ) -> anyhow::Result<Outcome> {
+        let progress = self.progress;
+        let named = self.named();
+        let plan = ResponsePlan::new(osc, spec).map_err(&named)?;
+        progress.grow_total(plan.work());
+        let per_chunk = spec.dx.points * spec.v.points;
+        let device = self.session.device();
+        self.chunked(
+            |_| progress.add(per_chunk),
+            |i| optional(plan.grid_at(i, progress)),
+            |i, responses: &Vec<Response>| response_content(spec, i, responses),
+            |i| format!("ω_e = {}", spec.omega.at(i)),
+            |chunks, csv| {
+                let per_omega: Vec<Vec<Response>> = chunks.collect::<anyhow::Result<_>>()?;
+                let fr = plan.finish(per_omega, progress).map_err(&named)?;
+                if let Some((params, hunt)) = hunt {
+                    let found =
+                        hunt_in(params, fr, &hunt.continuation, progress).map_err(&named)?;
+                    finite(&found, "the hunt")?;
+                    let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
+                    export::continued_csv(&branches, &export::branches_path(csv))?;
+                    export::response_csv(&found.response, &device, csv)
+                } else {
+                    finite(&fr, "the frequency response")?;
+                    export::response_csv(&fr, &device, csv)
+                }
+            },
+        )
+    }
+
     /// An analysis computed whole, as chunk 0: by the run that claims it.
-    fn whole(&self, settings: &Settings, params: &crate::model::Params) -> anyhow::Result<Outcome> {
+    fn whole(&self, compute: impl FnOnce(&Path) -> anyhow::Result<()>) -> anyhow::Result<Outcome> {
         let progress = self.progress;
         if !self.shard.owns(0) {
             return Ok(Outcome::ShardDone {
@@ -491,9 +530,7 @@ impl Run<'_> {
         let started = Instant::now();
         let staging = self.work.staging()?;
         let csv = staging.join(file_name(&self.work.paths.csv));
-        let device = self.session.device();
-        run_single(settings, params, &device, &csv, progress)
-            .with_context(|| self.entry.name.clone())?;
+        compute(&csv).with_context(|| self.entry.name.clone())?;
         if self.cancelled() {
             return Err(self.cancelled_error());
         }
@@ -774,6 +811,38 @@ fn finite<T: serde::Serialize>(value: &T, what: &str) -> anyhow::Result<()> {
     match first_non_finite(value) {
         Some(found) => anyhow::bail!("{what}: {found}; nothing written"),
         None => Ok(()),
+    }
+}
+
+/// A written model's analyses that have no chunks: computed at once and written to `csv`.
+fn run_written_single(
+    settings: &Settings,
+    sys: &EquationSystem,
+    csv: &Path,
+    progress: &Progress,
+) -> anyhow::Result<()> {
+    match settings {
+        Settings::TimeHistory(spec) => {
+            let h = state_history(sys, spec)?;
+            finite(&h, "the time history")?;
+            let bytes = export::state_history_bytes(&h, sys.model().grid())?;
+            super::output::write_output(csv, &bytes, &super::output::Protected::none())?;
+            Ok(())
+        }
+        Settings::SteppedSweep(spec) => {
+            let steps = spec
+                .omega
+                .values()
+                .into_iter()
+                .map(|w| Ok((w, sys.with(sys.frequency(), w)?)))
+                .collect::<Result<Vec<_>, crate::model::ParamError>>()?;
+            let start = sys.grid_start([spec.dx0, spec.v0]);
+            let swept =
+                stepped_sweep_over(&steps, start, &spec.steady, progress.cancel_flag(), |_| {})?;
+            finite(&swept, "the stepped sweep")?;
+            export::stepped_csv(&swept, &crate::model::Device::default(), csv)
+        }
+        other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
     }
 }
 

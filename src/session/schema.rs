@@ -12,12 +12,16 @@
 //! omega = { min = 0.2, max = 6.0, points = 117 }
 //! ```
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use super::locate::{Table, locate};
 use super::model_section::ModelSection;
+use super::written::{
+    ModelPoint, WRITTEN_KINDS, WrittenModel, take_written_parts, writes_equations,
+};
 use crate::analysis::SteadyStateSpec;
 use crate::analysis::basin::BasinSpec;
 use crate::analysis::branch_from_state::BranchFromState;
@@ -115,6 +119,8 @@ pub struct RawAnalysis {
 pub struct AnalysisEntry {
     pub name: String,
     pub model: ModelSection,
+    /// Its overrides of a written model's parameters (empty for the built-in model).
+    pub values: BTreeMap<String, f64>,
     pub settings: Settings,
 }
 
@@ -292,6 +298,8 @@ impl Default for SteppedSweepSpec {
 pub struct Session {
     pub path: PathBuf,
     pub file: SessionFile,
+    /// The model the session writes as equations, if it does (then `file.model` is unused).
+    pub written: Option<WrittenModel>,
     pub analyses: Vec<AnalysisEntry>,
     pub(super) document: toml_edit::DocumentMut,
 }
@@ -315,7 +323,20 @@ impl Session {
         let document: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e: toml_edit::TomlError| syntax(e.to_string()))?;
-        let file: SessionFile = toml::from_str(text).map_err(|e| syntax(e.to_string()))?;
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| syntax(e.to_string()))?;
+        let (file, written, mut overrides) = if writes_equations(&table) {
+            let overrides = take_written_parts(&mut table).map_err(syntax)?;
+            let file = SessionFile::deserialize(toml::Value::Table(table))
+                .map_err(|e| syntax(e.to_string()))?;
+            (
+                file,
+                Some(WrittenModel::read(text).map_err(syntax)?),
+                overrides,
+            )
+        } else {
+            let file: SessionFile = toml::from_str(text).map_err(|e| syntax(e.to_string()))?;
+            (file, None, Vec::new())
+        };
         if file.schema != SCHEMA {
             return Err(syntax(format!(
                 "schema = {}: this isola reads schema = {SCHEMA}",
@@ -343,9 +364,24 @@ impl Session {
                     e.message
                 ))
             })?;
+            let values = overrides.get_mut(i).map(std::mem::take).unwrap_or_default();
+            if let Some(w) = &written {
+                if !WRITTEN_KINDS.contains(&raw.kind.as_str()) {
+                    return Err(syntax(format!(
+                        "analysis '{}' ({}): a written model runs {} so far",
+                        raw.name,
+                        raw.kind,
+                        WRITTEN_KINDS.join(", ")
+                    )));
+                }
+                if let Some(e) = w.unknown_override(&values) {
+                    return Err(syntax(format!("analysis '{}' model: {e}", raw.name)));
+                }
+            }
             analyses.push(AnalysisEntry {
                 name: raw.name.clone(),
                 model: raw.model.clone(),
+                values,
                 settings,
             });
         }
@@ -359,6 +395,7 @@ impl Session {
         let session = Session {
             path: path.to_path_buf(),
             file,
+            written,
             analyses,
             document,
         };
@@ -387,7 +424,7 @@ impl Session {
         self.device()
             .validate()
             .map_err(|e| value_error("[device]".into(), &[Table::Device], e))?;
-        self.params(None)
+        self.point(None)
             .map_err(|e| value_error("[model]".into(), &[Table::Model], e))?;
         for (i, entry) in self.analyses.iter().enumerate() {
             if self.analyses[..i].iter().any(|a| a.name == entry.name) {
@@ -412,7 +449,7 @@ impl Session {
                     ),
                 });
             }
-            let params = self.params(Some(entry)).map_err(|e| {
+            let point = self.point(Some(entry)).map_err(|e| {
                 value_error(
                     format!("analysis '{}' model", entry.name),
                     &[Table::AnalysisModel(i), Table::Model],
@@ -426,7 +463,11 @@ impl Session {
                     e,
                 )
             };
-            check_settings(&entry.settings, &params).map_err(in_settings)?;
+            match &point {
+                ModelPoint::BuiltIn(params) => check_settings(&entry.settings, params),
+                ModelPoint::Written(sys) => check_written_settings(&entry.settings, sys),
+            }
+            .map_err(in_settings)?;
             // settings the cost model refuses (a step too fine for the forcing period)
             if let Err(super::budget::BudgetError::Setting(e)) = super::budget::cost_of(self, entry)
             {
@@ -440,12 +481,32 @@ impl Session {
         self.file.device.unwrap_or_default()
     }
 
-    /// The model for `entry` (its overrides over the session's model), or the session's own.
+    /// The built-in model for `entry` (its overrides over the session's model), or the
+    /// session's own. An error for a session that writes its own model: see [`Self::point`].
     pub fn params(
         &self,
         entry: Option<&AnalysisEntry>,
     ) -> Result<Params, crate::model::ParamError> {
+        if self.written.is_some() {
+            return Err(ParamError {
+                field: "model".into(),
+                value: f64::NAN,
+                allowed: "the built-in model (this session writes its own)".into(),
+            });
+        }
         self.param_spec(entry)?.build()
+    }
+
+    /// The model of `entry` (or the session's own), built-in or written.
+    pub fn point(&self, entry: Option<&AnalysisEntry>) -> Result<ModelPoint, ParamError> {
+        match &self.written {
+            Some(w) => {
+                let none = BTreeMap::new();
+                w.system(entry.map_or(&none, |e| &e.values))
+                    .map(ModelPoint::Written)
+            }
+            None => self.params(entry).map(ModelPoint::BuiltIn),
+        }
     }
 
     fn param_spec(
@@ -480,9 +541,13 @@ impl Session {
     /// The fingerprint `entry` has under numerics version `numerics`.
     pub fn fingerprint_with(&self, entry: &AnalysisEntry, numerics: u32) -> String {
         use sha2::Digest;
-        let mut model = serde_json::to_value(self.param_spec(Some(entry)).ok())
-            .unwrap_or(serde_json::Value::Null);
+        let mut model = match &self.written {
+            Some(w) => w.fingerprint_model(&entry.values, &entry.settings.model_use()),
+            None => serde_json::to_value(self.param_spec(Some(entry)).ok())
+                .unwrap_or(serde_json::Value::Null),
+        };
         match entry.settings.model_use() {
+            _ if self.written.is_some() => {}
             ModelUse::All => {}
             ModelUse::AllBut(keys) => {
                 if let Some(object) = model.as_object_mut() {
@@ -680,6 +745,53 @@ impl Session {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         self.path.with_file_name(format!("{stem}.results"))
+    }
+}
+
+/// The settings of an analysis of a written model, checked: its own rules, and its ω values
+/// against the range of the model's frequency parameter.
+fn check_written_settings(
+    settings: &Settings,
+    sys: &crate::model::equations::EquationSystem,
+) -> Result<(), ParamError> {
+    use crate::analysis::Oscillator;
+    let start = |dx0: f64, v0: f64| -> Result<(), ParamError> {
+        check_in("dx0", dx0, limits::DX.0, limits::DX.1)?;
+        check_in("v0", v0, limits::V.0, limits::V.1)?;
+        Ok(())
+    };
+    let frequencies = |axis: &Axis, field: &str| -> Result<(), ParamError> {
+        for w in [axis.min, axis.max] {
+            sys.with(sys.frequency(), w)
+                .map_err(|e| e.as_value_of(field))?;
+        }
+        Ok(())
+    };
+    match settings {
+        Settings::TimeHistory(s) => {
+            start(s.dx0, s.v0)?;
+            s.validate()
+        }
+        Settings::SteppedSweep(s) => {
+            start(s.dx0, s.v0)?;
+            let mut range = s.omega;
+            if range.min > range.max {
+                std::mem::swap(&mut range.min, &mut range.max);
+            }
+            range.validate("omega", 100_000)?;
+            frequencies(&range, "omega")?;
+            s.steady.validate().map_err(|e| e.within("steady"))
+        }
+        Settings::FrequencyResponse(s) => {
+            s.validate()?;
+            frequencies(&s.omega, "omega")
+        }
+        Settings::Basin(s) => s.validate(),
+        other => Err(ParamError {
+            field: other.kind().into(),
+            value: f64::NAN,
+            allowed: format!("one of {} for a written model", WRITTEN_KINDS.join(", ")),
+        }),
     }
 }
 

@@ -10,6 +10,8 @@ pub mod dopri;
 pub(crate) mod dopri_tableau;
 pub mod drive_table;
 pub mod field;
+pub mod general;
+pub mod general_lanes;
 pub mod hermite;
 pub mod isa;
 pub mod resolution;

@@ -1,0 +1,350 @@
+//! A model written in the session as an [`Oscillator`]: each trajectory on the general
+//! engine ([`GeneralRk4`]) to full convergence, with the period test and the orbit record of
+//! the built-in.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use super::Oscillator;
+use crate::analysis::AnalysisError;
+use crate::analysis::batch::KnownAttractors;
+use crate::analysis::period_detector::PeriodDetector;
+use crate::analysis::period_map::OrbitRecord;
+use crate::analysis::steady_state::{Class, SteadyState, SteadyStateSpec, collided, from_record};
+use crate::model::ParamError;
+use crate::model::equations::EquationSystem;
+use crate::model::equations::lanes::EquationLanes;
+use crate::model::system::{MAX_DIM, System, Vector};
+use crate::solver::Collision;
+use crate::solver::general::{GeneralRk4, Stop, Trajectory};
+use crate::solver::general_lanes::Lanes;
+
+/// The steady state of `sys` from `start` at τ = 0 (MODEL.md §4b's two-stage period test over
+/// every state variable); `grid` names the two states its Poincaré points keep.
+pub fn steady_state_of<S: System>(
+    sys: &mut S,
+    start: &Vector,
+    grid: [usize; 2],
+    spec: &SteadyStateSpec,
+) -> Result<SteadyState, AnalysisError> {
+    let rk = GeneralRk4::new(sys, &spec.resolution);
+    let dim = sys.dim();
+    let mut traj = rk.start(sys, &start[..dim]);
+    let mut detector = PeriodDetector::<MAX_DIM>::new(spec);
+    if let Some(stop) = &traj.stop {
+        return stopped(stop, 0, grid);
+    }
+    while detector.periods() < spec.max_forcing_periods {
+        rk.advance_period(sys, &mut traj, |_, _, _| {});
+        if let Some(stop) = &traj.stop {
+            return stopped(stop, detector.periods() + 1, grid);
+        }
+        if let Some(k) = detector.push(traj.x) {
+            return record(
+                sys,
+                &rk,
+                &mut traj,
+                k,
+                detector.periods(),
+                Class::Periodic,
+                grid,
+            );
+        }
+    }
+    let (k, n) = (spec.max_period, spec.max_forcing_periods);
+    record(sys, &rk, &mut traj, k, n, Class::NonPeriodic, grid)
+}
+
+/// Follows the response `k` more periods, recording its output, and builds the result.
+fn record<S: System>(
+    sys: &mut S,
+    rk: &GeneralRk4,
+    traj: &mut Trajectory,
+    k: usize,
+    n: usize,
+    class: Class,
+    grid: [usize; 2],
+) -> Result<SteadyState, AnalysisError> {
+    let h = rk.step();
+    let dim = sys.dim();
+    let mut rec = OrbitRecord::new(rk.steps_per_period());
+    let (mut poincare, mut states) = (Vec::with_capacity(k), Vec::new());
+    for _ in 0..k {
+        rk.advance_period(sys, traj, |sys, before, after| {
+            let (y0, rate0) = sys.output(before.tau, &before.x, before.mode);
+            let (y1, rate1) = sys.output(after.tau, &after.x, after.mode);
+            rec.add_step(y0, rate0, y1, rate1, h);
+        });
+        if let Some(stop) = &traj.stop {
+            return stopped(stop, n, grid);
+        }
+        poincare.push([traj.x[grid[0]], traj.x[grid[1]]]);
+        if dim > 2 {
+            states.push(traj.x[..dim].to_vec());
+        }
+    }
+    let mut s = from_record(&rec, poincare, k, n, class);
+    s.states = states;
+    Ok(s)
+}
+
+/// A collision as a result; a value that is not finite as an error naming where.
+fn stopped(stop: &Stop, periods: usize, grid: [usize; 2]) -> Result<SteadyState, AnalysisError> {
+    match stop {
+        Stop::Collision { tau, state } => Ok(collided(
+            Collision {
+                tau: *tau,
+                lambda_i: state[grid[0]],
+            },
+            periods,
+        )),
+        Stop::NonFinite {
+            tau,
+            state,
+            expression,
+        } => Err(AnalysisError::NotFinite {
+            tau: *tau,
+            state: state.to_vec(),
+            expression: expression.clone().unwrap_or_else(|| "the state".into()),
+        }),
+    }
+}
+
+impl Oscillator for EquationSystem {
+    type State = Vector;
+    type Parameter = usize;
+
+    fn frequency(&self) -> usize {
+        self.model().frequency()
+    }
+
+    fn with(&self, parameter: usize, value: f64) -> Result<Self, ParamError> {
+        let mut values = self.values().to_vec();
+        values[parameter] = value;
+        self.model().system(&values)
+    }
+
+    fn grid_start(&self, offset: [f64; 2]) -> Vector {
+        let mut x = *self.origin();
+        let [a, b] = self.model().grid();
+        x[a] += offset[0];
+        if b != a {
+            x[b] += offset[1];
+        }
+        x
+    }
+
+    fn poincare_states(&self, s: &SteadyState) -> Vec<Vector> {
+        if !s.states.is_empty() {
+            return s
+                .states
+                .iter()
+                .map(|state| {
+                    let mut x = [0.0; MAX_DIM];
+                    x[..state.len()].copy_from_slice(state);
+                    x
+                })
+                .collect();
+        }
+        let [a, b] = self.model().grid();
+        s.poincare
+            .iter()
+            .map(|p| {
+                let mut x = *self.origin();
+                (x[a], x[b]) = (p[0], p[1]);
+                x
+            })
+            .collect()
+    }
+
+    fn steady_state(
+        &self,
+        start: Vector,
+        spec: &SteadyStateSpec,
+    ) -> Result<SteadyState, AnalysisError> {
+        steady_state_of(&mut self.clone(), &start, self.model().grid(), spec)
+    }
+
+    fn steady_states(
+        &self,
+        starts: &[Vector],
+        spec: &SteadyStateSpec,
+        _known: Option<&mut KnownAttractors>,
+        cancel: &AtomicBool,
+        on_done: impl FnMut(usize),
+    ) -> Result<Vec<SteadyState>, AnalysisError> {
+        match starts.len() {
+            0..=4 => in_lanes::<4>(self, starts, spec, cancel, on_done),
+            _ => in_lanes::<LANES>(self, starts, spec, cancel, on_done),
+        }
+    }
+
+    fn known_attractors(&self, _spec: &SteadyStateSpec, _capture: f64) -> Option<KnownAttractors> {
+        None
+    }
+}
+
+/// Trajectories of a written model integrated side by side.
+const LANES: usize = 8;
+
+/// What one lane is doing.
+enum Job {
+    Idle,
+    Transient {
+        start: usize,
+        detector: Box<PeriodDetector<MAX_DIM>>,
+    },
+    Recording {
+        start: usize,
+        class: Class,
+        k: usize,
+        transient: usize,
+        rec: OrbitRecord,
+        poincare: Vec<[f64; 2]>,
+        states: Vec<Vec<f64>>,
+    },
+}
+
+/// [`steady_state_of`] from each of `starts`, `L` at a time in lanes (each lane's result is
+/// bit for bit the scalar one's); a lane takes the next start as soon as it is done.
+fn in_lanes<const L: usize>(
+    sys: &EquationSystem,
+    starts: &[Vector],
+    spec: &SteadyStateSpec,
+    cancel: &AtomicBool,
+    mut on_done: impl FnMut(usize),
+) -> Result<Vec<SteadyState>, AnalysisError> {
+    let mut sys = sys.clone();
+    let grid = sys.model().grid();
+    let dim = sys.dim();
+    let rk = GeneralRk4::new(&sys, &spec.resolution);
+    let h = rk.step();
+    let mut eval = EquationLanes::<L>::new(&sys);
+    let rest = *sys.origin();
+    let mut lanes = Lanes::<L>::idle(&rest);
+    let mut jobs: Vec<Job> = (0..L).map(|_| Job::Idle).collect();
+    let mut results: Vec<Option<SteadyState>> = vec![None; starts.len()];
+    let mut next = 0;
+    // a lane's next start (or idle); a start that stops at once is done at once
+    let fill = |l: usize, sys: &mut EquationSystem, lanes: &mut Lanes<L>, next: &mut usize| {
+        let mut done = Vec::new();
+        while *next < starts.len() {
+            let start = *next;
+            *next += 1;
+            rk.restart_lane(sys, lanes, l, &starts[start]);
+            match &lanes.stop[l] {
+                Some(stop) => done.push((start, stopped(stop, 0, grid))),
+                None => {
+                    let detector = Box::new(PeriodDetector::new(spec));
+                    return (Job::Transient { start, detector }, done);
+                }
+            }
+        }
+        rk.park_lane(lanes, l, &rest);
+        (Job::Idle, done)
+    };
+    let mut finish = |start: usize, result: Result<SteadyState, AnalysisError>| {
+        results[start] = Some(result?);
+        on_done(start);
+        Ok::<(), AnalysisError>(())
+    };
+    for (l, job) in jobs.iter_mut().enumerate() {
+        let (started, done) = fill(l, &mut sys, &mut lanes, &mut next);
+        *job = started;
+        for (start, r) in done {
+            finish(start, r)?;
+        }
+    }
+    while jobs.iter().any(|j| !matches!(j, Job::Idle)) {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(AnalysisError::Cancelled);
+        }
+        let recording = jobs.iter().any(|j| matches!(j, Job::Recording { .. }));
+        for _ in 0..rk.steps_per_period() {
+            let was_running: [bool; L] = std::array::from_fn(|l| lanes.running(l));
+            let (before, after) = rk.advance_lanes(&mut sys, &mut eval, &mut lanes);
+            if recording {
+                let (y0, rate0) = eval.output(&before.0, &before.1, &before.2);
+                let (y1, rate1) = eval.output(&after.0, &after.1, &after.2);
+                for (l, job) in jobs.iter_mut().enumerate() {
+                    if let Job::Recording { rec, .. } = job
+                        && was_running[l]
+                        && lanes.running(l)
+                    {
+                        rec.add_step(y0[l], rate0[l], y1[l], rate1[l], h);
+                    }
+                }
+            }
+        }
+        // lanes, their jobs and the results are updated together by index
+        #[allow(clippy::needless_range_loop)]
+        for l in 0..L {
+            let point: Vector = std::array::from_fn(|i| lanes.x[i][l]);
+            let finished: Option<(usize, Result<SteadyState, AnalysisError>)> = match &mut jobs[l] {
+                Job::Idle => None,
+                Job::Transient { start, detector } => {
+                    if let Some(stop) = &lanes.stop[l] {
+                        Some((*start, stopped(stop, detector.periods() + 1, grid)))
+                    } else if let Some(k) = detector.push(point) {
+                        let n = detector.periods();
+                        jobs[l] = recording_job(*start, Class::Periodic, k, n, &rk);
+                        None
+                    } else if detector.periods() >= spec.max_forcing_periods {
+                        let (k, n) = (spec.max_period, spec.max_forcing_periods);
+                        jobs[l] = recording_job(*start, Class::NonPeriodic, k, n, &rk);
+                        None
+                    } else {
+                        None
+                    }
+                }
+                Job::Recording {
+                    start,
+                    class,
+                    k,
+                    transient,
+                    rec,
+                    poincare,
+                    states,
+                } => {
+                    if let Some(stop) = &lanes.stop[l] {
+                        Some((*start, stopped(stop, *transient, grid)))
+                    } else {
+                        poincare.push([point[grid[0]], point[grid[1]]]);
+                        if dim > 2 {
+                            states.push(point[..dim].to_vec());
+                        }
+                        (poincare.len() == *k).then(|| {
+                            let p = std::mem::take(poincare);
+                            let mut s = from_record(rec, p, *k, *transient, *class);
+                            s.states = std::mem::take(states);
+                            (*start, Ok(s))
+                        })
+                    }
+                }
+            };
+            if let Some((start, result)) = finished {
+                finish(start, result)?;
+                let (job, done) = fill(l, &mut sys, &mut lanes, &mut next);
+                jobs[l] = job;
+                for (start, r) in done {
+                    finish(start, r)?;
+                }
+            }
+        }
+    }
+    Ok(results
+        .into_iter()
+        .map(|r| r.expect("every start finished"))
+        .collect())
+}
+
+fn recording_job(start: usize, class: Class, k: usize, transient: usize, rk: &GeneralRk4) -> Job {
+    Job::Recording {
+        start,
+        class,
+        k,
+        transient,
+        rec: OrbitRecord::new(rk.steps_per_period()),
+        poincare: Vec::with_capacity(k),
+        states: Vec::new(),
+    }
+}

@@ -1,0 +1,95 @@
+//! A written model evaluated on `L` trajectories at once: each instruction of its tapes over
+//! `L` lanes, so that the dispatch is paid once per `L` values and the arithmetic vectorises.
+
+use std::sync::Arc;
+
+use super::EquationSystem;
+use super::build::Compiled;
+use super::tape::Registers;
+use crate::model::system::{MAX_DIM, Mode};
+
+/// `L` lanes of state: `x[i][l]` is state i of lane l.
+pub type LaneVectors<const L: usize> = [[f64; L]; MAX_DIM];
+
+/// A written model's registers for `L` lanes, at one set of parameter values.
+#[derive(Debug, Clone)]
+pub struct EquationLanes<const L: usize> {
+    inner: Arc<Compiled>,
+    values: Vec<[f64; L]>,
+    state_slots: Vec<(u8, u32)>,
+    time_slot: Option<u32>,
+}
+
+impl<const L: usize> EquationLanes<L> {
+    /// Lanes of `sys` (its constants and parameter-fixed values in every lane).
+    pub fn new(sys: &EquationSystem) -> Self {
+        let regs: &Registers = sys.registers();
+        EquationLanes {
+            inner: sys.model().inner.clone(),
+            values: regs.values.iter().map(|&v| [v; L]).collect(),
+            state_slots: regs.state_slots.clone(),
+            time_slot: regs.time_slot,
+        }
+    }
+
+    /// Loads the lanes' times and states into their registers.
+    #[inline(always)]
+    fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
+        if let Some(slot) = self.time_slot {
+            self.values[slot as usize] = *tau;
+        }
+        for &(i, slot) in &self.state_slots {
+            self.values[slot as usize] = x[i as usize];
+        }
+    }
+
+    /// dx/dτ of every lane on its own mode into `dx`; returns the modes the switching
+    /// functions' signs select (see [`crate::model::system::System::field`]).
+    #[inline]
+    pub fn field(
+        &mut self,
+        tau: &[f64; L],
+        x: &LaneVectors<L>,
+        modes: &[Mode; L],
+        dx: &mut LaneVectors<L>,
+    ) -> [Mode; L] {
+        self.load(tau, x);
+        let c = &*self.inner;
+        let observed = c.field_tape.run_lanes(&mut self.values, modes);
+        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
+            *d = self.values[id as usize];
+        }
+        observed
+    }
+
+    /// Whether each lane has met a collision condition.
+    pub fn collided(&mut self, tau: &[f64; L], x: &LaneVectors<L>) -> [bool; L] {
+        if self.inner.collisions.is_empty() {
+            return [false; L];
+        }
+        self.load(tau, x);
+        let (c, values) = (&*self.inner, &mut self.values);
+        c.collision_tape.run_lanes_free(values);
+        std::array::from_fn(|l| {
+            c.collisions
+                .iter()
+                .any(|cond| cond.holds(&|id| values[id as usize][l]))
+        })
+    }
+
+    /// The amplitude's output and its rate in every lane, on each lane's mode.
+    pub fn output(
+        &mut self,
+        tau: &[f64; L],
+        x: &LaneVectors<L>,
+        modes: &[Mode; L],
+    ) -> ([f64; L], [f64; L]) {
+        self.load(tau, x);
+        let c = &*self.inner;
+        c.output_tape.run_lanes(&mut self.values, modes);
+        (
+            self.values[c.output[0] as usize],
+            self.values[c.output[1] as usize],
+        )
+    }
+}

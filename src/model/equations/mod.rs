@@ -1,0 +1,46 @@
+//! Models written in a session: state variables, parameters, named intermediates, functions
+//! and the derivative of each state, as expressions compiled at load into [`tape`]s. The
+//! arguments of `max`, `min`, `abs` and `if` are switching functions the engine splits steps
+//! at; the Jacobian is the expressions' symbolic derivative.
+//!
+//! ```toml
+//! [model]
+//! states = ["lambda_I", "v"]
+//! frequency = "omega"
+//! amplitude = "lambda_I"
+//! collision = ["lambda_I <= 0", "lambda_II <= 0"]
+//! [model.parameters]
+//! omega = { value = 1.8, min = 0.01, max = 50 }
+//! [model.let]
+//! lambda_II = "2*lambda_p - lambda_I"
+//! [model.functions]
+//! "g(lam)" = "(lam - lam^-3) / (1 - (lam^2 + lam^-2 - 2)/J)"
+//! [model.derivatives]
+//! lambda_I = "v"
+//! v = "f_II - f_I"
+//! ```
+
+pub mod build;
+pub mod definition;
+pub mod graph;
+pub mod lanes;
+pub mod parse;
+pub mod system;
+pub mod tape;
+
+pub use build::EquationModel;
+pub use definition::{ModelDefinition, ParameterDefinition};
+pub use system::EquationSystem;
+
+/// Why a written model cannot be used: where (the TOML key, and line and column when known)
+/// and what.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{place}: {message}")]
+pub struct EquationError {
+    /// `model.let.g_I, line 14, column 9`.
+    pub place: String,
+    pub message: String,
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,171 @@
+//! A compiled written model at one set of parameter values: the [`System`] the general
+//! engine integrates.
+
+use super::build::EquationModel;
+use crate::model::ParamError;
+use crate::model::equations::tape::Registers;
+use crate::model::system::{MAX_DIM, Mode, System, Vector};
+
+/// A written model ready to integrate: its parameters set and its own registers.
+#[derive(Debug, Clone)]
+pub struct EquationSystem {
+    model: EquationModel,
+    regs: Registers,
+    values: Vec<f64>,
+    period: f64,
+    origin: Vector,
+}
+
+impl EquationModel {
+    /// The model at parameter `values` (in [`EquationModel::parameters`] order), each checked
+    /// against its range, the frequency against > 0.
+    pub fn system(&self, values: &[f64]) -> Result<EquationSystem, ParamError> {
+        let c = &self.inner;
+        for (p, &v) in c.parameters.iter().zip(values) {
+            crate::model::error::check(
+                &p.name,
+                v,
+                |v| (p.min..=p.max).contains(&v),
+                range_words(p.min, p.max),
+            )?;
+        }
+        let omega = values[c.frequency];
+        let omega = crate::model::error::check(
+            &c.parameters[c.frequency].name,
+            omega,
+            |w| w > 0.0,
+            "> 0 (the forcing frequency)",
+        )?;
+        let mut regs = Registers::new(&c.graph);
+        regs.set_params(&c.graph, values);
+        let mut origin = [0.0; MAX_DIM];
+        for (o, &id) in origin.iter_mut().zip(&c.origin) {
+            *o = regs.get(id);
+        }
+        Ok(EquationSystem {
+            model: self.clone(),
+            regs,
+            values: values.to_vec(),
+            period: std::f64::consts::TAU / omega,
+            origin,
+        })
+    }
+}
+
+/// `[a, b]`, `≥ a`, `≤ b` or `any finite value`.
+fn range_words(min: f64, max: f64) -> String {
+    match (min.is_finite(), max.is_finite()) {
+        (true, true) => format!("[{min}, {max}]"),
+        (true, false) => format!(">= {min}"),
+        (false, true) => format!("<= {max}"),
+        (false, false) => "any finite value".into(),
+    }
+}
+
+impl EquationSystem {
+    pub fn model(&self) -> &EquationModel {
+        &self.model
+    }
+
+    /// The parameter values this system was made with.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Its registers (constants and parameter-fixed values filled in).
+    pub(super) fn registers(&self) -> &Registers {
+        &self.regs
+    }
+
+    /// The forcing frequency ω (the value of the model's frequency parameter).
+    pub fn omega(&self) -> f64 {
+        self.values[self.model.frequency()]
+    }
+
+    /// The state the grids are laid out around.
+    pub fn origin(&self) -> &Vector {
+        &self.origin
+    }
+}
+
+impl System for EquationSystem {
+    fn dim(&self) -> usize {
+        self.model.inner.states.len()
+    }
+
+    fn period(&self) -> f64 {
+        self.period
+    }
+
+    fn switch_mask(&self) -> Mode {
+        self.model.inner.field_tape.switch_mask
+    }
+
+    fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode {
+        self.regs.load(tau, x);
+        self.model.inner.field_tape.run_free(&mut self.regs.values)
+    }
+
+    #[inline]
+    fn field(&mut self, tau: f64, x: &Vector, mode: Mode, dx: &mut Vector) -> Mode {
+        let c = &*self.model.inner;
+        self.regs.load(tau, x);
+        let observed = c.field_tape.run_in(&mut self.regs.values, mode);
+        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
+            *d = self.regs.get(id);
+        }
+        observed
+    }
+
+    fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {
+        let c = &*self.model.inner;
+        self.regs.load(tau, x);
+        let observed = c.field_tape.run_in(&mut self.regs.values, mode);
+        for (out, sw) in s.iter_mut().zip(&c.graph.switches) {
+            *out = self.regs.get(sw.value);
+        }
+        observed
+    }
+
+    fn jacobian(&mut self, tau: f64, x: &Vector, mode: Mode, jac: &mut [Vector; MAX_DIM]) {
+        let c = &*self.model.inner;
+        let n = c.states.len();
+        self.regs.load(tau, x);
+        c.jacobian_tape.run_in(&mut self.regs.values, mode);
+        for (row, ids) in jac.iter_mut().zip(c.jacobian.chunks(n)) {
+            for (entry, &id) in row.iter_mut().zip(ids) {
+                *entry = self.regs.get(id);
+            }
+        }
+    }
+
+    fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
+        let c = &*self.model.inner;
+        self.regs.load(tau, x);
+        c.output_tape.run_in(&mut self.regs.values, mode);
+        (self.regs.get(c.output[0]), self.regs.get(c.output[1]))
+    }
+
+    fn collided(&mut self, tau: f64, x: &Vector) -> bool {
+        let c = &*self.model.inner;
+        if c.collisions.is_empty() {
+            return false;
+        }
+        self.regs.load(tau, x);
+        c.collision_tape.run_free(&mut self.regs.values);
+        let regs = &self.regs;
+        c.collisions
+            .iter()
+            .any(|cond| cond.holds(&|id| regs.get(id)))
+    }
+
+    fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        let c = &*self.model.inner;
+        self.regs.load(tau, x);
+        c.named_tape.run_free(&mut self.regs.values);
+        c.named
+            .iter()
+            .find(|(_, id)| !self.regs.get(*id).is_finite())
+            .map(|(key, id)| format!("{key} = {}", self.regs.get(*id)))
+    }
+}

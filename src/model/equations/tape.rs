@@ -1,0 +1,349 @@
+//! A compiled list of instructions that evaluates chosen nodes of a [`Graph`] at one time and
+//! state: only the nodes that vary with time or state, in dependency order, each once. Nodes
+//! fixed by the parameters are evaluated once per parameter set ([`Registers::set_params`]).
+
+use super::graph::{Func, Graph, Node, NodeId, Op2};
+use crate::model::system::Mode;
+
+/// What an instruction does: one flat list, so that the loop dispatches once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Op {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Pow,
+    /// r[a]^n for the instruction's integer n.
+    Powi,
+    Un(Func),
+    /// r[d] = mode bit k ? r[a] : r[b]
+    Select,
+    /// Records mode bit k from the switching value r[a] (on where ≥ 0); in a free
+    /// evaluation the kinks after it follow that bit.
+    Sign,
+    /// The same, on only where > 0.
+    SignStrict,
+}
+
+/// One instruction; registers are node ids.
+#[derive(Debug, Clone, Copy)]
+struct Ins {
+    op: Op,
+    /// The switch of a `Select` or `Sign`.
+    k: u8,
+    /// The exponent of a `Powi`.
+    n: i32,
+    /// Destination and arguments: registers, always valid ones (an unused `b` is `a`).
+    d: u32,
+    a: u32,
+    b: u32,
+}
+
+/// The instructions that evaluate some roots of a graph.
+#[derive(Debug, Clone)]
+pub struct Tape {
+    ins: Vec<Ins>,
+    /// Registers the tape addresses (every index is below this).
+    registers: usize,
+    /// Which switches this tape's roots depend on (a bit each).
+    pub switch_mask: u64,
+}
+
+impl Tape {
+    /// The tape computing `roots` (and what they need) in `graph`.
+    pub fn new(graph: &Graph, roots: &[NodeId]) -> Tape {
+        let n = graph.len();
+        let varying = graph.varying();
+        let mut needed = vec![false; n];
+        let mut stack: Vec<NodeId> = roots.to_vec();
+        // the switches whose branch can change along a trajectory
+        let mut switch_mask = 0u64;
+        while let Some(id) = stack.pop() {
+            if needed[id as usize] {
+                continue;
+            }
+            needed[id as usize] = true;
+            match graph.node(id) {
+                Node::Un(_, a) | Node::Powi(a, _) => stack.push(a),
+                Node::Bin(_, a, b) => stack.extend([a, b]),
+                Node::Select(k, a, b) => {
+                    if varying[id as usize] {
+                        switch_mask |= 1 << k;
+                    }
+                    stack.extend([a, b, graph.switches[k as usize].value]);
+                }
+                _ => {}
+            }
+        }
+        let mut ins = Vec::new();
+        let mut signed = 0u64;
+        for id in 0..n as u32 {
+            if !needed[id as usize] || !varying[id as usize] {
+                continue;
+            }
+            let op = |op, a, b| Ins {
+                op,
+                k: 0,
+                n: 0,
+                d: id,
+                a,
+                b,
+            };
+            match graph.node(id) {
+                Node::Un(f, a) => ins.push(op(Op::Un(f), a, a)),
+                Node::Bin(o, a, b) => ins.push(op(
+                    match o {
+                        Op2::Add => Op::Add,
+                        Op2::Sub => Op::Sub,
+                        Op2::Mul => Op::Mul,
+                        Op2::Div => Op::Div,
+                        Op2::Pow => Op::Pow,
+                    },
+                    a,
+                    b,
+                )),
+                Node::Powi(a, n) => ins.push(Ins {
+                    n,
+                    ..op(Op::Powi, a, a)
+                }),
+                Node::Select(k, a, b) => {
+                    if signed & (1 << k) == 0 {
+                        let s = graph.switches[k as usize];
+                        let sign = if s.strict { Op::SignStrict } else { Op::Sign };
+                        ins.push(Ins {
+                            k,
+                            ..op(sign, s.value, s.value)
+                        });
+                        signed |= 1 << k;
+                    }
+                    ins.push(Ins {
+                        k,
+                        ..op(Op::Select, a, b)
+                    });
+                }
+                Node::Const(_) | Node::Time | Node::State(_) | Node::Param(_) => {}
+            }
+        }
+        Tape {
+            ins,
+            registers: n,
+            switch_mask,
+        }
+    }
+
+    /// Number of instructions (a measure of the work per evaluation).
+    pub fn len(&self) -> usize {
+        self.ins.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ins.is_empty()
+    }
+
+    /// Runs the tape on `regs` with each kink held on the branch `mode` says, and returns
+    /// the mode the switching functions' signs select (bits of switches this tape does not
+    /// use are 0).
+    #[inline]
+    pub fn run_in(&self, regs: &mut [f64], mode: Mode) -> Mode {
+        self.run::<false>(regs, mode)
+    }
+
+    /// Runs the tape choosing each kink's branch by the sign of its switching function, and
+    /// returns the mode that chose.
+    #[inline]
+    pub fn run_free(&self, regs: &mut [f64]) -> Mode {
+        self.run::<true>(regs, 0)
+    }
+
+    #[inline(always)]
+    fn run<const FREE: bool>(&self, r: &mut [f64], mut mode: Mode) -> Mode {
+        assert!(
+            r.len() >= self.registers,
+            "a register file of another graph"
+        );
+        let mut observed = 0;
+        for ins in &self.ins {
+            // SAFETY: every index is a node id below `registers` (built so in `new`), and
+            // `r` has at least that many registers (asserted above)
+            unsafe {
+                let get = |i: u32| *r.get_unchecked(i as usize);
+                let (x, y) = (get(ins.a), get(ins.b));
+                let value = match ins.op {
+                    Op::Add => x + y,
+                    Op::Sub => x - y,
+                    Op::Mul => x * y,
+                    Op::Div => x / y,
+                    Op::Pow => x.powf(y),
+                    Op::Powi => x.powi(ins.n),
+                    Op::Un(f) => f.apply(x),
+                    Op::Select => {
+                        if mode & (1 << ins.k) != 0 {
+                            x
+                        } else {
+                            y
+                        }
+                    }
+                    Op::Sign | Op::SignStrict => {
+                        let on = if ins.op == Op::SignStrict {
+                            x > 0.0
+                        } else {
+                            x >= 0.0
+                        };
+                        let bit = 1u64 << ins.k;
+                        if on {
+                            observed |= bit;
+                        }
+                        if FREE {
+                            mode = (mode & !bit) | (observed & bit);
+                        }
+                        continue;
+                    }
+                };
+                *r.get_unchecked_mut(ins.d as usize) = value;
+            }
+        }
+        observed
+    }
+}
+
+impl Tape {
+    /// Runs the tape on `L` lanes of registers at once, lane l held on `modes[l]`; returns
+    /// each lane's observed mode (as [`Tape::run_in`] does for one).
+    #[inline]
+    pub fn run_lanes<const L: usize>(&self, r: &mut [[f64; L]], modes: &[Mode; L]) -> [Mode; L] {
+        self.lanes::<L, false>(r, modes)
+    }
+
+    /// Runs the tape on `L` lanes, each kink on the branch its switching function's sign
+    /// selects in that lane.
+    pub fn run_lanes_free<const L: usize>(&self, r: &mut [[f64; L]]) -> [Mode; L] {
+        self.lanes::<L, true>(r, &[0; L])
+    }
+
+    #[inline(always)]
+    fn lanes<const L: usize, const FREE: bool>(
+        &self,
+        r: &mut [[f64; L]],
+        modes: &[Mode; L],
+    ) -> [Mode; L] {
+        assert!(
+            r.len() >= self.registers,
+            "a register file of another graph"
+        );
+        let mut observed = [0u64; L];
+        for ins in &self.ins {
+            // SAFETY: as in `run`: every index is below `registers` ≤ r.len()
+            let (x, y) = unsafe {
+                (
+                    *r.get_unchecked(ins.a as usize),
+                    *r.get_unchecked(ins.b as usize),
+                )
+            };
+            let bit = 1u64 << ins.k;
+            let mut out = [0.0; L];
+            match ins.op {
+                Op::Add => (0..L).for_each(|l| out[l] = x[l] + y[l]),
+                Op::Sub => (0..L).for_each(|l| out[l] = x[l] - y[l]),
+                Op::Mul => (0..L).for_each(|l| out[l] = x[l] * y[l]),
+                Op::Div => (0..L).for_each(|l| out[l] = x[l] / y[l]),
+                Op::Pow => (0..L).for_each(|l| out[l] = x[l].powf(y[l])),
+                Op::Powi => (0..L).for_each(|l| out[l] = x[l].powi(ins.n)),
+                Op::Un(f) => (0..L).for_each(|l| out[l] = f.apply(x[l])),
+                Op::Select => (0..L).for_each(|l| {
+                    let m = if FREE { observed[l] } else { modes[l] };
+                    out[l] = if m & bit != 0 { x[l] } else { y[l] };
+                }),
+                Op::Sign => {
+                    (0..L).for_each(|l| observed[l] |= if x[l] >= 0.0 { bit } else { 0 });
+                    continue;
+                }
+                Op::SignStrict => {
+                    (0..L).for_each(|l| observed[l] |= if x[l] > 0.0 { bit } else { 0 });
+                    continue;
+                }
+            }
+            // SAFETY: as above
+            unsafe { *r.get_unchecked_mut(ins.d as usize) = out };
+        }
+        observed
+    }
+}
+
+/// A register file for one graph: constants filled in, parameters and the nodes they fix
+/// evaluated by [`Registers::set_params`].
+#[derive(Debug, Clone)]
+pub struct Registers {
+    pub values: Vec<f64>,
+    pub(super) state_slots: Vec<(u8, u32)>,
+    pub(super) time_slot: Option<u32>,
+    param_slots: Vec<(u16, u32)>,
+    /// The parameter-fixed nodes, in dependency order.
+    fixed: Vec<NodeId>,
+}
+
+impl Registers {
+    pub fn new(graph: &Graph) -> Registers {
+        let varying = graph.varying();
+        let mut values = vec![0.0; graph.len()];
+        let (mut state_slots, mut time_slot, mut param_slots, mut fixed) =
+            (Vec::new(), None, Vec::new(), Vec::new());
+        for id in 0..graph.len() as u32 {
+            match graph.node(id) {
+                Node::Const(v) => values[id as usize] = v,
+                Node::Time => time_slot = Some(id),
+                Node::State(i) => state_slots.push((i, id)),
+                Node::Param(i) => param_slots.push((i, id)),
+                _ if !varying[id as usize] => fixed.push(id),
+                _ => {}
+            }
+        }
+        Registers {
+            values,
+            state_slots,
+            time_slot,
+            param_slots,
+            fixed,
+        }
+    }
+
+    /// Loads parameter values and evaluates every node they alone fix. A kink between fixed
+    /// values takes its branch by its switching value's sign.
+    pub fn set_params(&mut self, graph: &Graph, params: &[f64]) {
+        for &(i, slot) in &self.param_slots {
+            self.values[slot as usize] = params[i as usize];
+        }
+        let r = &mut self.values;
+        for &id in &self.fixed {
+            r[id as usize] = match graph.node(id) {
+                Node::Un(f, a) => f.apply(r[a as usize]),
+                Node::Bin(op, a, b) => op.apply(r[a as usize], r[b as usize]),
+                Node::Powi(a, k) => r[a as usize].powi(k),
+                Node::Select(k, a, b) => {
+                    let s = graph.switches[k as usize];
+                    if s.on(r[s.value as usize]) {
+                        r[a as usize]
+                    } else {
+                        r[b as usize]
+                    }
+                }
+                _ => unreachable!("only computed nodes are fixed"),
+            };
+        }
+    }
+
+    /// Loads the time and state.
+    #[inline(always)]
+    pub fn load(&mut self, t: f64, x: &[f64]) {
+        if let Some(slot) = self.time_slot {
+            self.values[slot as usize] = t;
+        }
+        for &(i, slot) in &self.state_slots {
+            self.values[slot as usize] = x[i as usize];
+        }
+    }
+
+    #[inline(always)]
+    pub fn get(&self, id: NodeId) -> f64 {
+        self.values[id as usize]
+    }
+}

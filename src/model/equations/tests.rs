@@ -1,0 +1,294 @@
+//! Written models checked against the built-in model and against analytic results.
+
+use super::*;
+use crate::model::Params;
+use crate::solver::general::{GeneralRk4, Trajectory};
+use crate::solver::{Resolution, Rk4};
+
+/// The paper's model as `sessions/user_model_paper.toml` writes it.
+pub(crate) fn paper_model() -> EquationModel {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_paper.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let def = ModelDefinition::from_session_text(&text).unwrap().unwrap();
+    EquationModel::new(&def, &text).unwrap()
+}
+
+/// The written paper model at (ADR, ω) over the baseline.
+pub(crate) fn paper_system(adr: f64, omega: f64) -> EquationSystem {
+    let m = paper_model();
+    let mut values = m.defaults();
+    values[m.parameter("ADR").unwrap()] = adr;
+    values[m.parameter("omega").unwrap()] = omega;
+    m.system(&values).unwrap()
+}
+
+fn run_periods(
+    sys: &mut EquationSystem,
+    rk: &GeneralRk4,
+    x0: [f64; 2],
+    periods: usize,
+) -> Trajectory {
+    let mut traj = rk.start(sys, &x0);
+    for _ in 0..periods {
+        rk.advance_period(sys, &mut traj, |_, _, _| {});
+    }
+    traj
+}
+
+#[test]
+fn the_written_paper_model_follows_the_built_in_to_1e_9() {
+    // same steps per period, both split at loss of tension: the trajectories agree to the
+    // located switches' precision, over a long transient onto the isola at ω 3.7
+    for (adr, omega, dx0) in [(0.6, 3.7, 0.3), (0.6, 1.8, 0.4), (1.0, 3.6, -0.2)] {
+        let p = Params::paper(adr, omega).unwrap();
+        let mut sys = paper_system(adr, omega);
+        let res = Resolution::default();
+        let rk = GeneralRk4::new(&sys, &res);
+        let built_in = Rk4::new(&p, &res);
+        assert_eq!(rk.steps_per_period(), built_in.steps_per_period());
+        let x0 = [p.lambda_p() + dx0, 0.0];
+        let mut lanes = built_in.start([x0[0]], [x0[1]]);
+        let mut traj = rk.start(&mut sys, &x0);
+        let mut worst: f64 = 0.0;
+        for _ in 0..400 {
+            built_in.advance_period(&mut lanes, |_, _, _| {});
+            rk.advance_period(&mut sys, &mut traj, |_, _, _| {});
+            let d = (lanes.x[0] - traj.x[0])
+                .abs()
+                .max((lanes.v[0] - traj.x[1]).abs());
+            worst = worst.max(d);
+        }
+        assert!(traj.stop.is_none());
+        eprintln!("ADR {adr} ω {omega}: largest difference {worst:e}");
+        assert!(worst < 1e-9, "ADR {adr} ω {omega}: {worst:e}");
+    }
+}
+
+#[test]
+fn a_written_model_that_goes_slack_keeps_fourth_order() {
+    // error of λ_I, v after 4 periods at ω 3.7 on the isola (both membranes go slack each
+    // period), against a run at 8192 steps per period
+    let mut sys = paper_system(0.6, 3.7);
+    let x0 = [1.32, 0.0];
+    let fine = GeneralRk4::with_steps(&sys, 8192);
+    let reference = run_periods(&mut sys, &fine, x0, 4);
+    let errors: Vec<f64> = [32, 64, 128, 256]
+        .iter()
+        .map(|&n| {
+            let rk = GeneralRk4::with_steps(&sys, n);
+            let t = run_periods(&mut sys, &rk, x0, 4);
+            (t.x[0] - reference.x[0])
+                .abs()
+                .max((t.x[1] - reference.x[1]).abs())
+        })
+        .collect();
+    eprintln!("errors at 32, 64, 128, 256 steps per period: {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[0] / w[1] >= 10.0, "errors per halving {errors:?}");
+    }
+}
+
+
+#[test]
+fn lanes_give_each_start_the_scalar_result_bit_for_bit() {
+    use crate::analysis::oscillator::written::steady_state_of;
+    use crate::analysis::{Oscillator, SteadyStateSpec};
+    use std::sync::atomic::AtomicBool;
+    // a 6 × 5 grid at ω 3.7 (1:1, the 1:2 isola, slack phases), and a start far out
+    let sys = paper_system(0.6, 3.7);
+    let spec = SteadyStateSpec::default();
+    let mut starts: Vec<_> = (0..30)
+        .map(|c| sys.grid_start([-0.8 + 0.32 * (c / 5) as f64, -1.0 + 0.5 * (c % 5) as f64]))
+        .collect();
+    starts.push(sys.grid_start([5.0, 0.0]));
+    let never = AtomicBool::new(false);
+    let in_lanes = sys
+        .steady_states(&starts, &spec, None, &never, |_| {})
+        .unwrap();
+    let mut scalar = sys.clone();
+    for (start, lane) in starts.iter().zip(&in_lanes) {
+        let alone = steady_state_of(&mut scalar, start, sys.model().grid(), &spec).unwrap();
+        assert_eq!(
+            serde_json::to_string(&alone).unwrap(),
+            serde_json::to_string(lane).unwrap()
+        );
+    }
+    let classes: std::collections::BTreeSet<String> = in_lanes.iter().map(|s| s.label()).collect();
+    assert!(classes.len() >= 3, "{classes:?}");
+}
+
+/// The written model of example session `file` at its defaults with `set` applied.
+fn catalogue(file: &str, set: &[(&str, f64)]) -> EquationSystem {
+    let path = format!("{}/sessions/{file}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let def = ModelDefinition::from_session_text(&text).unwrap().unwrap();
+    let m = EquationModel::new(&def, &text).unwrap();
+    let mut values = m.defaults();
+    for (name, v) in set {
+        values[m.parameter(name).unwrap()] = *v;
+    }
+    m.system(&values).unwrap()
+}
+
+/// The state after `periods` forcing periods from `x0` at `n` steps per period.
+fn after_periods(sys: &mut EquationSystem, x0: &[f64], n: usize, periods: usize) -> Vec<f64> {
+    let rk = GeneralRk4::with_steps(sys, n);
+    let mut traj = rk.start(sys, x0);
+    for _ in 0..periods {
+        rk.advance_period(sys, &mut traj, |_, _, _| {});
+    }
+    assert!(traj.stop.is_none(), "{:?}", traj.stop);
+    traj.x[..x0.len()].to_vec()
+}
+
+fn assert_close(got: &[f64], want: &[f64], tol: f64, what: &str) {
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() < tol, "{what}: {got:?} against {want:?}");
+    }
+}
+
+/// Steady amplitude from `x0` at `n` steps per period.
+fn amplitude(sys: &mut EquationSystem, x0: &[f64], n: u32) -> (Option<usize>, f64) {
+    use crate::analysis::SteadyStateSpec;
+    use crate::analysis::oscillator::written::steady_state_of;
+    let mut spec = SteadyStateSpec::default();
+    spec.resolution.min_steps_per_period = n;
+    let mut start = [0.0; crate::model::system::MAX_DIM];
+    start[..x0.len()].copy_from_slice(x0);
+    let grid = sys.model().grid();
+    let s = steady_state_of(sys, &start, grid, &spec).unwrap();
+    (s.period, s.amplitude.unwrap())
+}
+
+// Reference values below: an independent integration in Python (SciPy DOP853, rtol 1e-13,
+// restarted at every loss of tension; cross-checked with Radau to ≤ 2e-11), and Newton
+// shooting for the steady orbits (residual ≤ 1e-13).
+
+#[test]
+fn the_written_paper_model_matches_an_independent_integration() {
+    // MODEL.md at ADR 0.6, ω 3.7 from (1.12, 0): slack every period; and the isola
+    let mut sys = paper_system(0.6, 3.7);
+    let x = after_periods(&mut sys, &[1.12, 0.0], 1024, 10);
+    assert_close(
+        &x,
+        &[1.01157553290323, 0.110585575080378],
+        1e-9,
+        "10 periods",
+    );
+    let (k, a) = amplitude(&mut sys, &[1.02, 0.4], 512);
+    assert_eq!(k, Some(2));
+    assert!((a - 0.415622115856).abs() < 1e-7, "isola amplitude {a}");
+}
+
+#[test]
+fn the_viscoelastic_dea_matches_an_independent_integration() {
+    let mut sys = catalogue("user_model_viscoelastic.toml", &[]);
+    let x = after_periods(&mut sys, &[1.02, 0.0, 1.02, 1.02], 1024, 10);
+    let want = [
+        1.01747211295899,
+        0.00411007214361573,
+        1.02405317154524,
+        1.01591970452236,
+    ];
+    assert_close(&x, &want, 1e-9, "from rest");
+    let x = after_periods(&mut sys, &[1.12, 0.0, 1.02, 1.02], 1024, 10);
+    let want = [
+        1.01901490576857,
+        0.0388830919381638,
+        1.02039251020375,
+        1.01953081236911,
+    ];
+    assert_close(&x, &want, 1e-9, "from 1.12, slack each period");
+    // the isola of the elastic model is gone: the start that reaches it settles 1:1
+    let (k, a) = amplitude(&mut sys, &[1.02, 0.4, 1.02, 1.02], 512);
+    assert_eq!(k, Some(1));
+    assert!((a - 0.014387070707).abs() < 1e-7, "1:1 amplitude {a}");
+    // beta = 0 is MODEL.md
+    let mut elastic = catalogue("user_model_viscoelastic.toml", &[("beta", 0.0)]);
+    let x = after_periods(&mut elastic, &[1.12, 0.0, 1.02, 1.02], 1024, 10);
+    assert_close(
+        &x[..2],
+        &[1.01157553290323, 0.110585575080378],
+        1e-9,
+        "beta 0",
+    );
+}
+
+#[test]
+fn the_dead_loaded_membrane_matches_its_analytic_frequency_and_an_integration() {
+    use crate::model::system::{System, Vector};
+    // the symbolic Jacobian at the static equilibrium without voltage gives
+    // ω_n² = g′(1.5) = 1.862772374121151 (closed form)
+    let mut sys = catalogue("user_model_dead_load.toml", &[("E_a", 0.0), ("c", 0.0)]);
+    let mut x: Vector = [0.0; 8];
+    x[0] = 1.5;
+    let mode = sys.mode_at(0.0, &x);
+    let mut jac = [[0.0; 8]; 8];
+    sys.jacobian(0.0, &x, mode, &mut jac);
+    assert!(
+        (-jac[1][0] - 1.862772374121151).abs() < 1e-12,
+        "{:?}",
+        jac[1]
+    );
+    assert_eq!((jac[0][0], jac[0][1], jac[1][1]), (0.0, 1.0, 0.0));
+    // at the primary resonance (the transient goes slack)
+    let mut sys = catalogue("user_model_dead_load.toml", &[]);
+    let x = after_periods(&mut sys, &[1.5, 0.0], 1024, 10);
+    assert_close(&x, &[2.09405999625839, 0.177776315164112], 1e-9, "ω 1.34");
+    let (k, a) = amplitude(&mut sys, &[1.5, 0.0], 512);
+    assert_eq!(k, Some(1));
+    assert!((a - 0.882937267215).abs() < 1e-7, "primary amplitude {a}");
+}
+
+#[test]
+fn the_duffing_isola_matches_an_independent_integration() {
+    let mut sys = catalogue("user_model_duffing_isola.toml", &[]);
+    // 4096 steps: at amplitude 2 the x⁴ damping makes the field steeper than the DEA's
+    let x = after_periods(&mut sys, &[0.0, 2.0], 4096, 10);
+    assert_close(
+        &x,
+        &[0.709538403526686, 1.88252888588985],
+        1e-9,
+        "10 periods",
+    );
+    let (k, main) = amplitude(&mut sys, &[0.0, 0.0], 512);
+    assert_eq!(k, Some(1));
+    assert!((main - 0.167822155813).abs() < 1e-7, "main branch {main}");
+    let (k, isola) = amplitude(&mut sys, &[0.0, 2.0], 512);
+    assert_eq!(k, Some(1));
+    assert!((isola - 3.683103850380).abs() < 1e-7, "isola {isola}");
+}
+
+#[test]
+fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
+    use crate::model::system::{System, Vector};
+    // central differences on the viscoelastic model (4 states, every function kind used
+    // there) at a taut state; agreement to the differences' own error
+    let mut sys = catalogue("user_model_viscoelastic.toml", &[]);
+    let mut x: Vector = [0.0; 8];
+    x[..4].copy_from_slice(&[1.05, 0.2, 1.03, 1.01]);
+    let tau = 0.3;
+    let mode = sys.mode_at(tau, &x);
+    let mut jac = [[0.0; 8]; 8];
+    sys.jacobian(tau, &x, mode, &mut jac);
+    for j in 0..4 {
+        let (mut up, mut down) = (x, x);
+        let d = 1e-6;
+        up[j] += d;
+        down[j] -= d;
+        let (mut fu, mut fd) = ([0.0; 8], [0.0; 8]);
+        sys.field(tau, &up, mode, &mut fu);
+        sys.field(tau, &down, mode, &mut fd);
+        for i in 0..4 {
+            let fd_ij = (fu[i] - fd[i]) / (2.0 * d);
+            assert!(
+                (jac[i][j] - fd_ij).abs() < 1e-7 * (1.0 + fd_ij.abs()),
+                "∂f{i}/∂x{j}: {} against {fd_ij}",
+                jac[i][j]
+            );
+        }
+    }
+}

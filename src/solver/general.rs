@@ -1,0 +1,381 @@
+//! Fixed-step RK4 for any [`System`]: the step h = T/n divides the forcing period, and a step
+//! in which a switching function changes sign is split where it does, each side integrated
+//! on its own smooth piece. This keeps fourth order on models with kinks (MODEL.md §4b)
+//! without the model naming them: they are the arguments of its `max`, `min`, `abs`, `if`.
+
+use super::resolution::Resolution;
+use crate::model::system::{MAX_DIM, Mode, System, Vector};
+
+/// Most switching functions (the bits of a mode).
+const MAX_SWITCHES: usize = 64;
+/// Most switches handled inside one step before the rest of it is taken as it is.
+const MAX_SWITCHES_PER_STEP: usize = 6;
+/// Width, as a fraction of the step, below which a switch's bracket is located.
+const ROOT_TOLERANCE: f64 = 1e-13;
+/// Bisection-safeguarded iterations spent locating one switch at most.
+const MAX_ROOT_ITERATIONS: usize = 60;
+/// Fractions of a step tried when only an intermediate stage saw a switch.
+const SCAN: [f64; 3] = [0.25, 0.5, 0.75];
+
+/// Why a trajectory stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Stop {
+    /// It met one of the model's collision conditions, at the end of the step at τ.
+    Collision { tau: f64, state: Vector },
+    /// A value stopped being finite: at τ, from `state`, in the named expression if known.
+    NonFinite {
+        tau: f64,
+        state: Vector,
+        expression: Option<String>,
+    },
+}
+
+/// One trajectory of a [`System`].
+#[derive(Debug, Clone)]
+pub struct Trajectory {
+    /// The state at τ = `steps`·h.
+    pub x: Vector,
+    /// dx/dτ there, on `mode` (the first stage of the next step).
+    pub(super) dx: Vector,
+    /// The smooth piece in force.
+    pub mode: Mode,
+    /// Steps taken from τ = 0.
+    pub steps: u64,
+    /// Set once the trajectory has stopped; it is then frozen.
+    pub stop: Option<Stop>,
+}
+
+impl Trajectory {
+    /// A trajectory that holds nothing yet (all zeros, at τ = 0).
+    pub(super) fn parked() -> Trajectory {
+        Trajectory {
+            x: [0.0; MAX_DIM],
+            dx: [0.0; MAX_DIM],
+            mode: 0,
+            steps: 0,
+            stop: None,
+        }
+    }
+}
+
+/// The general fixed-step integrator at one step length.
+#[derive(Debug, Clone, Copy)]
+pub struct GeneralRk4 {
+    n: usize,
+    h: f64,
+}
+
+impl GeneralRk4 {
+    /// An integrator for `sys`'s period, with the step count from `resolution`.
+    pub fn new(sys: &impl System, resolution: &Resolution) -> Self {
+        Self::with_steps(sys, resolution.steps_for(sys.period()))
+    }
+
+    /// Exactly `n` steps per forcing period.
+    pub fn with_steps(sys: &impl System, n: usize) -> Self {
+        let n = n.max(1);
+        GeneralRk4 {
+            n,
+            h: sys.period() / n as f64,
+        }
+    }
+
+    pub fn steps_per_period(&self) -> usize {
+        self.n
+    }
+
+    /// Step length h = T/n.
+    pub fn step(&self) -> f64 {
+        self.h
+    }
+
+    /// τ after `steps` steps.
+    pub fn tau(&self, steps: u64) -> f64 {
+        steps as f64 * self.h
+    }
+
+    /// A trajectory from `x0` at τ = 0 (stopped at once if `x0` is outside the model).
+    pub fn start<S: System>(&self, sys: &mut S, x0: &[f64]) -> Trajectory {
+        let mut x = [0.0; MAX_DIM];
+        x[..x0.len()].copy_from_slice(x0);
+        let mut traj = Trajectory {
+            x,
+            dx: [0.0; MAX_DIM],
+            mode: 0,
+            steps: 0,
+            stop: None,
+        };
+        if x0.iter().any(|v| !v.is_finite()) {
+            traj.stop = Some(self.non_finite(sys, 0.0, &x));
+            return traj;
+        }
+        if sys.collided(0.0, &x) {
+            traj.stop = Some(Stop::Collision { tau: 0.0, state: x });
+            return traj;
+        }
+        traj.mode = sys.mode_at(0.0, &x) & sys.switch_mask();
+        sys.field(0.0, &x, traj.mode, &mut traj.dx);
+        if traj.dx.iter().any(|v| !v.is_finite()) {
+            traj.stop = Some(self.non_finite(sys, 0.0, &x));
+        }
+        traj
+    }
+
+    /// Advances `n` steps (one forcing period); `each_step(sys, before, after)` sees each
+    /// step's ends. Stops early when the trajectory stops.
+    pub fn advance_period<S: System>(
+        &self,
+        sys: &mut S,
+        traj: &mut Trajectory,
+        mut each_step: impl FnMut(&mut S, &StepEnd, &StepEnd),
+    ) {
+        for _ in 0..self.n {
+            if traj.stop.is_some() {
+                return;
+            }
+            let before = StepEnd::of(self, traj);
+            self.advance_step(sys, traj);
+            if traj.stop.is_none() {
+                each_step(sys, &before, &StepEnd::of(self, traj));
+            }
+        }
+    }
+
+    /// One step h, split at every switch inside it.
+    pub fn advance_step<S: System>(&self, sys: &mut S, traj: &mut Trajectory) {
+        if traj.stop.is_some() {
+            return;
+        }
+        let mask = sys.switch_mask();
+        let t_end = self.tau(traj.steps + 1);
+        let mut t = self.tau(traj.steps);
+        let (mut x, mut dx, mut mode) = (traj.x, traj.dx, traj.mode);
+        let dim = sys.dim();
+        for _ in 0..MAX_SWITCHES_PER_STEP {
+            let rem = t_end - t;
+            let trial = rk4(sys, dim, t, &x, &dx, rem, mode, true);
+            if trial.seen & mask == mode & mask && trial.finite {
+                (x, dx) = (trial.x, trial.dx);
+                t = t_end;
+                break;
+            }
+            match self.locate(sys, dim, t, &x, &dx, rem, mode, mask) {
+                Some((theta, flipped, at)) => {
+                    t += theta * rem;
+                    x = at;
+                    mode ^= flipped;
+                    sys.field(t, &x, mode, &mut dx);
+                }
+                None if trial.finite => {
+                    // only a stage strayed across: the trajectory itself stays on this piece
+                    (x, dx) = (trial.x, trial.dx);
+                    t = t_end;
+                    break;
+                }
+                None => {
+                    traj.stop = Some(self.non_finite(sys, t, &x));
+                    return;
+                }
+            }
+        }
+        if t < t_end {
+            // more switches than handled: the rest of the step as it is
+            let trial = rk4(sys, dim, t, &x, &dx, t_end - t, mode, true);
+            (x, dx) = (trial.x, trial.dx);
+            mode = sys.mode_at(t_end, &x) & mask;
+            sys.field(t_end, &x, mode, &mut dx);
+        }
+        traj.steps += 1;
+        traj.x = x;
+        traj.dx = dx;
+        traj.mode = mode;
+        if x.iter().chain(&dx).any(|v| !v.is_finite()) {
+            traj.stop = Some(self.non_finite(sys, t_end, &x));
+        } else if sys.collided(t_end, &x) {
+            traj.stop = Some(Stop::Collision {
+                tau: t_end,
+                state: x,
+            });
+        }
+    }
+
+    /// The first switch within a trial step of length `rem` from (t, x): the fraction θ of
+    /// the step just past it, the mode bits that flip there, and the state there. None if no
+    /// sub-step's end is on another piece.
+    #[allow(clippy::too_many_arguments)]
+    fn locate<S: System>(
+        &self,
+        sys: &mut S,
+        dim: usize,
+        t: f64,
+        x: &Vector,
+        dx: &Vector,
+        rem: f64,
+        mode: Mode,
+        mask: Mode,
+    ) -> Option<(f64, Mode, Vector)> {
+        let probe = |sys: &mut S, theta: f64| -> Probe {
+            let end = rk4(sys, dim, t, x, dx, theta * rem, mode, false).x;
+            let mut s = [0.0; MAX_SWITCHES];
+            let seen = sys.switching(t + theta * rem, &end, mode, &mut s) & mask;
+            let finite = end[..dim].iter().all(|v| v.is_finite());
+            Probe {
+                theta,
+                end,
+                s,
+                crossed: if finite {
+                    seen ^ (mode & mask)
+                } else {
+                    mask | 1
+                },
+                finite,
+            }
+        };
+        let mut hi = probe(sys, 1.0);
+        if hi.crossed == 0 {
+            // only a stage saw another piece: look inside the step
+            hi = SCAN
+                .iter()
+                .map(|&theta| probe(sys, theta))
+                .find(|p| p.crossed != 0)?;
+        }
+        let mut lo = Probe {
+            theta: 0.0,
+            end: *x,
+            s: [0.0; MAX_SWITCHES],
+            crossed: 0,
+            finite: true,
+        };
+        sys.switching(t, x, mode, &mut lo.s);
+        // regula falsi with the Illinois weighting on the switch that crossed, bisection
+        // where the function cannot say (a non-finite end)
+        let mut weight = (1.0, 1.0);
+        let mut last_side = 0i8;
+        for _ in 0..MAX_ROOT_ITERATIONS {
+            if hi.theta - lo.theta <= ROOT_TOLERANCE {
+                break;
+            }
+            let theta = match hi.finite.then(|| hi.crossed.trailing_zeros() as usize) {
+                Some(k) if k < MAX_SWITCHES => {
+                    let (a, b) = (lo.s[k] * weight.0, hi.s[k] * weight.1);
+                    let guess = lo.theta + (hi.theta - lo.theta) * a / (a - b);
+                    let width = hi.theta - lo.theta;
+                    if guess.is_finite() {
+                        guess.clamp(lo.theta + 1e-3 * width, hi.theta - 1e-3 * width)
+                    } else {
+                        0.5 * (lo.theta + hi.theta)
+                    }
+                }
+                _ => 0.5 * (lo.theta + hi.theta),
+            };
+            let p = probe(sys, theta);
+            if p.crossed != 0 {
+                if p.crossed.trailing_zeros() != hi.crossed.trailing_zeros() {
+                    weight = (1.0, 1.0);
+                    last_side = 0;
+                }
+                hi = p;
+                weight.0 = if last_side == 1 { weight.0 * 0.5 } else { 1.0 };
+                weight.1 = 1.0;
+                last_side = 1;
+            } else {
+                lo = p;
+                weight.1 = if last_side == -1 { weight.1 * 0.5 } else { 1.0 };
+                weight.0 = 1.0;
+                last_side = -1;
+            }
+        }
+        hi.finite.then_some((hi.theta, hi.crossed, hi.end))
+    }
+
+    fn non_finite<S: System>(&self, sys: &mut S, tau: f64, x: &Vector) -> Stop {
+        Stop::NonFinite {
+            tau,
+            state: *x,
+            expression: sys.explain_non_finite(tau, x),
+        }
+    }
+}
+
+/// A step's end as the recording callbacks see it.
+#[derive(Debug, Clone, Copy)]
+pub struct StepEnd {
+    pub tau: f64,
+    pub x: Vector,
+    pub mode: Mode,
+}
+
+impl StepEnd {
+    fn of(rk: &GeneralRk4, traj: &Trajectory) -> StepEnd {
+        StepEnd {
+            tau: rk.tau(traj.steps),
+            x: traj.x,
+            mode: traj.mode,
+        }
+    }
+}
+
+/// A sub-step's end while a switch is located.
+struct Probe {
+    theta: f64,
+    end: Vector,
+    /// The switching functions there, on the step's piece.
+    s: [f64; MAX_SWITCHES],
+    /// Mode bits that differ there from the step's piece (all, where the end is not finite).
+    crossed: Mode,
+    finite: bool,
+}
+
+/// A trial RK4 step: the end state, its derivative on the same piece, and the modes the
+/// stages and the end saw (or-ed).
+struct Trial {
+    x: Vector,
+    dx: Vector,
+    seen: Mode,
+    finite: bool,
+}
+
+/// One RK4 step of length `h` from (t, x) with first stage `k1`, held on `mode`; with
+/// `with_end`, the derivative at its end too.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn rk4<S: System>(
+    sys: &mut S,
+    dim: usize,
+    t: f64,
+    x: &Vector,
+    k1: &Vector,
+    h: f64,
+    mode: Mode,
+    with_end: bool,
+) -> Trial {
+    let mut y = [0.0; MAX_DIM];
+    let (mut k2, mut k3, mut k4) = ([0.0; MAX_DIM], [0.0; MAX_DIM], [0.0; MAX_DIM]);
+    for i in 0..dim {
+        y[i] = x[i] + 0.5 * h * k1[i];
+    }
+    let mut seen_diff = sys.field(t + 0.5 * h, &y, mode, &mut k2) ^ mode;
+    for i in 0..dim {
+        y[i] = x[i] + 0.5 * h * k2[i];
+    }
+    seen_diff |= sys.field(t + 0.5 * h, &y, mode, &mut k3) ^ mode;
+    for i in 0..dim {
+        y[i] = x[i] + h * k3[i];
+    }
+    seen_diff |= sys.field(t + h, &y, mode, &mut k4) ^ mode;
+    let mut end = [0.0; MAX_DIM];
+    for i in 0..dim {
+        end[i] = x[i] + h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    }
+    let mut dx = [0.0; MAX_DIM];
+    if with_end {
+        seen_diff |= sys.field(t + h, &end, mode, &mut dx) ^ mode;
+    }
+    let finite = end[..dim].iter().chain(&dx[..dim]).all(|v| v.is_finite());
+    Trial {
+        x: end,
+        dx,
+        seen: mode ^ seen_diff,
+        finite,
+    }
+}

@@ -1,0 +1,184 @@
+//! [`GeneralRk4`] on `L` trajectories of a written model at once: every lane's plain step in
+//! one pass of the tapes over the lanes; a lane whose step meets a switch (or a value that is
+//! not finite) is redone alone by the scalar integrator, which splits it. Each lane's result
+//! is bit for bit the scalar integrator's.
+
+use super::general::{GeneralRk4, Stop, Trajectory};
+use crate::model::equations::EquationSystem;
+use crate::model::equations::lanes::{EquationLanes, LaneVectors};
+use crate::model::system::{MAX_DIM, Mode, System, Vector};
+
+/// `L` trajectories, each on its own clock (τ counts from the lane's own start).
+#[derive(Debug, Clone)]
+pub struct Lanes<const L: usize> {
+    pub x: LaneVectors<L>,
+    dx: LaneVectors<L>,
+    pub mode: [Mode; L],
+    /// Steps each lane has taken since it started.
+    pub steps: [u64; L],
+    /// Why a lane stopped; a stopped or idle lane is frozen.
+    pub stop: [Option<Stop>; L],
+    /// Lanes without a trajectory.
+    pub idle: [bool; L],
+}
+
+/// One lane's ends of a step, for recording.
+pub type LaneEnds<const L: usize> = ([f64; L], LaneVectors<L>, [Mode; L]);
+
+impl<const L: usize> Lanes<L> {
+    /// Every lane idle, parked at `rest` (any finite state of the model).
+    pub fn idle(rest: &Vector) -> Self {
+        let mut x = [[0.0; L]; MAX_DIM];
+        for (xi, &r) in x.iter_mut().zip(rest) {
+            *xi = [r; L];
+        }
+        Lanes {
+            x,
+            dx: [[0.0; L]; MAX_DIM],
+            mode: [0; L],
+            steps: [0; L],
+            stop: std::array::from_fn(|_| None),
+            idle: [true; L],
+        }
+    }
+
+    /// Lane `l` as a scalar trajectory.
+    fn lane(&self, l: usize) -> Trajectory {
+        let mut traj = Trajectory::parked();
+        for i in 0..MAX_DIM {
+            traj.x[i] = self.x[i][l];
+            traj.dx[i] = self.dx[i][l];
+        }
+        traj.mode = self.mode[l];
+        traj.steps = self.steps[l];
+        traj.stop = self.stop[l].clone();
+        traj
+    }
+
+    /// Puts a scalar trajectory into lane `l`.
+    fn set_lane(&mut self, l: usize, traj: Trajectory) {
+        for i in 0..MAX_DIM {
+            self.x[i][l] = traj.x[i];
+            self.dx[i][l] = traj.dx[i];
+        }
+        self.mode[l] = traj.mode;
+        self.steps[l] = traj.steps;
+        self.stop[l] = traj.stop;
+    }
+
+    /// Whether lane `l` is integrating.
+    pub fn running(&self, l: usize) -> bool {
+        !self.idle[l] && self.stop[l].is_none()
+    }
+}
+
+impl GeneralRk4 {
+    /// Starts lane `l` at `x0`, τ = 0 on its clock.
+    pub fn restart_lane<const L: usize>(
+        &self,
+        sys: &mut EquationSystem,
+        lanes: &mut Lanes<L>,
+        l: usize,
+        x0: &Vector,
+    ) {
+        let traj = self.start(sys, &x0[..sys.dim()]);
+        lanes.set_lane(l, traj);
+        lanes.idle[l] = false;
+    }
+
+    /// Leaves lane `l` without a trajectory (parked where it is, or at `rest`).
+    pub fn park_lane<const L: usize>(&self, lanes: &mut Lanes<L>, l: usize, rest: &Vector) {
+        let mut traj = Trajectory::parked();
+        traj.x = *rest;
+        lanes.set_lane(l, traj);
+        lanes.idle[l] = true;
+    }
+
+    /// One step of every running lane; returns the step's ends (before, after) for
+    /// recording.
+    pub fn advance_lanes<const L: usize>(
+        &self,
+        sys: &mut EquationSystem,
+        eval: &mut EquationLanes<L>,
+        lanes: &mut Lanes<L>,
+    ) -> (LaneEnds<L>, LaneEnds<L>) {
+        let dim = sys.dim();
+        let mask = sys.switch_mask();
+        let t: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l]));
+        let h: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l] + 1) - t[l]);
+        let before = (t, lanes.x, lanes.mode);
+        let (x, k1, mode) = (&lanes.x, &lanes.dx, &lanes.mode);
+        let (mut y, mut k2, mut k3, mut k4) = (
+            *x,
+            [[0.0; L]; MAX_DIM],
+            [[0.0; L]; MAX_DIM],
+            [[0.0; L]; MAX_DIM],
+        );
+        let t_half: [f64; L] = std::array::from_fn(|l| t[l] + 0.5 * h[l]);
+        let t_end: [f64; L] = std::array::from_fn(|l| t[l] + h[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
+            }
+        }
+        let mut seen = eval.field(&t_half, &y, mode, &mut k2);
+        let mut seen_diff: [Mode; L] = std::array::from_fn(|l| seen[l] ^ mode[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + 0.5 * h[l] * k2[i][l];
+            }
+        }
+        seen = eval.field(&t_half, &y, mode, &mut k3);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + h[l] * k3[i][l];
+            }
+        }
+        seen = eval.field(&t_end, &y, mode, &mut k4);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        let mut end = *x;
+        for i in 0..dim {
+            for l in 0..L {
+                end[i][l] =
+                    x[i][l] + h[l] / 6.0 * (k1[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
+            }
+        }
+        let mut dx = [[0.0; L]; MAX_DIM];
+        seen = eval.field(&t_end, &end, mode, &mut dx);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        let hit = eval.collided(&t_end, &end);
+        for l in 0..L {
+            if !lanes.running(l) {
+                continue;
+            }
+            let finite = (0..dim).all(|i| end[i][l].is_finite() && dx[i][l].is_finite());
+            if seen_diff[l] & mask != 0 || !finite {
+                // a switch in this step (or a value to explain): the scalar integrator
+                let mut traj = lanes.lane(l);
+                self.advance_step(sys, &mut traj);
+                lanes.set_lane(l, traj);
+                continue;
+            }
+            for i in 0..dim {
+                lanes.x[i][l] = end[i][l];
+                lanes.dx[i][l] = dx[i][l];
+            }
+            lanes.steps[l] += 1;
+            if hit[l] {
+                let mut state = [0.0; MAX_DIM];
+                (0..dim).for_each(|i| state[i] = end[i][l]);
+                lanes.stop[l] = Some(Stop::Collision {
+                    tau: t_end[l],
+                    state,
+                });
+            }
+        }
+        let after: LaneEnds<L> = (
+            std::array::from_fn(|l| self.tau(lanes.steps[l])),
+            lanes.x,
+            lanes.mode,
+        );
+        (before, after)
+    }
+}
