@@ -7,8 +7,8 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use isola::analysis::Progress;
-use isola::analysis::basin::{BasinSpec, basin};
-use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::global::basin::{BasinSpec, basin};
+use isola::analysis::global::frequency_response::{FrequencyResponseSpec, frequency_response};
 use isola::model::Params;
 
 fn workloads(c: &mut Criterion) {

@@ -7,7 +7,7 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::sync::atomic::AtomicBool;
 
-use isola::analysis::batch::steady_states;
+use isola::analysis::global::batch::steady_states;
 use isola::analysis::{SteadyStateSpec, steady_state};
 use isola::model::equations::lanes::EquationLanes;
 use isola::model::equations::{EquationModel, ModelDefinition};

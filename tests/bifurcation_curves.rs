@@ -9,13 +9,14 @@
 //! where it is attached, both checked by fresh continuations.
 
 use isola::analysis::Progress;
-use isola::analysis::bifurcation_curve::{CurveSpec, Turning, continue_bifurcation};
-use isola::analysis::continuation::{
-    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch, continue_branch,
+use isola::analysis::continuation::bifurcation_curve::{CurveSpec, Turning, continue_bifurcation};
+use isola::analysis::continuation::branch::{
+    BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
 };
-use isola::analysis::family::FamilyParameter;
-use isola::analysis::hunt::Verdict;
-use isola::analysis::isola_limits::{isola_birth, isola_merge};
+use isola::analysis::continuation::hunt::Verdict;
+use isola::analysis::continuation::isola_limits::{isola_birth, isola_merge};
+use isola::analysis::parameter::ContinuationParameter;
+use isola::analysis::parameter::FamilyParameter;
 use isola::analysis::{SteadyStateSpec, steady_state};
 use isola::model::Params;
 

@@ -5,13 +5,13 @@
 //! point; stability from the multipliers is confirmed by integrating perturbed orbits on both
 //! sides of a fold.
 
-use isola::analysis::continuation::{
+use isola::analysis::continuation::branch::{
     BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
     switch_at_period_doubling,
 };
-use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::global::frequency_response::{FrequencyResponseSpec, frequency_response};
 use isola::analysis::grid::Axis;
-use isola::analysis::shooting::{PeriodicOrbit, ShootingSpec, VariationalFlow};
+use isola::analysis::orbit::shooting::{PeriodicOrbit, ShootingSpec, VariationalFlow};
 use isola::analysis::{Progress, SteadyStateSpec, steady_state};
 use isola::model::Params;
 use isola::solver::Resolution;

@@ -6,13 +6,13 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use isola::analysis::basin::{Basin, BasinSpec, basin};
-use isola::analysis::chirp_sweep::{ChirpSpec, chirp_sweep};
-use isola::analysis::frequency_response::{
+use isola::analysis::global::basin::{Basin, BasinSpec, basin};
+use isola::analysis::global::frequency_response::{
     FrequencyResponse, FrequencyResponseSpec, frequency_response,
 };
 use isola::analysis::grid::Axis;
-use isola::analysis::scalogram::{ScalogramSpec, scalogram};
+use isola::analysis::orbit::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
 use isola::analysis::{Class, Progress};
 use isola::jobs::{Job, JobError};
 use isola::model::{DriveSpec, ParamSpec, Params};
@@ -36,7 +36,7 @@ fn response(adr: f64, omega: Axis) -> FrequencyResponse {
 fn periodic_at(
     fr: &FrequencyResponse,
     omega: f64,
-) -> Vec<&isola::analysis::frequency_response::Response> {
+) -> Vec<&isola::analysis::global::frequency_response::Response> {
     let i = fr
         .omegas
         .iter()
@@ -224,7 +224,7 @@ fn fig6b_full_basin_early_stop_equals_plain() {
 }
 
 fn full_basin_early_stop_equals_plain(adr: f64, omega: f64) {
-    use isola::analysis::basin::BasinPlan;
+    use isola::analysis::global::basin::BasinPlan;
     use rayon::prelude::*;
     let p = Params::paper(adr, omega).unwrap();
     let outcomes = |early_stop: bool| {
@@ -293,7 +293,7 @@ fn response_early_stop_keeps_every_response() {
     );
     assert_eq!(fast.responses.len(), plain.responses.len());
     for (a, b) in plain.responses.iter().zip(&fast.responses) {
-        let key = |r: &isola::analysis::frequency_response::Response| {
+        let key = |r: &isola::analysis::global::frequency_response::Response| {
             let s = &r.steady;
             (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
         };
@@ -352,7 +352,7 @@ fn fig3_sweeps_and_scalograms() {
         ..ChirpSpec::default()
     };
     let backward = chirp_sweep(&p, &back_spec, &never, |_| {}).unwrap();
-    let peak_near = |s: &isola::analysis::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
+    let peak_near = |s: &isola::analysis::orbit::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
         s.envelope
             .iter()
             .filter(|e| e[1] > lo && e[1] < hi)
@@ -365,7 +365,7 @@ fn fig3_sweeps_and_scalograms() {
         peak_near(&backward, 1.8, 1.9)
     );
     assert!(peak_near(&forward, 1.8, 1.9) < 0.05);
-    let ratio_range = |s: &isola::analysis::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
+    let ratio_range = |s: &isola::analysis::orbit::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
         let sc = scalogram(&s.lambda, s.dt, &ScalogramSpec::default()).unwrap();
         let ratios = sc.ridge_ratio(|t| 6.0 * t / 12000.0);
         sc.times

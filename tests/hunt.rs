@@ -7,10 +7,10 @@
 //! grid step (0.1); the verdicts (isola at ADR 0.6, attached at 1.0) follow the paper's claims.
 
 use isola::analysis::Progress;
-use isola::analysis::continuation::{BifurcationKind, BranchEnd, ContinuationSpec};
-use isola::analysis::frequency_response::FrequencyResponseSpec;
+use isola::analysis::continuation::branch::{BifurcationKind, BranchEnd, ContinuationSpec};
+use isola::analysis::continuation::hunt::{Hunt, HuntSpec, Verdict, hunt};
+use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
-use isola::analysis::hunt::{Hunt, HuntSpec, Verdict, hunt};
 use isola::model::Params;
 
 /// A hunt over ω 3.0–6.0 by 0.1 from 7 × 7 initial states, continued over ω 2–6.5.
@@ -196,8 +196,8 @@ fn adr_1_0_hunt_finds_the_attached_branch_and_the_1_3() {
 /// paper estimates (≈ 0.25 and ≈ 0.65).
 #[test]
 fn the_isola_is_born_and_merges_across_adr() {
-    use isola::analysis::family::FamilyParameter;
-    use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family, transitions};
+    use isola::analysis::continuation::hunt_family::{HuntFamilySpec, hunt_family, transitions};
+    use isola::analysis::parameter::FamilyParameter;
     let p = Params::paper(0.6, 3.0).unwrap();
     let spec = HuntFamilySpec {
         parameter: FamilyParameter::Adr,

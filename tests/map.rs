@@ -2,12 +2,12 @@
 //! curves drawn over the map turn where the hunt's independent bisection puts the merging.
 
 use isola::analysis::Progress;
-use isola::analysis::bifurcation_curve::Turning;
-use isola::analysis::continuation::ContinuationParameter;
-use isola::analysis::family::FamilyParameter;
-use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::continuation::bifurcation_curve::Turning;
+use isola::analysis::continuation::map::{MapSpec, map, summarise};
+use isola::analysis::global::frequency_response::{FrequencyResponseSpec, frequency_response};
 use isola::analysis::grid::Axis;
-use isola::analysis::map::{MapSpec, map, summarise};
+use isola::analysis::parameter::ContinuationParameter;
+use isola::analysis::parameter::FamilyParameter;
 use isola::model::Params;
 
 #[test]

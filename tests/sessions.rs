@@ -401,7 +401,7 @@ fn numbers_read_back_from_a_csv_are_the_ones_computed() {
         panic!("a time history");
     };
     let params = session.params(Some(entry)).unwrap();
-    let computed = isola::analysis::time_history::time_history(&params, spec).unwrap();
+    let computed = isola::analysis::orbit::time_history::time_history(&params, spec).unwrap();
     let mut reader = csv::Reader::from_path(ResultPaths::new(&session, "orbit").csv).unwrap();
     let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), computed.samples.len());
@@ -506,5 +506,116 @@ v = { min = -1.0, max = 1.0, points = 11 }
     assert!(
         b.2.len() >= 2,
         "the basin shows the 1:1 response and the 1:2 isola"
+    );
+}
+
+/// A written model's mistakes name the key, line and column, and the token or name; a value
+/// that is not finite stops the run with τ, the state and the expression; nothing panics or
+/// hangs, however the model is written.
+#[test]
+fn a_written_model_gets_clear_errors() {
+    let good = "schema = 1\n[model]\nstates = [\"x\", \"v\"]\nfrequency = \"omega\"\namplitude = \"x\"\n[model.parameters]\nomega = 1.0\nk = { value = 2, min = 0, max = 10 }\n[model.let]\na = \"2*x\"\n[model.derivatives]\nx = \"v\"\nv = \"-k*a + cos(omega*t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"\n";
+    assert!(Session::parse(Path::new("t.toml"), good).is_ok());
+    let cases = [
+        (
+            "a = \"2*x\"",
+            "a = \"2*b\"\nb = \"a + 1\"",
+            "cyclic definition: a → b → a",
+        ),
+        (
+            "cos(omega*t)\"",
+            "cos(omega*t) + * 2\"",
+            "line 13, column 28: expected a number, a name or `(` at `*`",
+        ),
+        ("-k*a", "-k*aa", "unknown name `aa`; did you mean `a`?"),
+        (
+            "cos(omega*t)",
+            "max(omega)",
+            "max(…) takes 2 or more arguments, not 1",
+        ),
+        (
+            "cos(omega*t)",
+            "cos(omega, t)",
+            "cos(…) takes 1 argument, not 2",
+        ),
+        (
+            "v = \"-k*a + cos(omega*t)\"",
+            "",
+            "the state `v` has no derivative",
+        ),
+        ("x = \"v\"", "x = \"v\"\ny = \"1\"", "`y` is not a state"),
+        (
+            "frequency = \"omega\"",
+            "frequency = \"w\"",
+            "`w` is not a parameter",
+        ),
+        (
+            "k = { value = 2,",
+            "k = { value = 20,",
+            "value 20 is outside its range [0, 10]",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"hunt\"",
+            "a written model runs",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"time_history\"\nmodel = { kk = 1 }",
+            "`kk` is not a parameter",
+        ),
+        (
+            "cos(omega*t)",
+            "cos(omega*t) + (x < 0)",
+            "a comparison is a condition",
+        ),
+    ];
+    for (from, to, want) in cases {
+        let text = good.replace(from, to);
+        assert_ne!(text, good, "{from}");
+        let e = error_of(&text);
+        assert!(e.contains(want), "{from} → {to}: {e}");
+    }
+    // an override out of range names the parameter, its value as written and its range
+    let e = error_of(&good.replace(
+        "kind = \"time_history\"",
+        "kind = \"time_history\"\nmodel = { k = -1 }",
+    ));
+    assert!(e.contains("k = -1") && e.contains("[0, 10]"), "{e}");
+    // a function that expands exponentially is refused, not compiled for ever
+    let mut nested = good.replace(
+        "[model.let]",
+        "[model.functions]\n\"f0(y)\" = \"y\"\n[model.let]",
+    );
+    for i in 1..40 {
+        nested = nested.replace(
+            "[model.let]",
+            &format!(
+                "\"f{i}(y)\" = \"f{}(y) + f{}(y + 1)\"\n[model.let]",
+                i - 1,
+                i - 1
+            ),
+        );
+    }
+    let nested = nested.replace("a = \"2*x\"", "a = \"f39(x)\"");
+    assert!(error_of(&nested).contains("expands to more than"));
+    // a deeply nested expression compiles (or is refused) without overflowing the stack
+    let deep = good.replace(
+        "a = \"2*x\"",
+        &format!("a = \"{}x{}\"", "(".repeat(20_000), ")".repeat(20_000)),
+    );
+    assert!(Session::parse(Path::new("t.toml"), &deep).is_ok());
+    // a value that is not finite stops the run, saying where
+    let dir = scratch("not-finite");
+    let path = dir.path().join("nan.toml");
+    std::fs::write(&path, good.replace("a = \"2*x\"", "a = \"sqrt(x - 10)\"")).unwrap();
+    let s = Session::load(&path).unwrap();
+    let e = run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap_err();
+    let e = format!("{e:#}");
+    assert!(
+        e.contains("not finite at τ = 0")
+            && e.contains("x = 0, v = 0")
+            && e.contains("model.let.a = NaN"),
+        "{e}"
     );
 }

@@ -5,17 +5,17 @@
 
 use std::f64::consts::PI;
 
-use super::basin::BasinSpec;
-use super::chirp_sweep::ChirpSpec;
-use super::continuation::ContinuationSpec;
-use super::family::FamilySpec;
-use super::force_curve::ForceCurveSpec;
-use super::frequency_response::FrequencyResponseSpec;
+use super::continuation::branch::ContinuationSpec;
+use super::continuation::hunt::HuntSpec;
+use super::continuation::map::MapSpec;
+use super::global::basin::BasinSpec;
+use super::global::family::FamilySpec;
+use super::global::frequency_response::FrequencyResponseSpec;
 use super::grid::Axis;
-use super::hunt::HuntSpec;
-use super::map::MapSpec;
-use super::steady_state::SteadyStateSpec;
-use super::time_history::TimeHistorySpec;
+use super::orbit::chirp_sweep::ChirpSpec;
+use super::orbit::force_curve::ForceCurveSpec;
+use super::orbit::steady_state::SteadyStateSpec;
+use super::orbit::time_history::TimeHistorySpec;
 use crate::model::ParamError;
 use crate::model::Params;
 use crate::model::limits;
@@ -181,7 +181,7 @@ pub fn basin(spec: &BasinSpec, omega: f64) -> Result<Cost, ParamError> {
     let mut cost =
         Cost::new(cells, "cells (dx.points × v.points)", &steady).bytes(cells * 64.0, what);
     cost.disk = cells * steady_bytes(&spec.steady);
-    cost.chunk = Some(cells.min(super::basin::CHUNK_CELLS as f64) * steady.steps);
+    cost.chunk = Some(cells.min(super::global::basin::CHUNK_CELLS as f64) * steady.steps);
     Ok(cost)
 }
 
@@ -197,7 +197,7 @@ pub fn family(spec: &FamilySpec) -> Result<Cost, ParamError> {
 
 pub fn map(spec: &MapSpec, params: &Params) -> Result<Cost, ParamError> {
     let rows = spec.values.points as f64;
-    let at = (spec.x != super::continuation::ContinuationParameter::Omega).then(|| params.omega());
+    let at = (spec.x != super::parameter::ContinuationParameter::Omega).then(|| params.omega());
     let mut cost =
         response(&spec.response, at)?.times(rows, format!("{} rows (values.points)", count(rows)));
     if spec.curves {

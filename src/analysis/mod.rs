@@ -1,40 +1,32 @@
-//! Analyses built on the solvers. Each is a plain function of its spec.
+//! Analyses built on the solvers. Each is a plain function of its spec, in three groups that
+//! depend on each other one way only (continuation → global → orbit):
+//!
+//! - [`orbit`]: one orbit: the stroboscopic map, the period test and classification, time
+//!   histories, sweeps of one trajectory, shooting and Floquet multipliers;
+//! - [`global`]: brute force over many initial states: batches in lanes, capture regions,
+//!   frequency responses, basins, families, and the [`Oscillator`] trait they are generic
+//!   over (the built-in model or one written in the session);
+//! - [`continuation`]: branches of periodic orbits, their bifurcations, the isola hunter,
+//!   fold curves and two-parameter maps.
+//!
+//! [`parameter`] names what an analysis can vary; [`grid`] the axes; [`cost`] the worst-case
+//! cost of any of them.
 
-pub mod attractor;
-pub mod basin;
-pub mod batch;
-pub mod bifurcation_curve;
-pub mod branch_from_state;
-pub mod capture;
-mod capture_cover;
-pub mod chirp_sweep;
 pub mod continuation;
 pub mod cost;
-pub mod family;
-pub mod floquet;
-pub mod force_curve;
-pub mod frequency_response;
+pub mod global;
 pub mod grid;
-pub mod hunt;
-pub mod hunt_family;
-pub mod isola_limits;
-pub mod map;
-pub mod oscillator;
-pub mod period_detector;
-pub mod period_map;
+pub mod orbit;
+pub mod parameter;
 pub mod progress;
-pub mod ratio;
-pub mod scalogram;
-pub mod shooting;
-pub mod steady_state;
-pub mod stepped_sweep;
-pub mod time_history;
 
-pub use oscillator::Oscillator;
-pub use period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};
+pub use global::oscillator::Oscillator;
+pub use orbit::period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};
+pub use orbit::ratio::Ratio;
+pub use orbit::steady_state::{
+    Class, SteadyState, SteadyStateSpec, steady_state, steady_state_with,
+};
 pub use progress::Progress;
-pub use ratio::Ratio;
-pub use steady_state::{Class, SteadyState, SteadyStateSpec, steady_state, steady_state_with};
 
 /// The version of isola's numerics, part of every result's fingerprint: bump it with any
 /// change that alters a number any analysis writes (a new step rule, tolerance, seed or
@@ -50,19 +42,19 @@ pub enum AnalysisError {
     #[error(transparent)]
     Param(#[from] crate::model::ParamError),
     #[error(transparent)]
-    Shooting(#[from] shooting::ShootingError),
+    Shooting(#[from] orbit::shooting::ShootingError),
     #[error(
         "the trajectory from Δλ {dx0}, v {v0} settles to a {class} response: nothing to continue"
     )]
     NoPeriodicSeed { dx0: f64, v0: f64, class: String },
     #[error("cancelled")]
     Cancelled,
-    #[error(
-        "the model gives a value that is not finite at τ = {tau}, from the state {state:?}: {expression}"
-    )]
+    #[error("the model gives a value that is not finite at τ = {tau}, from {state}: {expression}")]
     NotFinite {
         tau: f64,
-        state: Vec<f64>,
+        /// The state as `name = value, ...`.
+        state: String,
+        /// The first named value that is not finite (`model.let.g_I = NaN`), if known.
         expression: String,
     },
 }

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::basin::{BasinSpec, basin};
+use isola::analysis::global::basin::{BasinSpec, basin};
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;

@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::branch_from_state::{BranchFromState, branch_from_state};
-use isola::analysis::continuation::{
-    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch,
-    switch_at_period_doubling,
+use isola::analysis::continuation::branch::{
+    BifurcationKind, ContinuationSpec, ContinuedBranch, switch_at_period_doubling,
 };
+use isola::analysis::continuation::branch_from_state::{BranchFromState, branch_from_state};
+use isola::analysis::parameter::ContinuationParameter;
 
 use super::model_args::ModelArgs;
 use super::parse;

@@ -5,9 +5,10 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::family::{FamilyParameter, FamilySpec, family};
-use isola::analysis::frequency_response::FrequencyResponseSpec;
+use isola::analysis::global::family::{FamilySpec, family};
+use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
+use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use isola::analysis::force_curve::{ForceCurveSpec, force_curves};
+use isola::analysis::orbit::force_curve::{ForceCurveSpec, force_curves};
 
 use super::parse;
 

@@ -7,13 +7,13 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::continuation::ContinuationSpec;
-use isola::analysis::family::FamilyParameter;
-use isola::analysis::frequency_response::FrequencyResponseSpec;
-use isola::analysis::frequency_response::frequency_response;
-use isola::analysis::hunt::{HuntSpec, hunt_in};
-use isola::analysis::hunt_family::{HuntFamilySpec, hunt_family};
-use isola::analysis::isola_limits::locate_limits;
+use isola::analysis::continuation::branch::ContinuationSpec;
+use isola::analysis::continuation::hunt::{HuntSpec, hunt_in};
+use isola::analysis::continuation::hunt_family::{HuntFamilySpec, hunt_family};
+use isola::analysis::continuation::isola_limits::locate_limits;
+use isola::analysis::global::frequency_response::FrequencyResponseSpec;
+use isola::analysis::global::frequency_response::frequency_response;
+use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
 use isola::model::Device;
 

@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::bifurcation_curve::Turning;
-use isola::analysis::continuation::ContinuationParameter;
-use isola::analysis::family::FamilyParameter;
-use isola::analysis::frequency_response::FrequencyResponseSpec;
-use isola::analysis::map::{MapSpec, map};
+use isola::analysis::continuation::bifurcation_curve::Turning;
+use isola::analysis::continuation::map::{MapSpec, map};
+use isola::analysis::global::frequency_response::FrequencyResponseSpec;
+use isola::analysis::parameter::ContinuationParameter;
+use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
 
 use super::model_args::ModelArgs;

@@ -1,8 +1,8 @@
 //! `isola orbit`: one trajectory to its steady state, classified.
 
 use clap::Args;
-use isola::analysis::period_map::Rk4PeriodMap;
-use isola::analysis::time_history::{TimeHistorySpec, time_history};
+use isola::analysis::orbit::period_map::Rk4PeriodMap;
+use isola::analysis::orbit::time_history::{TimeHistorySpec, time_history};
 use isola::analysis::{DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state_with};
 use isola::model::{Device, Params};
 use isola::solver::{Resolution, Tolerance};

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::global::frequency_response::{FrequencyResponseSpec, frequency_response};
 use isola::jobs::JobContext;
 use isola::model::Device;
 

@@ -6,10 +6,10 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::SteadyStateSpec;
-use isola::analysis::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::global::stepped_sweep::stepped_sweep;
 use isola::analysis::grid::Axis;
-use isola::analysis::scalogram::{ScalogramSpec, scalogram};
-use isola::analysis::stepped_sweep::stepped_sweep;
+use isola::analysis::orbit::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
 use isola::model::Device;
 
 use super::model_args::ModelArgs;

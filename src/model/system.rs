@@ -16,6 +16,8 @@ pub type Mode = u64;
 pub trait System: Clone + Send {
     /// Number of state variables.
     fn dim(&self) -> usize;
+    /// The state variables' names.
+    fn state_names(&self) -> &[String];
     /// The forcing period T = 2π/ω.
     fn period(&self) -> f64;
     /// Bits of the mode that can change along a trajectory.

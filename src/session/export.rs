@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::analysis::SteadyState;
-use crate::analysis::basin::Basin;
-use crate::analysis::frequency_response::FrequencyResponse;
+use crate::analysis::global::basin::Basin;
+use crate::analysis::global::frequency_response::FrequencyResponse;
 use crate::model::Device;
 
 /// Writes a CSV file whole (see [`super::output`]: a regular file is replaced atomically, a
@@ -125,7 +125,7 @@ const RESPONSE_COLUMNS: [&str; 6] = [
 ];
 
 fn response_fields(
-    r: &crate::analysis::frequency_response::Response,
+    r: &crate::analysis::global::frequency_response::Response,
     device: &Device,
 ) -> Vec<String> {
     let mut row = vec![
@@ -163,7 +163,7 @@ pub fn family_responses_path(family_csv: &Path) -> PathBuf {
 /// One row per response per ω_e per member of a family, the parameter's value first.
 pub fn family_responses_csv(
     parameter: &str,
-    members: &[crate::analysis::family::FamilyMember],
+    members: &[crate::analysis::global::family::FamilyMember],
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
@@ -186,7 +186,7 @@ pub fn family_responses_csv(
 
 /// One row per point of each force curve.
 pub fn force_csv(
-    curves: &[crate::analysis::force_curve::ForceCurve],
+    curves: &[crate::analysis::orbit::force_curve::ForceCurve],
     path: &Path,
 ) -> anyhow::Result<()> {
     write_atomic(path, |w| {
@@ -207,7 +207,7 @@ pub fn force_csv(
 
 /// One row per sample of a time history.
 pub fn history_csv(
-    h: &crate::analysis::time_history::TimeHistory,
+    h: &crate::analysis::orbit::time_history::TimeHistory,
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
@@ -218,7 +218,7 @@ pub fn history_csv(
 
 /// [`history_csv`]'s file, in memory.
 pub fn history_bytes(
-    h: &crate::analysis::time_history::TimeHistory,
+    h: &crate::analysis::orbit::time_history::TimeHistory,
     device: &Device,
 ) -> anyhow::Result<Vec<u8>> {
     csv_bytes(|w| {
@@ -247,7 +247,7 @@ pub fn history_bytes(
 /// One row per sample of a written model's time history: τ, its two grid states first, the
 /// other states, the amplitude's output, and whether the sample is on the steady response.
 pub fn state_history_bytes(
-    h: &crate::analysis::oscillator::history::StateHistory,
+    h: &crate::analysis::global::oscillator::history::StateHistory,
     grid: [usize; 2],
 ) -> anyhow::Result<Vec<u8>> {
     let mut order: Vec<usize> = vec![grid[0]];
@@ -273,7 +273,7 @@ pub fn state_history_bytes(
 /// One row per sample of a chirp sweep, with the envelope (max − min of λ_I over the sample's
 /// window) beside it.
 pub fn chirp_csv(
-    s: &crate::analysis::chirp_sweep::ChirpSweep,
+    s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
@@ -302,7 +302,7 @@ pub fn chirp_csv(
 
 /// One row per step of a stepped sweep.
 pub fn stepped_csv(
-    steps: &[crate::analysis::stepped_sweep::SweepStep],
+    steps: &[crate::analysis::global::stepped_sweep::SweepStep],
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
@@ -327,7 +327,7 @@ pub fn stepped_csv(
 /// One row per branch per member of a family.
 pub fn family_csv(
     parameter: &str,
-    members: &[crate::analysis::family::FamilyMember],
+    members: &[crate::analysis::global::family::FamilyMember],
     path: &Path,
 ) -> anyhow::Result<()> {
     write_atomic(path, |w| {
@@ -395,11 +395,11 @@ const CONTINUED_COLUMNS: [&str; 13] = [
 /// attached, half-attached, open), kind, the continuation parameter, ω_e, the state at τ = 0,
 /// amplitude, stability and both Floquet multipliers.
 pub fn continued_csv(
-    branches: &[&crate::analysis::continuation::ContinuedBranch],
+    branches: &[&crate::analysis::continuation::branch::ContinuedBranch],
     path: &Path,
 ) -> anyhow::Result<()> {
-    use crate::analysis::floquet::Multipliers;
-    use crate::analysis::hunt::Verdict;
+    use crate::analysis::continuation::hunt::Verdict;
+    use crate::analysis::orbit::floquet::Multipliers;
     let parameter = branches.first().map_or("omega", |b| b.parameter.name());
     write_atomic(path, |w| {
         let mut header = CONTINUED_COLUMNS[..4].to_vec();
@@ -467,10 +467,10 @@ pub fn continued_csv(
 /// period_doublings` (the located ω_e of each kind, `;`-separated).
 pub fn hunt_family_csv(
     parameter: &str,
-    members: &[crate::analysis::hunt_family::HuntMember],
+    members: &[crate::analysis::continuation::hunt_family::HuntMember],
     path: &Path,
 ) -> anyhow::Result<()> {
-    use crate::analysis::continuation::BifurcationKind;
+    use crate::analysis::continuation::branch::BifurcationKind;
     write_atomic(path, |w| {
         w.write_record([
             parameter,
@@ -523,7 +523,7 @@ pub fn hunt_family_csv(
 pub fn map_csv(
     (x, parameter): (&str, &str),
     xs: &[f64],
-    rows: &[crate::analysis::map::MapRow],
+    rows: &[crate::analysis::continuation::map::MapRow],
     device: &Device,
     path: &Path,
 ) -> anyhow::Result<()> {
@@ -574,10 +574,10 @@ pub fn curves_path(map_csv: &Path) -> PathBuf {
 /// `at` = `point`) and per located turning point (`at` = `minimum` or `maximum` of the
 /// parameter named in `of`): `curve, kind, period, at, of, FIRST, SECOND, amplitude_stretch`.
 pub fn curves_csv(
-    curves: &[crate::analysis::bifurcation_curve::BifurcationCurve],
+    curves: &[crate::analysis::continuation::bifurcation_curve::BifurcationCurve],
     path: &Path,
 ) -> anyhow::Result<()> {
-    use crate::analysis::bifurcation_curve::Turning;
+    use crate::analysis::continuation::bifurcation_curve::Turning;
     let (first, second) = curves.first().map_or(("omega", "parameter"), |c| {
         (c.first.name(), c.second.name())
     });

@@ -15,12 +15,12 @@ use super::store::manifest::{Manifest, Unverified};
 use super::store::{self, ResultPaths};
 use crate::analysis::Ratio;
 use crate::analysis::SteadyState;
-use crate::analysis::attractor::{AttractorTable, SAME_POINT_TOL};
-use crate::analysis::family::FamilyMember;
-use crate::analysis::frequency_response::{Branch, Response};
-use crate::analysis::hunt::HuntSpec;
-use crate::analysis::map::{MapCell, MapRow};
-use crate::analysis::time_history::{SteadySummary, steady_summary};
+use crate::analysis::continuation::hunt::HuntSpec;
+use crate::analysis::continuation::map::{MapCell, MapRow};
+use crate::analysis::global::family::FamilyMember;
+use crate::analysis::global::frequency_response::{Branch, Response};
+use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
+use crate::analysis::orbit::time_history::{SteadySummary, steady_summary};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -150,8 +150,8 @@ impl HistoryView {
     }
 }
 
-impl From<&crate::analysis::time_history::TimeHistory> for HistoryView {
-    fn from(h: &crate::analysis::time_history::TimeHistory) -> Self {
+impl From<&crate::analysis::orbit::time_history::TimeHistory> for HistoryView {
+    fn from(h: &crate::analysis::orbit::time_history::TimeHistory) -> Self {
         HistoryView {
             tau: h.samples.iter().map(|s| s.tau).collect(),
             lambda: h.samples.iter().map(|s| s.lambda).collect(),
@@ -495,7 +495,7 @@ impl ResultReader {
                 let Partial::Basin { table, labels } = &mut self.partial else {
                     unreachable!()
                 };
-                let start = i * crate::analysis::basin::CHUNK_CELLS;
+                let start = i * crate::analysis::global::basin::CHUNK_CELLS;
                 for (k, s) in outcomes.iter().enumerate() {
                     if let Some(l) = labels.get_mut(start + k) {
                         *l = Some(table.classify(s, SAME_POINT_TOL));

@@ -23,16 +23,16 @@ use super::written::{
     ModelPoint, WRITTEN_KINDS, WrittenModel, take_written_parts, writes_equations,
 };
 use crate::analysis::SteadyStateSpec;
-use crate::analysis::basin::BasinSpec;
-use crate::analysis::branch_from_state::BranchFromState;
-use crate::analysis::chirp_sweep::ChirpSpec;
-use crate::analysis::family::FamilySpec;
-use crate::analysis::force_curve::ForceCurveSpec;
-use crate::analysis::frequency_response::FrequencyResponseSpec;
+use crate::analysis::continuation::branch_from_state::BranchFromState;
+use crate::analysis::continuation::hunt::HuntSpec;
+use crate::analysis::continuation::map::MapSpec;
+use crate::analysis::global::basin::BasinSpec;
+use crate::analysis::global::family::FamilySpec;
+use crate::analysis::global::frequency_response::FrequencyResponseSpec;
 use crate::analysis::grid::Axis;
-use crate::analysis::hunt::HuntSpec;
-use crate::analysis::map::MapSpec;
-use crate::analysis::time_history::TimeHistorySpec;
+use crate::analysis::orbit::chirp_sweep::ChirpSpec;
+use crate::analysis::orbit::force_curve::ForceCurveSpec;
+use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::model::error::check_in;
 use crate::model::{Device, ParamError, ParamSpec, Params, limits};
 
@@ -592,6 +592,15 @@ impl Session {
                 .is_some_and(|m| same_quantity(key).iter().any(|k| m.contains_key(k)))
         });
         let mut document = self.document.clone();
+        if self.written.is_some() && !overridden {
+            set_written_parameter(&mut document, key, value).map_err(|message| {
+                SessionError::Syntax {
+                    path: self.path.clone(),
+                    message,
+                }
+            })?;
+            return self.replace_document(document);
+        }
         let table: &mut dyn toml_edit::TableLike = match index {
             Some(i) if overridden => document["analysis"]
                 .as_array_of_tables_mut()
@@ -851,7 +860,7 @@ fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::mod
         }
         Settings::Map(s) => {
             s.validate(params)?;
-            if s.x == crate::analysis::continuation::ContinuationParameter::Omega {
+            if s.x == crate::analysis::parameter::ContinuationParameter::Omega {
                 s.response
                     .omega
                     .check_within("response.omega", limits::OMEGA)?;
@@ -914,6 +923,30 @@ fn to_edit_value(value: &toml::Value) -> toml_edit::Value {
 
 /// `key = value` in a model table, the other form of the same quantity (`omega` and
 /// `frequency_hz`, ...) removed.
+/// Sets written parameter `name`'s value in `[model.parameters]`: the number itself, or the
+/// `value` of its table (its range, unit and comment kept).
+fn set_written_parameter(
+    document: &mut toml_edit::DocumentMut,
+    name: &str,
+    value: f64,
+) -> Result<(), String> {
+    let parameters = document
+        .get_mut("model")
+        .and_then(|m| m.get_mut("parameters"))
+        .and_then(|p| p.as_table_like_mut())
+        .ok_or("[model.parameters] is not a table")?;
+    let entry = parameters
+        .get_mut(name)
+        .ok_or_else(|| format!("`{name}` is not a parameter of the model"))?;
+    match entry.as_table_like_mut() {
+        Some(table) => {
+            table.insert("value", toml_edit::value(value));
+        }
+        None => *entry = toml_edit::value(value),
+    }
+    Ok(())
+}
+
 fn put_model_key(table: &mut dyn toml_edit::TableLike, key: &str, value: f64) {
     for other in same_quantity(key) {
         if *other != key {

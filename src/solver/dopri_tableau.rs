@@ -1,5 +1,5 @@
 //! The Dormand–Prince 5(4) tableau, shared by the state integrator ([`super::dopri`]) and the
-//! state-plus-monodromy integrator of shooting (`analysis::shooting`).
+//! state-plus-monodromy integrator of shooting (`analysis::orbit::shooting`).
 
 /// Stage times.
 pub const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];

@@ -10,8 +10,14 @@ use crate::model::system::{MAX_DIM, Mode, System, Vector};
 const MAX_SWITCHES: usize = 64;
 /// Most switches handled inside one step before the rest of it is taken as it is.
 const MAX_SWITCHES_PER_STEP: usize = 6;
-/// Width, as a fraction of the step, below which a switch's bracket is located.
+/// Width, as a fraction of the step, below which a switch's bracket on real sub-steps is
+/// located.
 const ROOT_TOLERANCE: f64 = 1e-13;
+/// The same on the step's interpolant, whose own error (about h⁴) is larger anyway.
+const INTERPOLANT_TOLERANCE: f64 = 1e-9;
+/// How far past the real switching function's Newton estimate the sub-step aims, as a
+/// fraction of the step, so that it ends across (the state error is of its square).
+const NEWTON_MARGIN: f64 = 1e-9;
 /// Bisection-safeguarded iterations spent locating one switch at most.
 const MAX_ROOT_ITERATIONS: usize = 60;
 /// Fractions of a step tried when only an intermediate stage saw a switch.
@@ -143,6 +149,16 @@ impl GeneralRk4 {
 
     /// One step h, split at every switch inside it.
     pub fn advance_step<S: System>(&self, sys: &mut S, traj: &mut Trajectory) {
+        self.advance_step_after(sys, traj, None);
+    }
+
+    /// [`Self::advance_step`], given the step's plain trial if it was taken already.
+    pub(super) fn advance_step_after<S: System>(
+        &self,
+        sys: &mut S,
+        traj: &mut Trajectory,
+        mut first: Option<Trial>,
+    ) {
         if traj.stop.is_some() {
             return;
         }
@@ -153,13 +169,16 @@ impl GeneralRk4 {
         let dim = sys.dim();
         for _ in 0..MAX_SWITCHES_PER_STEP {
             let rem = t_end - t;
-            let trial = rk4(sys, dim, t, &x, &dx, rem, mode, true);
+            let trial = match first.take() {
+                Some(trial) => trial,
+                None => rk4(sys, dim, t, &x, &dx, rem, mode, true),
+            };
             if trial.seen & mask == mode & mask && trial.finite {
                 (x, dx) = (trial.x, trial.dx);
                 t = t_end;
                 break;
             }
-            match self.locate(sys, dim, t, &x, &dx, rem, mode, mask) {
+            match self.locate(sys, dim, t, &x, &dx, rem, mode, mask, &trial) {
                 Some((theta, flipped, at)) => {
                     t += theta * rem;
                     x = at;
@@ -199,9 +218,14 @@ impl GeneralRk4 {
         }
     }
 
-    /// The first switch within a trial step of length `rem` from (t, x): the fraction θ of
-    /// the step just past it, the mode bits that flip there, and the state there. None if no
-    /// sub-step's end is on another piece.
+    /// The first switch within the trial step `trial` of length `rem` from (t, x): the
+    /// fraction θ of the step just past it, the mode bits that flip there, and the state
+    /// there. None if the trajectory stays on this piece (only a stage strayed across).
+    ///
+    /// The switch is located on the step's cubic Hermite interpolant (one evaluation of the
+    /// switching functions per estimate; its O(h⁴) error moves the switch by far less than
+    /// the step's own error), then the state is taken by a real sub-step to just past it,
+    /// located on real sub-steps where the interpolant crossed early.
     #[allow(clippy::too_many_arguments)]
     fn locate<S: System>(
         &self,
@@ -213,79 +237,78 @@ impl GeneralRk4 {
         rem: f64,
         mode: Mode,
         mask: Mode,
+        trial: &Trial,
     ) -> Option<(f64, Mode, Vector)> {
-        let probe = |sys: &mut S, theta: f64| -> Probe {
-            let end = rk4(sys, dim, t, x, dx, theta * rem, mode, false).x;
+        let at = |sys: &mut S, theta: f64, end: Vector| -> Probe {
             let mut s = [0.0; MAX_SWITCHES];
             let seen = sys.switching(t + theta * rem, &end, mode, &mut s) & mask;
             let finite = end[..dim].iter().all(|v| v.is_finite());
+            let crossed = if finite {
+                seen ^ (mode & mask)
+            } else {
+                mask | 1
+            };
             Probe {
                 theta,
                 end,
                 s,
-                crossed: if finite {
-                    seen ^ (mode & mask)
-                } else {
-                    mask | 1
-                },
+                crossed,
                 finite,
             }
         };
-        let mut hi = probe(sys, 1.0);
+        let real = |sys: &mut S, theta: f64| {
+            let end = rk4(sys, dim, t, x, dx, theta * rem, mode, false).x;
+            at(sys, theta, end)
+        };
+        let start = at(sys, 0.0, *x);
+        if !trial.finite {
+            // no interpolant to trust: bisect on real sub-steps to where values stop being
+            // finite or the piece changes
+            let hi = real(sys, 1.0);
+            let (_, hi) = bracket(sys, &real, start, hi, ROOT_TOLERANCE);
+            return (hi.finite && hi.crossed != 0).then_some((hi.theta, hi.crossed, hi.end));
+        }
+        let interpolated = |sys: &mut S, theta: f64| {
+            at(
+                sys,
+                theta,
+                hermite_state(dim, x, dx, &trial.x, &trial.dx, rem, theta),
+            )
+        };
+        let mut hi = at(sys, 1.0, trial.x);
         if hi.crossed == 0 {
-            // only a stage saw another piece: look inside the step
             hi = SCAN
                 .iter()
-                .map(|&theta| probe(sys, theta))
+                .map(|&theta| interpolated(sys, theta))
                 .find(|p| p.crossed != 0)?;
         }
-        let mut lo = Probe {
-            theta: 0.0,
-            end: *x,
-            s: [0.0; MAX_SWITCHES],
-            crossed: 0,
-            finite: true,
-        };
-        sys.switching(t, x, mode, &mut lo.s);
-        // regula falsi with the Illinois weighting on the switch that crossed, bisection
-        // where the function cannot say (a non-finite end)
-        let mut weight = (1.0, 1.0);
-        let mut last_side = 0i8;
-        for _ in 0..MAX_ROOT_ITERATIONS {
-            if hi.theta - lo.theta <= ROOT_TOLERANCE {
-                break;
-            }
-            let theta = match hi.finite.then(|| hi.crossed.trailing_zeros() as usize) {
-                Some(k) if k < MAX_SWITCHES => {
-                    let (a, b) = (lo.s[k] * weight.0, hi.s[k] * weight.1);
-                    let guess = lo.theta + (hi.theta - lo.theta) * a / (a - b);
-                    let width = hi.theta - lo.theta;
-                    if guess.is_finite() {
-                        guess.clamp(lo.theta + 1e-3 * width, hi.theta - 1e-3 * width)
-                    } else {
-                        0.5 * (lo.theta + hi.theta)
-                    }
+        let (lo, hi) = bracket(sys, &interpolated, start, hi, INTERPOLANT_TOLERANCE);
+        // a real sub-step to the interpolant's estimate: past the switch by at most the
+        // interpolant's error (a state error of its square), or else one Newton step on the
+        // real switching function with the interpolant's slope
+        let k = hi.crossed.trailing_zeros() as usize;
+        let slope = (hi.s[k] - lo.s[k]) / (hi.theta - lo.theta);
+        let mut past = real(sys, hi.theta);
+        if past.crossed == 0 && slope.is_finite() && slope != 0.0 {
+            let theta = past.theta - past.s[k] / slope + NEWTON_MARGIN;
+            if theta > past.theta && theta <= 1.0 {
+                let next = real(sys, theta);
+                if next.crossed != 0 {
+                    return Some((next.theta, next.crossed, next.end));
                 }
-                _ => 0.5 * (lo.theta + hi.theta),
-            };
-            let p = probe(sys, theta);
-            if p.crossed != 0 {
-                if p.crossed.trailing_zeros() != hi.crossed.trailing_zeros() {
-                    weight = (1.0, 1.0);
-                    last_side = 0;
-                }
-                hi = p;
-                weight.0 = if last_side == 1 { weight.0 * 0.5 } else { 1.0 };
-                weight.1 = 1.0;
-                last_side = 1;
-            } else {
-                lo = p;
-                weight.1 = if last_side == -1 { weight.1 * 0.5 } else { 1.0 };
-                weight.0 = 1.0;
-                last_side = -1;
+                past = next;
             }
         }
-        hi.finite.then_some((hi.theta, hi.crossed, hi.end))
+        if past.crossed != 0 {
+            return Some((past.theta, past.crossed, past.end));
+        }
+        // the interpolant crossed early by more: bracket on real sub-steps up to the end
+        let end = at(sys, 1.0, trial.x);
+        if end.crossed == 0 {
+            return None;
+        }
+        let (_, past) = bracket(sys, &real, past, end, ROOT_TOLERANCE);
+        Some((past.theta, past.crossed, past.end))
     }
 
     fn non_finite<S: System>(&self, sys: &mut S, tau: f64, x: &Vector) -> Stop {
@@ -315,6 +338,80 @@ impl StepEnd {
     }
 }
 
+/// Narrows [`lo`, `hi`] (on this piece at `lo`, across at `hi`) around the first switch:
+/// regula falsi with the Illinois weighting on the switch that crossed at `hi`, bisection
+/// where a probe cannot say (a value that is not finite).
+fn bracket<S: System>(
+    sys: &mut S,
+    probe: &impl Fn(&mut S, f64) -> Probe,
+    mut lo: Probe,
+    mut hi: Probe,
+    tolerance: f64,
+) -> (Probe, Probe) {
+    let mut weight = (1.0, 1.0);
+    let mut last_side = 0i8;
+    for _ in 0..MAX_ROOT_ITERATIONS {
+        let width = hi.theta - lo.theta;
+        if width <= tolerance {
+            break;
+        }
+        let theta = match hi.finite.then(|| hi.crossed.trailing_zeros() as usize) {
+            Some(k) if k < MAX_SWITCHES => {
+                let (a, b) = (lo.s[k] * weight.0, hi.s[k] * weight.1);
+                let guess = lo.theta + width * a / (a - b);
+                if guess.is_finite() {
+                    guess.clamp(lo.theta + 1e-3 * width, hi.theta - 1e-3 * width)
+                } else {
+                    0.5 * (lo.theta + hi.theta)
+                }
+            }
+            _ => 0.5 * (lo.theta + hi.theta),
+        };
+        let p = probe(sys, theta);
+        if p.crossed != 0 {
+            if p.crossed.trailing_zeros() != hi.crossed.trailing_zeros() {
+                weight = (1.0, 1.0);
+                last_side = 0;
+            }
+            hi = p;
+            weight.0 = if last_side == 1 { weight.0 * 0.5 } else { 1.0 };
+            weight.1 = 1.0;
+            last_side = 1;
+        } else {
+            lo = p;
+            weight.1 = if last_side == -1 { weight.1 * 0.5 } else { 1.0 };
+            weight.0 = 1.0;
+            last_side = -1;
+        }
+    }
+    (lo, hi)
+}
+
+/// The cubic Hermite interpolant of a step of length `h` from (x0, f0) to (x1, f1), at the
+/// fraction θ of the step.
+fn hermite_state(
+    dim: usize,
+    x0: &Vector,
+    f0: &Vector,
+    x1: &Vector,
+    f1: &Vector,
+    h: f64,
+    theta: f64,
+) -> Vector {
+    let (t2, t3) = (theta * theta, theta * theta * theta);
+    let (h00, h10, h01, h11) = (
+        1.0 - 3.0 * t2 + 2.0 * t3,
+        theta - 2.0 * t2 + t3,
+        3.0 * t2 - 2.0 * t3,
+        t3 - t2,
+    );
+    let mut x = [0.0; MAX_DIM];
+    for i in 0..dim {
+        x[i] = h00 * x0[i] + h10 * h * f0[i] + h01 * x1[i] + h11 * h * f1[i];
+    }
+    x
+}
+
 /// A sub-step's end while a switch is located.
 struct Probe {
     theta: f64,
@@ -328,11 +425,12 @@ struct Probe {
 
 /// A trial RK4 step: the end state, its derivative on the same piece, and the modes the
 /// stages and the end saw (or-ed).
-struct Trial {
-    x: Vector,
-    dx: Vector,
-    seen: Mode,
-    finite: bool,
+pub(super) struct Trial {
+    pub x: Vector,
+    pub dx: Vector,
+    /// The step's mode with every bit a stage or the end saw differ flipped.
+    pub seen: Mode,
+    pub finite: bool,
 }
 
 /// One RK4 step of length `h` from (t, x) with first stage `k1`, held on `mode`; with

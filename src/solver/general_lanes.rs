@@ -3,7 +3,7 @@
 //! not finite) is redone alone by the scalar integrator, which splits it. Each lane's result
 //! is bit for bit the scalar integrator's.
 
-use super::general::{GeneralRk4, Stop, Trajectory};
+use super::general::{GeneralRk4, Stop, Trajectory, Trial};
 use crate::model::equations::EquationSystem;
 use crate::model::equations::lanes::{EquationLanes, LaneVectors};
 use crate::model::system::{MAX_DIM, Mode, System, Vector};
@@ -154,9 +154,16 @@ impl GeneralRk4 {
             }
             let finite = (0..dim).all(|i| end[i][l].is_finite() && dx[i][l].is_finite());
             if seen_diff[l] & mask != 0 || !finite {
-                // a switch in this step (or a value to explain): the scalar integrator
+                // a switch in this step (or a value to explain): the scalar integrator, from
+                // this trial
                 let mut traj = lanes.lane(l);
-                self.advance_step(sys, &mut traj);
+                let trial = Trial {
+                    x: std::array::from_fn(|i| end[i][l]),
+                    dx: std::array::from_fn(|i| dx[i][l]),
+                    seen: lanes.mode[l] ^ seen_diff[l],
+                    finite,
+                };
+                self.advance_step_after(sys, &mut traj, Some(trial));
                 lanes.set_lane(l, traj);
                 continue;
             }

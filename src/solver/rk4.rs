@@ -17,6 +17,8 @@ use super::isa::{self, Isa};
 use super::resolution::Resolution;
 use crate::model::Params;
 
+/// Trajectories the batches integrate side by side.
+pub const LANES: usize = 16;
 /// Most switches handled inside one step before the rest of it is taken as it is.
 const MAX_SWITCHES_PER_STEP: usize = 4;
 /// Agreement of successive switch estimates, as a fraction of the step, that ends the search.

@@ -7,9 +7,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-use isola::analysis::family::FamilySpec;
-use isola::analysis::scalogram::Scalogram;
-use isola::analysis::time_history::{TimeHistory, TimeHistorySpec};
+use isola::analysis::global::family::FamilySpec;
+use isola::analysis::orbit::scalogram::Scalogram;
+use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec};
 use isola::session::output::{Protected, check_target};
 use isola::session::results::{ResultStatus, ResultView};
 use isola::session::run::Outcome;
@@ -889,7 +889,7 @@ impl App {
     fn set_field(&mut self, field: &str, value: &str, own: bool) {
         let row = self.param_rows.iter().position(|r| {
             r.label.eq_ignore_ascii_case(field)
-                || matches!(&r.target, Target::Model { key, .. } if *key == field)
+                || matches!(&r.target, Target::Model { key, .. } if key == field)
         });
         let Some(row) = row else {
             return self.say(
@@ -1055,10 +1055,10 @@ impl App {
         let before = self.version(format!("{} = {}", row.label, text.trim()));
         let result = match edit {
             Edit::Model { key, value } if own => {
-                self.session.override_model_key(self.selected, key, value)
+                self.session.override_model_key(self.selected, &key, value)
             }
             Edit::Model { key, value } => {
-                self.session.set_model_key(Some(self.selected), key, value)
+                self.session.set_model_key(Some(self.selected), &key, value)
             }
             Edit::Setting { path, value } => {
                 let path: Vec<&str> = path.iter().map(String::as_str).collect();

@@ -5,8 +5,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use isola::analysis::Progress;
-use isola::analysis::scalogram::{Scalogram, ScalogramSpec, scalogram};
-use isola::analysis::time_history::{TimeHistory, TimeHistorySpec, time_history};
+use isola::analysis::orbit::scalogram::{Scalogram, ScalogramSpec, scalogram};
+use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec, time_history};
 use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;

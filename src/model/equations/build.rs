@@ -91,6 +91,12 @@ pub(crate) struct Compiled {
     pub named_tape: Tape,
 }
 
+/// Stack of the compiler's thread (virtual: only what it uses is committed).
+const BUILD_STACK: usize = 1 << 30;
+/// Expressions built at most (each call of a function builds its body again): a model that
+/// expands beyond this is refused rather than compiled for ever.
+const MAX_WORK: usize = 5_000_000;
+
 /// Names a written model may not take.
 const RESERVED: [&str; 3] = ["t", "pi", "if"];
 
@@ -98,7 +104,25 @@ impl EquationModel {
     /// Compiles `def`, read from `doc` (the session's text, for lines and columns in errors;
     /// empty if there is none).
     pub fn new(def: &ModelDefinition, doc: &str) -> Result<EquationModel, EquationError> {
-        Builder::new(def, doc)?.finish().map(|inner| EquationModel {
+        // the builder recurses as deep as the expressions nest: on a stack of its own, so
+        // that no model, however deep, can overflow the caller's
+        std::thread::scope(|scope| {
+            std::thread::Builder::new()
+                .stack_size(BUILD_STACK)
+                .spawn_scoped(scope, || Builder::new(def, doc)?.finish())
+                .map_err(|e| EquationError {
+                    place: "model".into(),
+                    message: format!("cannot start the compiler: {e}"),
+                })?
+                .join()
+                .unwrap_or_else(|_| {
+                    Err(EquationError {
+                        place: "model".into(),
+                        message: "the compiler failed".into(),
+                    })
+                })
+        })
+        .map(|inner| EquationModel {
             inner: Arc::new(inner),
         })
     }
@@ -167,6 +191,8 @@ struct Builder<'d> {
     /// Definitions being built, innermost last: a name met again is a cycle.
     building: Vec<String>,
     named: Vec<(String, NodeId)>,
+    /// Expressions built so far (see [`MAX_WORK`]).
+    work: usize,
 }
 
 fn at(place: &Place, message: impl Into<String>) -> EquationError {
@@ -189,6 +215,7 @@ impl<'d> Builder<'d> {
             built: HashMap::new(),
             building: Vec::new(),
             named: Vec::new(),
+            work: 0,
         };
         b.declare()?;
         Ok(b)
@@ -507,6 +534,15 @@ impl<'d> Builder<'d> {
         place: &Place,
         local: &HashMap<String, NodeId>,
     ) -> Result<NodeId, EquationError> {
+        self.work += 1;
+        if self.work > MAX_WORK {
+            return Err(at(
+                place,
+                format!(
+                    "the model expands to more than {MAX_WORK} operations (functions calling functions)"
+                ),
+            ));
+        }
         Ok(match ast {
             Ast::Num(v) => self.graph.num(*v),
             Ast::Name(name, span) => self.name(name, *span, place, local)?,

@@ -93,6 +93,10 @@ impl System for EquationSystem {
         self.model.inner.states.len()
     }
 
+    fn state_names(&self) -> &[String] {
+        &self.model.inner.states
+    }
+
     fn period(&self) -> f64 {
         self.period
     }

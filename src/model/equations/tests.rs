@@ -91,10 +91,9 @@ fn a_written_model_that_goes_slack_keeps_fourth_order() {
     }
 }
 
-
 #[test]
 fn lanes_give_each_start_the_scalar_result_bit_for_bit() {
-    use crate::analysis::oscillator::written::steady_state_of;
+    use crate::analysis::global::oscillator::written::steady_state_of;
     use crate::analysis::{Oscillator, SteadyStateSpec};
     use std::sync::atomic::AtomicBool;
     // a 6 × 5 grid at ω 3.7 (1:1, the 1:2 isola, slack phases), and a start far out
@@ -153,7 +152,7 @@ fn assert_close(got: &[f64], want: &[f64], tol: f64, what: &str) {
 /// Steady amplitude from `x0` at `n` steps per period.
 fn amplitude(sys: &mut EquationSystem, x0: &[f64], n: u32) -> (Option<usize>, f64) {
     use crate::analysis::SteadyStateSpec;
-    use crate::analysis::oscillator::written::steady_state_of;
+    use crate::analysis::global::oscillator::written::steady_state_of;
     let mut spec = SteadyStateSpec::default();
     spec.resolution.min_steps_per_period = n;
     let mut start = [0.0; crate::model::system::MAX_DIM];

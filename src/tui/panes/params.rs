@@ -14,7 +14,7 @@ use isola::session::{Session, SessionError};
 pub enum Target {
     /// A model key, and the key and unit of its physical form, if it has one.
     Model {
-        key: &'static str,
+        key: String,
         physical: Option<(&'static str, &'static str)>,
     },
     /// A quantity the model derives from others (E_b, E_c): shown, not edited; the text says
@@ -46,17 +46,42 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
         return out;
     };
     let device = session.device();
+    if let Some(written) = &session.written {
+        let values = written.values(&entry.values);
+        for (p, value) in written.model.parameters().iter().zip(values) {
+            out.push(Row {
+                label: p.name.clone(),
+                value: format_number(value),
+                physical: p
+                    .unit
+                    .clone()
+                    .or_else(|| p.about.clone())
+                    .unwrap_or_default(),
+                overridden: entry.values.contains_key(&p.name),
+                target: Target::Model {
+                    key: p.name.clone(),
+                    physical: None,
+                },
+            });
+        }
+        flatten(&session.settings_table(index), &mut Vec::new(), &mut out);
+        return out;
+    }
     let Ok(p) = session.params(Some(entry)) else {
         return out;
     };
     let m = &entry.model;
-    let model = |label: &str, key, physical, value: f64, phys: String, overridden: bool| Row {
-        label: label.into(),
-        value: format_number(value),
-        physical: phys,
-        overridden,
-        target: Target::Model { key, physical },
-    };
+    let model =
+        |label: &str, key: &str, physical, value: f64, phys: String, overridden: bool| Row {
+            label: label.into(),
+            value: format_number(value),
+            physical: phys,
+            overridden,
+            target: Target::Model {
+                key: key.to_string(),
+                physical,
+            },
+        };
     out.push(model(
         "λ_p",
         "lambda_p",
@@ -195,9 +220,9 @@ pub fn parse_edit(row: &Row, text: &str) -> Result<Edit, String> {
         Target::Model { key, physical } => {
             let (number, key) = match physical {
                 Some((phys_key, unit)) if text.ends_with(unit) => {
-                    (text.trim_end_matches(unit).trim(), *phys_key)
+                    (text.trim_end_matches(unit).trim(), phys_key.to_string())
                 }
-                _ => (text, *key),
+                _ => (text, key.clone()),
             };
             let value: f64 = number
                 .parse()
@@ -220,7 +245,7 @@ pub fn parse_edit(row: &Row, text: &str) -> Result<Edit, String> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Edit {
     Model {
-        key: &'static str,
+        key: String,
         value: f64,
     },
     Setting {

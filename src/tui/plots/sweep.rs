@@ -10,7 +10,7 @@ use ratatui::widgets::Widget;
 use super::PlotContext;
 use super::frame::{Axis, Layer, XyPlot, legend_item};
 use super::heatmap::{HeatMap, Paint};
-use isola::analysis::scalogram::Scalogram;
+use isola::analysis::orbit::scalogram::Scalogram;
 use isola::session::results::ChirpView;
 
 /// One sweep to overlay: its name, data, and whether it is the selected one.

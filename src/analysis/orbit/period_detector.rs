@@ -2,8 +2,6 @@
 
 use std::collections::VecDeque;
 
-use super::steady_state::SteadyStateSpec;
-
 /// Watches stroboscopic points of `N` numbers and says when, and with which period, they have
 /// converged (max-norm over the `N`).
 #[derive(Debug, Clone)]
@@ -22,12 +20,14 @@ fn distance<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
 }
 
 impl<const N: usize> PeriodDetector<N> {
-    pub fn new(spec: &SteadyStateSpec) -> Self {
+    /// A detector of periods up to `max_period` that accepts one once its points repeat to
+    /// `tol_converged`, and reports the smallest that repeats to `tol_match`.
+    pub fn new(max_period: usize, tol_converged: f64, tol_match: f64) -> Self {
         PeriodDetector {
-            history: VecDeque::with_capacity(2 * spec.max_period + 1),
-            max_period: spec.max_period,
-            tol_converged: spec.tol_converged,
-            tol_match: spec.tol_match,
+            history: VecDeque::with_capacity(2 * max_period + 1),
+            max_period,
+            tol_converged,
+            tol_match,
             periods: 0,
         }
     }

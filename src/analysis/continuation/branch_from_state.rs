@@ -3,10 +3,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::continuation::{ContinuationSpec, ContinuedBranch, continue_branch};
-use super::progress::Progress;
-use super::steady_state::{SteadyStateSpec, steady_state};
+use crate::analysis::AnalysisError;
+use crate::analysis::continuation::branch::{ContinuationSpec, ContinuedBranch, continue_branch};
+use crate::analysis::orbit::steady_state::{SteadyStateSpec, steady_state};
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 
 /// Where the seed comes from and how its branch is continued.

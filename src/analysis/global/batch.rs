@@ -1,25 +1,26 @@
 //! Many trajectories to their steady states at once: RK4 in SIMD lanes, each lane running the
-//! period test of [`super::steady_state`] on its own and taking the next initial state as soon
+//! period test of [`crate::analysis::orbit::steady_state`] on its own and taking the next initial state as soon
 //! as it is done.
 //!
 //! Optional early stop (the recurrence idea behind Attractors.jl's basins, made safe): once a
 //! lane's stroboscopic point lies inside a verified capture region of a known periodic
-//! response ([`super::capture`]) in two consecutive forcing periods, the lane is given that
+//! response ([`crate::analysis::global::capture`]) in two consecutive forcing periods, the lane is given that
 //! response's result without converging to 1e-9 itself.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use super::capture::{CaptureRegion, Verification, capture_regions};
-use super::period_detector::PeriodDetector;
-use super::period_map::OrbitRecord;
-use super::steady_state::{Class, SteadyState, SteadyStateSpec, collided, from_record};
+use crate::analysis::global::capture::{CaptureRegion, Verification, capture_regions};
+use crate::analysis::orbit::period_detector::PeriodDetector;
+use crate::analysis::orbit::period_map::OrbitRecord;
+use crate::analysis::orbit::steady_state::{
+    Class, SteadyState, SteadyStateSpec, collided, from_record,
+};
 use crate::model::Params;
+use crate::solver::rk4::LANES;
 use crate::solver::{Resolution, Rk4};
 
-/// Trajectories integrated side by side.
-pub const LANES: usize = 16;
 /// A capture region's radius is at most this fraction of its point's distance to the nearest
 /// point of another known response (or to its own response's other points), so regions of
 /// different responses never overlap.
@@ -65,7 +66,7 @@ impl KnownAttractors {
             let known = self
                 .responses
                 .iter()
-                .any(|r| super::attractor::same_attractor(r, s, tol));
+                .any(|r| crate::analysis::orbit::attractor::same_attractor(r, s, tol));
             if s.class == Class::Periodic && !known {
                 self.responses.push(s.clone());
                 self.regions.push(Vec::new());
@@ -146,7 +147,7 @@ enum LaneState {
 
 /// Steady states from every initial state [λ_I, v] in `ics` (at τ = 0), in order. With
 /// `known`, trajectories captured by a known response stop early, and attractors reached in
-/// full are learnt; without it the result is exactly what [`super::steady_state`] gives for
+/// full are learnt; without it the result is exactly what [`crate::analysis::orbit::steady_state`] gives for
 /// each state. Stops early (returning `None`) when `cancel` is set; `on_done` is called after
 /// each result.
 pub fn steady_states(
@@ -187,7 +188,7 @@ fn in_lanes<const L: usize>(
             rk.restart_lane(lanes, i, ics[ic][0], ics[ic][1]);
             LaneState::Transient {
                 ic,
-                detector: PeriodDetector::new(spec),
+                detector: spec.period_detector(),
                 inside: None,
             }
         } else {
@@ -267,7 +268,7 @@ fn in_lanes<const L: usize>(
             };
             if let Some((ic, result)) = finished {
                 if let Some(known) = known.as_deref_mut() {
-                    known.learn(&result, super::attractor::SAME_POINT_TOL);
+                    known.learn(&result, crate::analysis::orbit::attractor::SAME_POINT_TOL);
                 }
                 results[ic] = Some(result);
                 on_done(ic);

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::steady_state::{Class, SteadyState};
+use crate::analysis::orbit::steady_state::{Class, SteadyState};
 
 /// Tolerance (max-norm on [λ_I, v]) within which stroboscopic points are the same point.
 pub const SAME_POINT_TOL: f64 = 1e-5;

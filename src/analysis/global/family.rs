@@ -3,64 +3,15 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::continuation::ContinuationParameter;
-use super::frequency_response::{
+use crate::analysis::AnalysisError;
+use crate::analysis::global::frequency_response::{
     Branch, FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
-use super::progress::Progress;
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::parameter::FamilyParameter;
+use crate::analysis::progress::Progress;
+use crate::model::Params;
 use crate::model::error::ParamError;
-use crate::model::{DriveSpec, ParamSpec, Params};
-
-/// The parameters a family can vary.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FamilyParameter {
-    Adr,
-    EA,
-    CTilde,
-    LambdaP,
-    J,
-}
-
-impl FamilyParameter {
-    pub fn name(&self) -> &'static str {
-        match self {
-            FamilyParameter::Adr => "adr",
-            FamilyParameter::EA => "e_a",
-            FamilyParameter::CTilde => "c_tilde",
-            FamilyParameter::LambdaP => "lambda_p",
-            FamilyParameter::J => "j",
-        }
-    }
-
-    /// Parses a name as users write it.
-    pub fn parse(s: &str) -> Option<Self> {
-        Some(match s {
-            "adr" => FamilyParameter::Adr,
-            "e_a" | "ea" => FamilyParameter::EA,
-            "c_tilde" | "damping" => FamilyParameter::CTilde,
-            "lambda_p" | "lambda-p" => FamilyParameter::LambdaP,
-            "j" => FamilyParameter::J,
-            _ => return None,
-        })
-    }
-
-    /// `base` with this parameter set to `value` (the drive kept in (E_a, ADR) form).
-    pub fn apply(&self, base: &Params, value: f64) -> Result<Params, ParamError> {
-        let mut spec: ParamSpec = base.to_spec();
-        let d = base.drive_i();
-        let (e_a, adr) = (d.e_a(), d.adr().unwrap_or(0.0));
-        match self {
-            FamilyParameter::Adr => spec.drive = DriveSpec::EaAdr { e_a, adr: value },
-            FamilyParameter::EA => spec.drive = DriveSpec::EaAdr { e_a: value, adr },
-            FamilyParameter::CTilde => spec.c_tilde = value,
-            FamilyParameter::LambdaP => spec.lambda_p = value,
-            FamilyParameter::J => spec.j = value,
-        }
-        spec.build()
-    }
-}
 
 /// A family: one parameter over a list of values.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -4,15 +4,16 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::continuation::{
-    BifurcationKind, BranchEnd, ContinuationError, ContinuationParameter, ContinuationSpec,
-    ContinuedBranch, continue_branch,
+use crate::analysis::AnalysisError;
+use crate::analysis::continuation::branch::{
+    BifurcationKind, BranchEnd, ContinuationError, ContinuationSpec, ContinuedBranch,
+    continue_branch,
 };
-use super::frequency_response::{
+use crate::analysis::global::frequency_response::{
     Branch, FrequencyResponse, FrequencyResponseSpec, frequency_response,
 };
-use super::progress::Progress;
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 use crate::model::error::ParamError;
 
@@ -148,7 +149,9 @@ impl HuntedBranch {
     }
 
     /// The located folds and period doublings on it.
-    pub fn folds(&self) -> impl Iterator<Item = &super::continuation::Bifurcation> {
+    pub fn folds(
+        &self,
+    ) -> impl Iterator<Item = &crate::analysis::continuation::branch::Bifurcation> {
         self.branch.of_kind(BifurcationKind::Fold)
     }
 

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
+use crate::analysis::AnalysisError;
 use crate::model::error::{check, check_in};
 use crate::model::{Chirp, Params};
 use crate::solver::{Dopri5, Tolerance};

@@ -9,9 +9,9 @@ pub mod written;
 
 use std::sync::atomic::AtomicBool;
 
-use super::AnalysisError;
-use super::batch::KnownAttractors;
-use super::steady_state::{SteadyState, SteadyStateSpec};
+use crate::analysis::AnalysisError;
+use crate::analysis::global::batch::KnownAttractors;
+use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::ParamError;
 
 /// A model at one parameter point, as the brute-force analyses use it.

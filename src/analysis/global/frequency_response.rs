@@ -7,16 +7,16 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::Ratio;
-use super::attractor::{SAME_POINT_TOL, same_attractor};
-use super::batch::KnownAttractors;
-use super::capture::Verification;
-use super::grid::Axis;
-use super::oscillator::Oscillator;
-use super::progress::Progress;
-use super::steady_state::{Class, SteadyState, SteadyStateSpec};
-use super::stepped_sweep::{SweepStep, stepped_sweep_over};
+use crate::analysis::AnalysisError;
+use crate::analysis::Ratio;
+use crate::analysis::global::batch::KnownAttractors;
+use crate::analysis::global::capture::Verification;
+use crate::analysis::global::oscillator::Oscillator;
+use crate::analysis::global::stepped_sweep::{SweepStep, stepped_sweep_over};
+use crate::analysis::grid::Axis;
+use crate::analysis::orbit::attractor::{SAME_POINT_TOL, same_attractor};
+use crate::analysis::orbit::steady_state::{Class, SteadyState, SteadyStateSpec};
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 use crate::model::error::check;
 use crate::model::limits;

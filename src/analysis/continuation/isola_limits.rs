@@ -11,15 +11,20 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::bifurcation_curve::{CurvePoint, CurveSpec, Turning, continue_bifurcation};
-use super::continuation::{
-    BifurcationKind, ContinuationError, ContinuationParameter, ContinuationSpec, ContinuedBranch,
-    continue_branch, continue_from_orbit,
+use crate::analysis::continuation::bifurcation_curve::{
+    CurvePoint, CurveSpec, Turning, continue_bifurcation,
 };
-use super::family::FamilyParameter;
-use super::hunt::Verdict;
-use super::hunt_family::{HuntFamilySpec, HuntMember, Transition, transitions};
-use super::progress::Progress;
+use crate::analysis::continuation::branch::{
+    BifurcationKind, ContinuationError, ContinuationSpec, ContinuedBranch, continue_branch,
+    continue_from_orbit,
+};
+use crate::analysis::continuation::hunt::Verdict;
+use crate::analysis::continuation::hunt_family::{
+    HuntFamilySpec, HuntMember, Transition, transitions,
+};
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::parameter::FamilyParameter;
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 
 /// A located limit of an isola.

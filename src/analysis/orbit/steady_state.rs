@@ -8,9 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::period_detector::PeriodDetector;
-use super::period_map::{OrbitRecord, PeriodMap, Rk4PeriodMap};
-use super::ratio::Ratio;
+use crate::analysis::orbit::period_detector::PeriodDetector;
+use crate::analysis::orbit::period_map::{OrbitRecord, PeriodMap, Rk4PeriodMap};
+use crate::analysis::orbit::ratio::Ratio;
 use crate::model::Params;
 use crate::model::error::{ParamError, check};
 use crate::solver::{Collision, Resolution};
@@ -44,6 +44,11 @@ impl Default for SteadyStateSpec {
 }
 
 impl SteadyStateSpec {
+    /// A period detector with these settings, on points of `N` numbers.
+    pub fn period_detector<const N: usize>(&self) -> PeriodDetector<N> {
+        PeriodDetector::new(self.max_period, self.tol_converged, self.tol_match)
+    }
+
     /// Checks every field.
     pub fn validate(&self) -> Result<(), ParamError> {
         check(
@@ -154,7 +159,7 @@ pub fn steady_state(params: &Params, x0: f64, v0: f64, spec: &SteadyStateSpec) -
 
 /// The steady state reached by any stroboscopic map (fast or reference integrator).
 pub fn steady_state_with(map: &mut impl PeriodMap, spec: &SteadyStateSpec) -> SteadyState {
-    let mut detector = PeriodDetector::new(spec);
+    let mut detector = spec.period_detector();
     while detector.periods() < spec.max_forcing_periods {
         let point = match map.advance() {
             Ok(p) => p,

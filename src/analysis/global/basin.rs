@@ -3,17 +3,18 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::attractor::{AttractorTable, SAME_POINT_TOL};
-use super::batch::{KnownAttractors, LANES};
-use super::capture::Verification;
-use super::grid::Axis;
-use super::oscillator::Oscillator;
-use super::progress::Progress;
-use super::steady_state::{SteadyState, SteadyStateSpec};
+use crate::analysis::AnalysisError;
+use crate::analysis::global::batch::KnownAttractors;
+use crate::analysis::global::capture::Verification;
+use crate::analysis::global::oscillator::Oscillator;
+use crate::analysis::grid::Axis;
+use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
+use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 use crate::model::error::check;
 use crate::model::limits;
+use crate::solver::rk4::LANES;
 
 /// Largest grid a basin may ask for (about 16 million cells).
 pub const MAX_CELLS: usize = 1 << 24;

@@ -4,11 +4,11 @@
 
 use serde::Serialize;
 
-use super::written::steady_state_of;
+use super::written::{not_finite, steady_state_of};
 use crate::analysis::AnalysisError;
 use crate::analysis::Oscillator;
-use crate::analysis::steady_state::SteadyState;
-use crate::analysis::time_history::TimeHistorySpec;
+use crate::analysis::orbit::steady_state::SteadyState;
+use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::model::equations::EquationSystem;
 use crate::model::system::System;
 use crate::solver::general::{GeneralRk4, Stop};
@@ -74,13 +74,7 @@ pub fn state_history(
                 tau,
                 state,
                 expression,
-            }) => {
-                return Err(AnalysisError::NotFinite {
-                    tau: *tau,
-                    state: state[..dim].to_vec(),
-                    expression: expression.clone().unwrap_or_else(|| "the state".into()),
-                });
-            }
+            }) => return Err(not_finite(&sys, *tau, state, expression)),
             Some(Stop::Collision { .. }) => break,
             None => {}
         }

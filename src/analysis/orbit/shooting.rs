@@ -11,7 +11,7 @@
 use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use super::floquet::Multipliers;
+use crate::analysis::orbit::floquet::Multipliers;
 use crate::model::Params;
 use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::field::{Field, Membrane, Mode};

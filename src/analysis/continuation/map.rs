@@ -7,18 +7,21 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::bifurcation_curve::{BifurcationCurve, CurveSpec, continue_bifurcation};
-use super::continuation::{
-    BifurcationKind, ContinuationParameter, ContinuationSpec, ContinuedBranch, continue_branch,
+use crate::analysis::AnalysisError;
+use crate::analysis::continuation::bifurcation_curve::{
+    BifurcationCurve, CurveSpec, continue_bifurcation,
 };
-use super::family::FamilyParameter;
-use super::frequency_response::{
+use crate::analysis::continuation::branch::{
+    BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
+};
+use crate::analysis::global::frequency_response::{
     FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
-use super::grid::Axis;
-use super::progress::Progress;
-use super::steady_state::Class;
+use crate::analysis::grid::Axis;
+use crate::analysis::orbit::steady_state::Class;
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::parameter::FamilyParameter;
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 use crate::model::error::ParamError;
 
@@ -268,7 +271,7 @@ pub fn map_curves(
             }
             match continue_bifurcation(&base, spec.x, bif, &curve_spec, progress) {
                 Ok(c) => curves.push(c),
-                Err(super::continuation::ContinuationError::Cancelled) => {
+                Err(crate::analysis::continuation::branch::ContinuationError::Cancelled) => {
                     return Err(AnalysisError::Cancelled);
                 }
                 Err(e) => {
@@ -281,7 +284,7 @@ pub fn map_curves(
 }
 
 /// A response's amplitude, −∞ for none (collision, non-periodic).
-fn amplitude(r: &super::frequency_response::Response) -> f64 {
+fn amplitude(r: &crate::analysis::global::frequency_response::Response) -> f64 {
     r.steady.amplitude.unwrap_or(f64::NEG_INFINITY)
 }
 

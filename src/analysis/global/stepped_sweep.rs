@@ -3,9 +3,9 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::AnalysisError;
-use super::oscillator::Oscillator;
-use super::steady_state::{SteadyState, SteadyStateSpec};
+use crate::analysis::AnalysisError;
+use crate::analysis::global::oscillator::Oscillator;
+use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
 use crate::model::Params;
 
 /// One step of a stepped sweep.

@@ -14,12 +14,13 @@
 use nalgebra::{Matrix2, Matrix4, RowVector4, Vector4};
 use serde::{Deserialize, Serialize};
 
-use super::continuation::{
-    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, ContinuationParameter, check_steps,
+use crate::analysis::continuation::branch::{
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, check_steps,
 };
-use super::floquet::{Multipliers, TestFunctions};
-use super::progress::Progress;
-use super::shooting::{PeriodFlow, ShootingError, ShootingSpec, VariationalFlow};
+use crate::analysis::orbit::floquet::{Multipliers, TestFunctions};
+use crate::analysis::orbit::shooting::{PeriodFlow, ShootingError, ShootingSpec, VariationalFlow};
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
 use crate::model::{ParamSpec, Params};
 use crate::solver::Collision;
@@ -56,7 +57,7 @@ impl Default for CurveSpec {
     /// ADR over [0.05, 1.5], the first parameter (ω_e) over [0.2, 6].
     fn default() -> Self {
         CurveSpec {
-            second: ContinuationParameter::Model(super::family::FamilyParameter::Adr),
+            second: ContinuationParameter::Model(crate::analysis::parameter::FamilyParameter::Adr),
             min: 0.05,
             max: 1.5,
             first_min: 0.2,

@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::steady_state::{SteadyState, SteadyStateSpec, steady_state};
+use crate::analysis::AnalysisError;
+use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec, steady_state};
 use crate::model::Params;
 use crate::model::error::check;
 use crate::model::forces::membrane_force;

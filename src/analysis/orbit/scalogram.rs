@@ -8,8 +8,8 @@ use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::grid::Axis;
+use crate::analysis::AnalysisError;
+use crate::analysis::grid::Axis;
 use crate::model::error::check;
 
 /// Morlet centre frequency ω₀ (the usual 6: the wavelet is admissible to ~1e-8).

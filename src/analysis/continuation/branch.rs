@@ -12,78 +12,16 @@
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::family::FamilyParameter;
-use super::floquet::{Multipliers, TestFunctions};
-use super::progress::Progress;
-use super::shooting::{
+use crate::analysis::AnalysisError;
+use crate::analysis::orbit::floquet::{Multipliers, TestFunctions};
+use crate::analysis::orbit::shooting::{
     PeriodFlow, PeriodicOrbit, ShootingError, ShootingSpec, VariationalFlow, shoot,
 };
+use crate::analysis::parameter::ContinuationParameter;
+use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
 use crate::model::{ParamSpec, Params};
 use crate::solver::Collision;
-
-/// The parameter a branch is continued in: ω_e or one of the model's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(try_from = "String", into = "String")]
-pub enum ContinuationParameter {
-    Omega,
-    Model(FamilyParameter),
-}
-
-impl ContinuationParameter {
-    pub fn name(&self) -> &'static str {
-        match self {
-            ContinuationParameter::Omega => "omega",
-            ContinuationParameter::Model(p) => p.name(),
-        }
-    }
-
-    /// Parses a name as users write it (`omega`, `adr`, `e_a`, `c_tilde`, `lambda_p`, `j`).
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "omega" | "w" => Some(ContinuationParameter::Omega),
-            _ => FamilyParameter::parse(s).map(ContinuationParameter::Model),
-        }
-    }
-
-    /// Its value in `p`.
-    pub fn value(&self, p: &Params) -> f64 {
-        match self {
-            ContinuationParameter::Omega => p.omega(),
-            ContinuationParameter::Model(m) => match m {
-                FamilyParameter::Adr => p.drive_i().adr().unwrap_or(0.0),
-                FamilyParameter::EA => p.drive_i().e_a(),
-                FamilyParameter::CTilde => p.c_tilde(),
-                FamilyParameter::LambdaP => p.lambda_p(),
-                FamilyParameter::J => p.j(),
-            },
-        }
-    }
-
-    /// `base` with this parameter set to `value`.
-    pub fn apply(&self, base: &Params, value: f64) -> Result<Params, ParamError> {
-        match self {
-            ContinuationParameter::Omega => base.with_omega(value),
-            ContinuationParameter::Model(m) => m.apply(base, value),
-        }
-    }
-}
-
-impl TryFrom<String> for ContinuationParameter {
-    type Error = String;
-    fn try_from(s: String) -> Result<Self, String> {
-        Self::parse(&s).ok_or_else(|| {
-            format!("unknown parameter '{s}': allowed omega, adr, e_a, c_tilde, lambda_p, j")
-        })
-    }
-}
-
-impl From<ContinuationParameter> for String {
-    fn from(p: ContinuationParameter) -> String {
-        p.name().to_string()
-    }
-}
 
 /// How a branch is continued.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -6,10 +6,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::Oscillator;
 use crate::analysis::AnalysisError;
-use crate::analysis::batch::KnownAttractors;
-use crate::analysis::period_detector::PeriodDetector;
-use crate::analysis::period_map::OrbitRecord;
-use crate::analysis::steady_state::{Class, SteadyState, SteadyStateSpec, collided, from_record};
+use crate::analysis::global::batch::KnownAttractors;
+use crate::analysis::orbit::period_detector::PeriodDetector;
+use crate::analysis::orbit::period_map::OrbitRecord;
+use crate::analysis::orbit::steady_state::{
+    Class, SteadyState, SteadyStateSpec, collided, from_record,
+};
 use crate::model::ParamError;
 use crate::model::equations::EquationSystem;
 use crate::model::equations::lanes::EquationLanes;
@@ -29,14 +31,14 @@ pub fn steady_state_of<S: System>(
     let rk = GeneralRk4::new(sys, &spec.resolution);
     let dim = sys.dim();
     let mut traj = rk.start(sys, &start[..dim]);
-    let mut detector = PeriodDetector::<MAX_DIM>::new(spec);
+    let mut detector = spec.period_detector::<MAX_DIM>();
     if let Some(stop) = &traj.stop {
-        return stopped(stop, 0, grid);
+        return stopped(sys, stop, 0, grid);
     }
     while detector.periods() < spec.max_forcing_periods {
         rk.advance_period(sys, &mut traj, |_, _, _| {});
         if let Some(stop) = &traj.stop {
-            return stopped(stop, detector.periods() + 1, grid);
+            return stopped(sys, stop, detector.periods() + 1, grid);
         }
         if let Some(k) = detector.push(traj.x) {
             return record(
@@ -75,7 +77,7 @@ fn record<S: System>(
             rec.add_step(y0, rate0, y1, rate1, h);
         });
         if let Some(stop) = &traj.stop {
-            return stopped(stop, n, grid);
+            return stopped(sys, stop, n, grid);
         }
         poincare.push([traj.x[grid[0]], traj.x[grid[1]]]);
         if dim > 2 {
@@ -87,8 +89,35 @@ fn record<S: System>(
     Ok(s)
 }
 
+/// The error of a model that gave a value that is not finite: where, from which state (by
+/// the states' names), in which expression.
+pub(crate) fn not_finite(
+    sys: &impl System,
+    tau: f64,
+    state: &Vector,
+    expression: &Option<String>,
+) -> AnalysisError {
+    let state = sys
+        .state_names()
+        .iter()
+        .zip(state)
+        .map(|(name, v)| format!("{name} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    AnalysisError::NotFinite {
+        tau,
+        state,
+        expression: expression.clone().unwrap_or_else(|| "the state".into()),
+    }
+}
+
 /// A collision as a result; a value that is not finite as an error naming where.
-fn stopped(stop: &Stop, periods: usize, grid: [usize; 2]) -> Result<SteadyState, AnalysisError> {
+fn stopped(
+    sys: &impl System,
+    stop: &Stop,
+    periods: usize,
+    grid: [usize; 2],
+) -> Result<SteadyState, AnalysisError> {
     match stop {
         Stop::Collision { tau, state } => Ok(collided(
             Collision {
@@ -101,11 +130,7 @@ fn stopped(stop: &Stop, periods: usize, grid: [usize; 2]) -> Result<SteadyState,
             tau,
             state,
             expression,
-        } => Err(AnalysisError::NotFinite {
-            tau: *tau,
-            state: state.to_vec(),
-            expression: expression.clone().unwrap_or_else(|| "the state".into()),
-        }),
+        } => Err(not_finite(sys, *tau, state, expression)),
     }
 }
 
@@ -232,9 +257,9 @@ fn in_lanes<const L: usize>(
             *next += 1;
             rk.restart_lane(sys, lanes, l, &starts[start]);
             match &lanes.stop[l] {
-                Some(stop) => done.push((start, stopped(stop, 0, grid))),
+                Some(stop) => done.push((start, stopped(sys, stop, 0, grid))),
                 None => {
-                    let detector = Box::new(PeriodDetector::new(spec));
+                    let detector = Box::new(spec.period_detector());
                     return (Job::Transient { start, detector }, done);
                 }
             }
@@ -283,7 +308,7 @@ fn in_lanes<const L: usize>(
                 Job::Idle => None,
                 Job::Transient { start, detector } => {
                     if let Some(stop) = &lanes.stop[l] {
-                        Some((*start, stopped(stop, detector.periods() + 1, grid)))
+                        Some((*start, stopped(&sys, stop, detector.periods() + 1, grid)))
                     } else if let Some(k) = detector.push(point) {
                         let n = detector.periods();
                         jobs[l] = recording_job(*start, Class::Periodic, k, n, &rk);
@@ -306,7 +331,7 @@ fn in_lanes<const L: usize>(
                     states,
                 } => {
                     if let Some(stop) = &lanes.stop[l] {
-                        Some((*start, stopped(stop, *transient, grid)))
+                        Some((*start, stopped(&sys, stop, *transient, grid)))
                     } else {
                         poincare.push([point[grid[0]], point[grid[1]]]);
                         if dim > 2 {

@@ -1,11 +1,14 @@
-//! The covered verification of a capture region ([`super::capture::Verification::Covered`]):
+//! The covered verification of a capture region ([`crate::analysis::global::capture::Verification::Covered`]):
 //! a polar grid of samples in the coordinates u of the region's shape, each mapped over many
 //! returns with its Jacobian, whose first-order bounds cover the whole region.
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::capture::{Shape, iterate, largest_passing};
+use rayon::prelude::*;
+
+use crate::analysis::global::ellipse::Shape;
 use crate::solver::Rk4;
+use crate::solver::rk4::LANES;
 
 /// Rings of the covered test: radii cap·2^(−j/2), j = 0 … COVER_RINGS − 1 (down to cap/64).
 const COVER_RINGS: usize = 13;
@@ -91,4 +94,50 @@ pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize
         })
         .collect();
     largest_passing(&radii, &ring_passes)
+}
+
+/// The largest of `radii` (outermost first) inside which every ring passes: `ring_passes`
+/// holds from the innermost ring out to it. 0 if the innermost ring fails.
+pub(super) fn largest_passing(radii: &[f64], ring_passes: &[bool]) -> f64 {
+    radii
+        .iter()
+        .zip(ring_passes)
+        .rev()
+        .take_while(|&(_, &passes)| passes)
+        .last()
+        .map_or(0.0, |(&r, _)| r)
+}
+
+/// Each start integrated `periods` forcing periods from phase 0; `None` where it collides
+/// (or started as `None`).
+pub(super) fn iterate(
+    rk: &Rk4,
+    starts: &[Option<[f64; 2]>],
+    periods: usize,
+) -> Vec<Option<[f64; 2]>> {
+    starts
+        .par_chunks(LANES)
+        .flat_map_iter(|batch| {
+            let mut x = [rk.params().lambda_p(); LANES];
+            let mut v = [0.0; LANES];
+            for (i, s) in batch.iter().enumerate() {
+                if let Some(s) = s {
+                    (x[i], v[i]) = (s[0], s[1]);
+                }
+            }
+            let mut lanes = rk.start(x, v);
+            for _ in 0..periods {
+                rk.advance_period(&mut lanes, |_, _, _| {});
+            }
+            let ends: Vec<Option<[f64; 2]>> = batch
+                .iter()
+                .enumerate()
+                .map(|(i, s)| {
+                    let free = s.is_some() && lanes.collision[i].is_none();
+                    free.then_some([lanes.x[i], lanes.v[i]])
+                })
+                .collect();
+            ends
+        })
+        .collect()
 }

@@ -4,10 +4,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::AnalysisError;
-use super::family::FamilyParameter;
-use super::hunt::{HuntSpec, HuntedBranch, Verdict, hunt};
-use super::progress::Progress;
+use crate::analysis::AnalysisError;
+use crate::analysis::continuation::hunt::{HuntSpec, HuntedBranch, Verdict, hunt};
+use crate::analysis::parameter::FamilyParameter;
+use crate::analysis::progress::Progress;
 use crate::model::Params;
 use crate::model::error::ParamError;
 

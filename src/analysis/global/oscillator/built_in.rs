@@ -1,12 +1,12 @@
-//! The built-in DEA as an [`Oscillator`]: the lanes of [`crate::analysis::batch`].
+//! The built-in DEA as an [`Oscillator`]: the lanes of [`crate::analysis::global::batch`].
 
 use std::sync::atomic::AtomicBool;
 
 use super::Oscillator;
 use crate::analysis::AnalysisError;
-use crate::analysis::batch::{KnownAttractors, steady_states};
-use crate::analysis::continuation::ContinuationParameter;
-use crate::analysis::steady_state::{SteadyState, SteadyStateSpec, steady_state};
+use crate::analysis::global::batch::{KnownAttractors, steady_states};
+use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec, steady_state};
+use crate::analysis::parameter::ContinuationParameter;
 use crate::model::{ParamError, Params};
 
 impl Oscillator for Params {
