@@ -140,6 +140,8 @@ pub struct HistoryView {
     pub steady: Vec<bool>,
     /// The steady part's period, amplitude and slack shares, for the orbit's model.
     pub summary: Option<SteadySummary>,
+    /// The names of the two states drawn, for a written model (λ_I and v otherwise).
+    pub states: Option<[String; 2]>,
 }
 
 impl HistoryView {
@@ -158,6 +160,7 @@ impl From<&crate::analysis::orbit::time_history::TimeHistory> for HistoryView {
             v: h.samples.iter().map(|s| s.v).collect(),
             steady: h.samples.iter().map(|s| s.steady).collect(),
             summary: None,
+            states: None,
         }
     }
 }
@@ -696,7 +699,11 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
             // a written model's history has its two grid states after τ, under their names
             let (x, v) = match c.0.contains_key("lambda_stretch") {
                 true => ("lambda_stretch".to_string(), "v_per_tau".to_string()),
-                false => (c.name_at(1)?, c.name_at(2)?),
+                false => {
+                    let names = [c.name_at(1)?, c.name_at(2)?];
+                    h.states = Some(names.clone());
+                    (names[0].clone(), names[1].clone())
+                }
             };
             for r in &rows {
                 h.tau.push(c.f64(r, "tau")?);

@@ -33,17 +33,22 @@ pub fn draw(
     let split = |pred: bool| -> Vec<usize> { (0..n).filter(|&k| h.steady[k] == pred).collect() };
     let (transient, steady) = (split(false), split(true));
     let series = |idx: &[usize], f: &dyn Fn(usize) -> (f64, f64)| thin(idx.iter().map(|&k| f(k)));
+    let [x_name, v_name] = h.states.clone().unwrap_or(["λ_I".into(), "v".into()]);
     let mut footer = Vec::new();
     if let Some(line) = heading {
         footer.push(line);
     }
     if n > 0 {
+        // a written model's time is its own: no seconds of the paper's device
+        let seconds = match h.states {
+            None => format!(" ({:.4} s)", ctx.device.seconds(h.tau[i])),
+            Some(_) => String::new(),
+        };
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
-                "τ {:.2} ({:.4} s)  λ_I {:.4}  v {:+.4}{}",
+                "τ {:.2}{seconds}  {x_name} {:.4}  {v_name} {:+.4}{}",
                 h.tau[i],
-                ctx.device.seconds(h.tau[i]),
                 h.lambda[i],
                 h.v[i],
                 if h.steady[i] {
@@ -95,8 +100,8 @@ pub fn draw(
         p.cursor_style = theme.cursor();
         p
     };
-    let time = plot("τ", &h.tau, "λ_I", &h.lambda, 0.0);
-    let phase = plot("λ_I", &h.lambda, "v", &h.v, 0.05);
+    let time = plot("τ", &h.tau, &x_name, &h.lambda, 0.0);
+    let phase = plot(&x_name, &h.lambda, &v_name, &h.v, 0.05);
     let footer = super::frame::wrap_footer(&footer, area.width, (area.height / 3).max(1) as usize);
     let footer_rows = footer.len() as u16;
     let [plots, foot] =
