@@ -172,6 +172,7 @@ capture = 1e400",
     let long = "n".repeat(300);
     let e = error_of(&good.replace("name = \"b\"", &format!("name = \"{long}\"")));
     assert!(e.contains("line 6") && e.contains("1 to 64"), "{e}");
+    assert!(error_of("\n").contains("the file is empty"));
     let e = error_of(&good.replace("kind = \"basin\"", "kind = \"basins\""));
     assert!(e.contains("unknown kind 'basins'"), "{e}");
     let e = error_of(&good.replace("schema = 1", "schema = 2"));

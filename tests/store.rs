@@ -524,7 +524,11 @@ fn editing_the_session_during_a_run_never_mixes_settings() {
         let (dir, session) = session_dir(BASIN);
         let first = spawn_run(&session, &[]);
         std::thread::sleep(Duration::from_millis(40 * trial));
-        std::fs::write(&session, &edited).unwrap();
+        // saved as editors (and the workbench) save: whole, by a rename, so that the run
+        // starting now reads the old file or the new one, never a truncated one
+        let staged = dir.path().join("s.toml.new");
+        std::fs::write(&staged, &edited).unwrap();
+        std::fs::rename(&staged, &session).unwrap();
         let second = spawn_run(&session, &[]);
         for out in [
             first.wait_with_output().unwrap(),

@@ -320,6 +320,11 @@ impl Session {
             path: path.to_path_buf(),
             message,
         };
+        if text.trim().is_empty() {
+            return Err(syntax(
+                "the file is empty (if an editor is writing it, run again once it is saved)".into(),
+            ));
+        }
         let document: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e: toml_edit::TomlError| syntax(e.to_string()))?;
