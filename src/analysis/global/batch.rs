@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use crate::analysis::global::capture::{CaptureRegion, Verification, capture_regions};
+use crate::analysis::global::flow::Flow;
 use crate::analysis::orbit::period_detector::PeriodDetector;
 use crate::analysis::orbit::period_map::OrbitRecord;
 use crate::analysis::orbit::steady_state::{
@@ -33,8 +34,8 @@ pub struct KnownAttractors {
     responses: Vec<SteadyState>,
     /// Largest capture-region radius (regions are ellipses inside a ball of that radius).
     capture: f64,
-    /// The integrator the regions are verified with: the one the trajectories run on.
-    rk: Rk4,
+    /// The map the regions are verified with: the integrator the trajectories run on.
+    flow: Flow,
     /// Each response's regions, one per Poincaré point.
     regions: Vec<Vec<CaptureRegion>>,
 }
@@ -43,10 +44,18 @@ impl KnownAttractors {
     /// No responses yet; regions will be verified for `params` integrated at `resolution`
     /// (the trajectories' own), at most `capture` in radius.
     pub fn new(params: &Params, resolution: &Resolution, capture: f64) -> Self {
+        Self::with_flow(
+            Flow::BuiltIn(Box::new(Rk4::new(params, resolution))),
+            capture,
+        )
+    }
+
+    /// No responses yet; regions will be verified with `flow`, at most `capture` in radius.
+    pub fn with_flow(flow: Flow, capture: f64) -> Self {
         KnownAttractors {
             responses: Vec::new(),
             capture,
-            rk: Rk4::new(params, resolution),
+            flow,
             regions: Vec::new(),
         }
     }
@@ -87,7 +96,7 @@ impl KnownAttractors {
             .into_par_iter()
             .map(|(a, caps)| {
                 let points = &self.responses[a].poincare;
-                let regions = capture_regions(&self.rk, points, &caps, verification);
+                let regions = capture_regions(&self.flow, points, &caps, verification);
                 (a, regions)
             })
             .collect();
@@ -117,8 +126,13 @@ impl KnownAttractors {
             .collect()
     }
 
+    /// Known response `a`.
+    pub(super) fn response(&self, a: usize) -> &SteadyState {
+        &self.responses[a]
+    }
+
     /// The response with a capture region holding `p`.
-    fn capturing(&self, p: [f64; 2]) -> Option<usize> {
+    pub(super) fn capturing(&self, p: [f64; 2]) -> Option<usize> {
         self.regions
             .iter()
             .position(|regions| regions.iter().any(|r| r.contains(p)))
@@ -296,7 +310,7 @@ fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4
 }
 
 /// A known attractor's result for a trajectory that reached it after `periods`.
-fn adopt(attractor: &SteadyState, periods: usize) -> SteadyState {
+pub(super) fn adopt(attractor: &SteadyState, periods: usize) -> SteadyState {
     SteadyState {
         transient_periods: periods,
         ..attractor.clone()

@@ -21,9 +21,9 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use crate::analysis::global::capture_cover::{covered_radius, iterate, largest_passing};
+use crate::analysis::global::capture_cover::{covered_radius, largest_passing};
 use crate::analysis::global::ellipse::Shape;
-use crate::solver::Rk4;
+use crate::analysis::global::flow::Flow;
 
 /// Sample points per ring.
 const RING_POINTS: usize = 32;
@@ -95,13 +95,13 @@ pub enum Verification {
 /// The capture region of each of a periodic response's Poincaré points `poincare` (period
 /// k = its length), each at most `caps[j]` in radius.
 pub fn capture_regions(
-    rk: &Rk4,
+    flow: &Flow,
     poincare: &[[f64; 2]],
     caps: &[f64],
     verification: Verification,
 ) -> Vec<CaptureRegion> {
     let k = poincare.len();
-    let Some(jacobians) = one_period_jacobians(rk, poincare) else {
+    let Some(jacobians) = one_period_jacobians(flow, poincare) else {
         return poincare.iter().map(|&p| CaptureRegion::empty(p)).collect();
     };
     (0..k)
@@ -112,8 +112,8 @@ pub fn capture_regions(
                 return CaptureRegion::empty(poincare[j]);
             };
             let radius = match verification {
-                Verification::OneReturn => one_return_radius(rk, poincare[j], &shape, k, caps[j]),
-                Verification::Covered => covered_radius(rk, poincare[j], &shape, k, caps[j]),
+                Verification::OneReturn => one_return_radius(flow, poincare[j], &shape, k, caps[j]),
+                Verification::Covered => covered_radius(flow, poincare[j], &shape, k, caps[j]),
             };
             CaptureRegion::new(poincare[j], &shape, radius * radius)
         })
@@ -123,7 +123,7 @@ pub fn capture_regions(
 /// The radius of the largest ellipse of `shape` around `center`, of `cap`, cap/2, cap/4, …
 /// (0 if none), whose ring of samples passes the one-return test of the module's description
 /// together with every smaller ring: all rings are integrated at once, one pass.
-fn one_return_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
+fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
     // the ellipse's V, whatever its radius
     let region = CaptureRegion::new(center, shape, 0.0);
     // V must shrink by at least an eighth of what the linearised map takes off
@@ -144,7 +144,7 @@ fn one_return_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f
         })
         .collect();
     let starts: Vec<Option<[f64; 2]>> = samples.iter().copied().map(Some).collect();
-    let images = iterate(rk, &starts, k);
+    let images = flow.iterate(&starts, k);
     let ring_passes: Vec<bool> = samples
         .chunks(RING_POINTS)
         .zip(images.chunks(RING_POINTS))
@@ -158,7 +158,7 @@ fn one_return_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f
 }
 
 /// The Jacobian of the one-period map at each point, by central differences.
-fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64>>> {
+fn one_period_jacobians(flow: &Flow, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64>>> {
     let steps: Vec<[f64; 2]> = points
         .iter()
         .map(|p| {
@@ -181,7 +181,10 @@ fn one_period_jacobians(rk: &Rk4, points: &[[f64; 2]]) -> Option<Vec<Matrix2<f64
             .map(Some)
         })
         .collect();
-    let ends: Vec<[f64; 2]> = iterate(rk, &starts, 1).into_iter().collect::<Option<_>>()?;
+    let ends: Vec<[f64; 2]> = flow
+        .iterate(&starts, 1)
+        .into_iter()
+        .collect::<Option<_>>()?;
     Some(
         ends.chunks(4)
             .zip(&steps)
@@ -247,7 +250,7 @@ mod tests {
         least: f64,
     ) {
         let spec = SteadyStateSpec::default();
-        let rk = Rk4::new(p, &Resolution::default());
+        let rk = Flow::BuiltIn(Box::new(crate::solver::Rk4::new(p, &Resolution::default())));
         for r in responses {
             let caps: Vec<f64> = r
                 .poincare
@@ -324,7 +327,10 @@ mod tests {
             (3.65, [1.017377, 0.001059], [1.024182, 0.062779]),
         ] {
             let p = Params::paper(1.0, omega).unwrap();
-            let rk = Rk4::new(&p, &Resolution::default());
+            let rk = Flow::BuiltIn(Box::new(crate::solver::Rk4::new(
+                &p,
+                &Resolution::default(),
+            )));
             let found = responses_from(&p, &[one, three]);
             let [r_1, r_3] = [&found[0], &found[1]];
             assert_eq!((r_1.poincare.len(), r_3.poincare.len()), (1, 3));

@@ -4,11 +4,8 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use rayon::prelude::*;
-
 use crate::analysis::global::ellipse::Shape;
-use crate::solver::Rk4;
-use crate::solver::rk4::LANES;
+use crate::analysis::global::flow::Flow;
 
 /// Rings of the covered test: radii cap·2^(−j/2), j = 0 … COVER_RINGS − 1 (down to cap/64).
 const COVER_RINGS: usize = 13;
@@ -36,7 +33,13 @@ const COVER_JACOBIAN_STEP: f64 = 1e-5;
 /// between samples, Pⁿᵏ stretches so much that ‖DF‖·h alone exceeds the margin. (Fig 5 at ω_e 3.6: the 1:3
 /// response, whose points lie 0.04–0.07 from the 1:1's, stays outside the 1:1's region.)
 /// The disc inside the last ring (cap/64) is left to the linearisation.
-pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
+pub(super) fn covered_radius(
+    flow: &Flow,
+    center: [f64; 2],
+    shape: &Shape,
+    k: usize,
+    cap: f64,
+) -> f64 {
     let most = (MAX_COVER_PERIODS / k).max(1);
     let returns = (1..most)
         .find(|&n| shape.shrink.powi(n as i32).sqrt() <= COVER_CONTRACTION)
@@ -70,7 +73,7 @@ pub(super) fn covered_radius(rk: &Rk4, center: [f64; 2], shape: &Shape, k: usize
                 .map(|w| Some((p + shape.t * w).into()))
         })
         .collect();
-    let images = iterate(rk, &starts, k * returns);
+    let images = flow.iterate(&starts, k * returns);
     let to_u = |x: [f64; 2]| shape.t_inv * (Vector2::from(x) - p);
     let passes = |j: usize, u: &Vector2<f64>, ends: &[Option<[f64; 2]>]| {
         let [Some(f), Some(f_1), Some(f_2)] = [ends[0], ends[1], ends[2]] else {
@@ -106,38 +109,4 @@ pub(super) fn largest_passing(radii: &[f64], ring_passes: &[bool]) -> f64 {
         .take_while(|&(_, &passes)| passes)
         .last()
         .map_or(0.0, |(&r, _)| r)
-}
-
-/// Each start integrated `periods` forcing periods from phase 0; `None` where it collides
-/// (or started as `None`).
-pub(super) fn iterate(
-    rk: &Rk4,
-    starts: &[Option<[f64; 2]>],
-    periods: usize,
-) -> Vec<Option<[f64; 2]>> {
-    starts
-        .par_chunks(LANES)
-        .flat_map_iter(|batch| {
-            let mut x = [rk.params().lambda_p(); LANES];
-            let mut v = [0.0; LANES];
-            for (i, s) in batch.iter().enumerate() {
-                if let Some(s) = s {
-                    (x[i], v[i]) = (s[0], s[1]);
-                }
-            }
-            let mut lanes = rk.start(x, v);
-            for _ in 0..periods {
-                rk.advance_period(&mut lanes, |_, _, _| {});
-            }
-            let ends: Vec<Option<[f64; 2]>> = batch
-                .iter()
-                .enumerate()
-                .map(|(i, s)| {
-                    let free = s.is_some() && lanes.collision[i].is_none();
-                    free.then_some([lanes.x[i], lanes.v[i]])
-                })
-                .collect();
-            ends
-        })
-        .collect()
 }

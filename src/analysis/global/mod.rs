@@ -8,6 +8,7 @@ pub mod capture;
 mod capture_cover;
 mod ellipse;
 pub mod family;
+pub mod flow;
 pub mod frequency_response;
 pub mod oscillator;
 pub mod stepped_sweep;

@@ -6,7 +6,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::Oscillator;
 use crate::analysis::AnalysisError;
-use crate::analysis::global::batch::KnownAttractors;
+use crate::analysis::global::batch::{KnownAttractors, adopt};
+use crate::analysis::global::flow::Flow;
+use crate::analysis::orbit::attractor::SAME_POINT_TOL;
 use crate::analysis::orbit::period_detector::PeriodDetector;
 use crate::analysis::orbit::period_map::OrbitRecord;
 use crate::analysis::orbit::steady_state::{
@@ -193,18 +195,20 @@ impl Oscillator for EquationSystem {
         &self,
         starts: &[Vector],
         spec: &SteadyStateSpec,
-        _known: Option<&mut KnownAttractors>,
+        known: Option<&mut KnownAttractors>,
         cancel: &AtomicBool,
         on_done: impl FnMut(usize),
     ) -> Result<Vec<SteadyState>, AnalysisError> {
         match starts.len() {
-            0..=4 => in_lanes::<4>(self, starts, spec, cancel, on_done),
-            _ => in_lanes::<LANES>(self, starts, spec, cancel, on_done),
+            0..=4 => in_lanes::<4>(self, starts, spec, known, cancel, on_done),
+            _ => in_lanes::<LANES>(self, starts, spec, known, cancel, on_done),
         }
     }
 
-    fn known_attractors(&self, _spec: &SteadyStateSpec, _capture: f64) -> Option<KnownAttractors> {
-        None
+    /// Regions are verified on the model's own integrator, for a model whose state is its
+    /// two grid states.
+    fn known_attractors(&self, spec: &SteadyStateSpec, capture: f64) -> Option<KnownAttractors> {
+        Flow::written(self, &spec.resolution).map(|flow| KnownAttractors::with_flow(flow, capture))
     }
 }
 
@@ -217,6 +221,8 @@ enum Job {
     Transient {
         start: usize,
         detector: Box<PeriodDetector<MAX_DIM>>,
+        /// The response whose capture region held the last stroboscopic point.
+        inside: Option<usize>,
     },
     Recording {
         start: usize,
@@ -230,11 +236,15 @@ enum Job {
 }
 
 /// [`steady_state_of`] from each of `starts`, `L` at a time in lanes (each lane's result is
-/// bit for bit the scalar one's); a lane takes the next start as soon as it is done.
+/// bit for bit the scalar one's); a lane takes the next start as soon as it is done. With
+/// `known`, a trajectory whose stroboscopic point lies in a verified capture region of a
+/// known response two periods running gets that response's result, as the built-in batches
+/// do, and responses reached in full are learnt.
 fn in_lanes<const L: usize>(
     sys: &EquationSystem,
     starts: &[Vector],
     spec: &SteadyStateSpec,
+    mut known: Option<&mut KnownAttractors>,
     cancel: &AtomicBool,
     mut on_done: impl FnMut(usize),
 ) -> Result<Vec<SteadyState>, AnalysisError> {
@@ -260,15 +270,26 @@ fn in_lanes<const L: usize>(
                 Some(stop) => done.push((start, stopped(sys, stop, 0, grid))),
                 None => {
                     let detector = Box::new(spec.period_detector());
-                    return (Job::Transient { start, detector }, done);
+                    let job = Job::Transient {
+                        start,
+                        detector,
+                        inside: None,
+                    };
+                    return (job, done);
                 }
             }
         }
         rk.park_lane(lanes, l, &rest);
         (Job::Idle, done)
     };
-    let mut finish = |start: usize, result: Result<SteadyState, AnalysisError>| {
-        results[start] = Some(result?);
+    let mut finish = |start: usize,
+                      result: Result<SteadyState, AnalysisError>,
+                      known: &mut Option<&mut KnownAttractors>| {
+        let result = result?;
+        if let Some(known) = known.as_deref_mut() {
+            known.learn(&result, SAME_POINT_TOL);
+        }
+        results[start] = Some(result);
         on_done(start);
         Ok::<(), AnalysisError>(())
     };
@@ -276,7 +297,7 @@ fn in_lanes<const L: usize>(
         let (started, done) = fill(l, &mut sys, &mut lanes, &mut next);
         *job = started;
         for (start, r) in done {
-            finish(start, r)?;
+            finish(start, r, &mut known)?;
         }
     }
     while jobs.iter().any(|j| !matches!(j, Job::Idle)) {
@@ -306,7 +327,11 @@ fn in_lanes<const L: usize>(
             let point: Vector = std::array::from_fn(|i| lanes.x[i][l]);
             let finished: Option<(usize, Result<SteadyState, AnalysisError>)> = match &mut jobs[l] {
                 Job::Idle => None,
-                Job::Transient { start, detector } => {
+                Job::Transient {
+                    start,
+                    detector,
+                    inside,
+                } => {
                     if let Some(stop) = &lanes.stop[l] {
                         Some((*start, stopped(&sys, stop, detector.periods() + 1, grid)))
                     } else if let Some(k) = detector.push(point) {
@@ -317,6 +342,11 @@ fn in_lanes<const L: usize>(
                         let (k, n) = (spec.max_period, spec.max_forcing_periods);
                         jobs[l] = recording_job(*start, Class::NonPeriodic, k, n, &rk);
                         None
+                    } else if let Some(known) = known.as_deref() {
+                        let now = known.capturing([point[grid[0]], point[grid[1]]]);
+                        let captured = now.filter(|&a| *inside == Some(a));
+                        *inside = now;
+                        captured.map(|a| (*start, Ok(adopt(known.response(a), detector.periods()))))
                     } else {
                         None
                     }
@@ -347,11 +377,11 @@ fn in_lanes<const L: usize>(
                 }
             };
             if let Some((start, result)) = finished {
-                finish(start, result)?;
+                finish(start, result, &mut known)?;
                 let (job, done) = fill(l, &mut sys, &mut lanes, &mut next);
                 jobs[l] = job;
                 for (start, r) in done {
-                    finish(start, r)?;
+                    finish(start, r, &mut known)?;
                 }
             }
         }
