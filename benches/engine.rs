@@ -72,7 +72,7 @@ fn rk4_steps(c: &mut Criterion) {
 /// engine, against the built-in on one lane, at the same steps per period.
 fn written_model_steps(c: &mut Criterion) {
     let text = include_str!("../sessions/user_model_paper.toml");
-    let def = ModelDefinition::from_session_text(text).unwrap().unwrap();
+    let def = ModelDefinition::from_text(text).unwrap();
     let model = EquationModel::new(&def, text).unwrap();
     let mut values = model.defaults();
     values[model.parameter("omega").unwrap()] = 3.7;

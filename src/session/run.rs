@@ -25,7 +25,7 @@ use crate::analysis::global::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::global::family::{FamilyMember, FamilySpec, family_member};
 use crate::analysis::global::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
 use crate::analysis::global::oscillator::history::state_history;
-use crate::analysis::global::stepped_sweep::{stepped_sweep, stepped_sweep_over};
+use crate::analysis::global::stepped_sweep::stepped_sweep;
 use crate::analysis::orbit::chirp_sweep::chirp_sweep;
 use crate::analysis::orbit::force_curve::force_curves;
 use crate::analysis::orbit::time_history::time_history;
@@ -830,15 +830,16 @@ fn run_written_single(
             Ok(())
         }
         Settings::SteppedSweep(spec) => {
-            let steps = spec
-                .omega
-                .values()
-                .into_iter()
-                .map(|w| Ok((w, sys.with(sys.frequency(), w)?)))
-                .collect::<Result<Vec<_>, crate::model::ParamError>>()?;
             let start = sys.grid_start([spec.dx0, spec.v0]);
-            let swept =
-                stepped_sweep_over(&steps, start, &spec.steady, progress.cancel_flag(), |_| {})?;
+            let omegas = spec.omega.values();
+            let swept = stepped_sweep(
+                sys,
+                &omegas,
+                start,
+                &spec.steady,
+                progress.cancel_flag(),
+                |_| {},
+            )?;
             finite(&swept, "the stepped sweep")?;
             export::stepped_csv(&swept, &crate::model::Device::default(), csv)
         }
@@ -871,7 +872,7 @@ fn run_single(
             export::chirp_csv(&s, device, csv)
         }
         Settings::SteppedSweep(spec) => {
-            let start = [params.lambda_p() + spec.dx0, spec.v0];
+            let start = params.grid_start([spec.dx0, spec.v0]);
             let steps = stepped_sweep(
                 params,
                 &spec.omega.values(),

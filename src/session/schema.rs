@@ -468,11 +468,7 @@ impl Session {
                     e,
                 )
             };
-            match &point {
-                ModelPoint::BuiltIn(params) => check_settings(&entry.settings, params),
-                ModelPoint::Written(sys) => check_written_settings(&entry.settings, sys),
-            }
-            .map_err(in_settings)?;
+            check_settings(&entry.settings, &point).map_err(in_settings)?;
             // settings the cost model refuses (a step too fine for the forcing period)
             if let Err(super::budget::BudgetError::Setting(e)) = super::budget::cost_of(self, entry)
             {
@@ -546,27 +542,11 @@ impl Session {
     /// The fingerprint `entry` has under numerics version `numerics`.
     pub fn fingerprint_with(&self, entry: &AnalysisEntry, numerics: u32) -> String {
         use sha2::Digest;
-        let mut model = match &self.written {
-            Some(w) => w.fingerprint_model(&entry.values, &entry.settings.model_use()),
-            None => serde_json::to_value(self.param_spec(Some(entry)).ok())
-                .unwrap_or(serde_json::Value::Null),
+        let used = entry.settings.model_use();
+        let model = match &self.written {
+            Some(w) => w.fingerprint_model(&entry.values, &used),
+            None => self.built_in_fingerprint_model(entry, &used),
         };
-        match entry.settings.model_use() {
-            _ if self.written.is_some() => {}
-            ModelUse::All => {}
-            ModelUse::AllBut(keys) => {
-                if let Some(object) = model.as_object_mut() {
-                    for key in keys {
-                        object.remove(key);
-                        if let Some(drive) = object.get_mut("drive").and_then(|d| d.as_object_mut())
-                        {
-                            drive.remove(key);
-                        }
-                    }
-                }
-            }
-            ModelUse::Nothing => model = serde_json::Value::Null,
-        }
         let what = serde_json::json!({
             "numerics": numerics,
             "device": self.device(),
@@ -575,6 +555,33 @@ impl Session {
         });
         let digest = sha2::Sha256::digest(what.to_string().as_bytes());
         super::store::chunk::hex(&digest[..16])
+    }
+
+    /// What of the built-in model `entry` uses, for its fingerprint: its parameters without
+    /// the keys `used` leaves out (in the drive too).
+    fn built_in_fingerprint_model(
+        &self,
+        entry: &AnalysisEntry,
+        used: &ModelUse,
+    ) -> serde_json::Value {
+        let mut model = serde_json::to_value(self.param_spec(Some(entry)).ok())
+            .unwrap_or(serde_json::Value::Null);
+        match used {
+            ModelUse::All => {}
+            ModelUse::AllBut(keys) => {
+                if let Some(object) = model.as_object_mut() {
+                    for key in keys {
+                        object.remove(*key);
+                        if let Some(drive) = object.get_mut("drive").and_then(|d| d.as_object_mut())
+                        {
+                            drive.remove(*key);
+                        }
+                    }
+                }
+            }
+            ModelUse::Nothing => model = serde_json::Value::Null,
+        }
+        model
     }
 
     /// Sets model key `key` for analysis `index` (comments and layout kept, then re-validated):
@@ -762,60 +769,34 @@ impl Session {
     }
 }
 
-/// The settings of an analysis of a written model, checked: its own rules, and its ω values
-/// against the range of the model's frequency parameter.
-fn check_written_settings(
-    settings: &Settings,
-    sys: &crate::model::equations::EquationSystem,
-) -> Result<(), ParamError> {
+/// An analysis' settings checked by the analysis' own rules, so a session fails at load time
+/// rather than when it runs; ω values against the built-in's range or against the range of a
+/// written model's frequency parameter.
+fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamError> {
     use crate::analysis::Oscillator;
     let start = |dx0: f64, v0: f64| -> Result<(), ParamError> {
         check_in("dx0", dx0, limits::DX.0, limits::DX.1)?;
         check_in("v0", v0, limits::V.0, limits::V.1)?;
         Ok(())
     };
-    let frequencies = |axis: &Axis, field: &str| -> Result<(), ParamError> {
-        for w in [axis.min, axis.max] {
-            sys.with(sys.frequency(), w)
-                .map_err(|e| e.as_value_of(field))?;
+    let omegas = |axis: &Axis, field: &str| -> Result<(), ParamError> {
+        match point {
+            ModelPoint::BuiltIn(_) => axis.check_within(field, limits::OMEGA),
+            ModelPoint::Written(sys) => [axis.min, axis.max].into_iter().try_for_each(|w| {
+                sys.with(sys.frequency(), w)
+                    .map(|_| ())
+                    .map_err(|e| e.as_value_of(field))
+            }),
         }
-        Ok(())
     };
-    match settings {
-        Settings::TimeHistory(s) => {
-            start(s.dx0, s.v0)?;
-            s.validate()
-        }
-        Settings::SteppedSweep(s) => {
-            start(s.dx0, s.v0)?;
-            let mut range = s.omega;
-            if range.min > range.max {
-                std::mem::swap(&mut range.min, &mut range.max);
-            }
-            range.validate("omega", 100_000)?;
-            frequencies(&range, "omega")?;
-            s.steady.validate().map_err(|e| e.within("steady"))
-        }
-        Settings::FrequencyResponse(s) => {
-            s.validate()?;
-            frequencies(&s.omega, "omega")
-        }
-        Settings::Basin(s) => s.validate(),
-        other => Err(ParamError {
-            field: other.kind().into(),
+    // the kinds only the built-in model runs (a written one's are refused as it is read)
+    let params = || match point {
+        ModelPoint::BuiltIn(p) => Ok(p),
+        ModelPoint::Written(_) => Err(ParamError {
+            field: settings.kind().into(),
             value: f64::NAN,
             allowed: format!("one of {} for a written model", WRITTEN_KINDS.join(", ")),
         }),
-    }
-}
-
-/// An analysis' settings checked by the analysis' own rules, so a session fails at load time
-/// rather than when it runs.
-fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::model::ParamError> {
-    let start = |dx0: f64, v0: f64| -> Result<(), crate::model::ParamError> {
-        check_in("dx0", dx0, limits::DX.0, limits::DX.1)?;
-        check_in("v0", v0, limits::V.0, limits::V.1)?;
-        Ok(())
     };
     match settings {
         Settings::ForceCurve(s) => s.validate(),
@@ -829,46 +810,40 @@ fn check_settings(settings: &Settings, params: &Params) -> Result<(), crate::mod
         }
         Settings::SteppedSweep(s) => {
             start(s.dx0, s.v0)?;
-            s.omega.check_within("omega", limits::OMEGA)?;
-            // a sweep down is written with min > max: check the range in increasing order
+            // checked as written (so the error names min or max as the file does), then in
+            // increasing order, as a sweep down is written with min > max
+            omegas(&s.omega, "omega")?;
             let mut range = s.omega;
             if range.min > range.max {
                 std::mem::swap(&mut range.min, &mut range.max);
             }
             range.validate("omega", 100_000)?;
-            range.check_within("omega", limits::OMEGA)?;
             s.steady.validate().map_err(|e| e.within("steady"))
         }
         Settings::FrequencyResponse(s) => {
             s.validate()?;
-            s.omega.check_within("omega", limits::OMEGA)
+            omegas(&s.omega, "omega")
         }
         Settings::Basin(s) => s.validate(),
         Settings::Family(s) => {
-            s.validate(params)?;
-            s.response
-                .omega
-                .check_within("response.omega", limits::OMEGA)
+            s.validate(params()?)?;
+            omegas(&s.response.omega, "response.omega")
         }
         Settings::Continuation(s) => {
             start(s.dx0, s.v0)?;
             s.steady.validate().map_err(|e| e.within("steady"))?;
             s.continuation
-                .validate(params)
+                .validate(params()?)
                 .map_err(|e| e.within("continuation"))
         }
         Settings::Hunt(s) => {
-            s.validate(params)?;
-            s.response
-                .omega
-                .check_within("response.omega", limits::OMEGA)
+            s.validate(params()?)?;
+            omegas(&s.response.omega, "response.omega")
         }
         Settings::Map(s) => {
-            s.validate(params)?;
+            s.validate(params()?)?;
             if s.x == crate::analysis::parameter::ContinuationParameter::Omega {
-                s.response
-                    .omega
-                    .check_within("response.omega", limits::OMEGA)?;
+                omegas(&s.response.omega, "response.omega")?;
             }
             Ok(())
         }

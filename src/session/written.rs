@@ -82,9 +82,7 @@ pub fn take_written_parts(table: &mut toml::Table) -> Result<Vec<BTreeMap<String
 impl WrittenModel {
     /// Reads and compiles the `[model]` of session text `text`.
     pub fn read(text: &str) -> Result<WrittenModel, String> {
-        let definition = ModelDefinition::from_session_text(text)
-            .map_err(|e| format!("[model]: {e}"))?
-            .ok_or("[model] writes no states")?;
+        let definition = ModelDefinition::from_text(text).map_err(|e| format!("[model]: {e}"))?;
         let model = EquationModel::new(&definition, text).map_err(|e| e.to_string())?;
         Ok(WrittenModel { definition, model })
     }

@@ -275,7 +275,8 @@ impl GeneralRk4 {
                 hermite_state(dim, x, dx, &trial.x, &trial.dx, rem, theta),
             )
         };
-        let mut hi = at(sys, 1.0, trial.x);
+        let end = at(sys, 1.0, trial.x);
+        let mut hi = end.clone();
         if hi.crossed == 0 {
             hi = SCAN
                 .iter()
@@ -303,7 +304,6 @@ impl GeneralRk4 {
             return Some((past.theta, past.crossed, past.end));
         }
         // the interpolant crossed early by more: bracket on real sub-steps up to the end
-        let end = at(sys, 1.0, trial.x);
         if end.crossed == 0 {
             return None;
         }
@@ -398,21 +398,15 @@ fn hermite_state(
     h: f64,
     theta: f64,
 ) -> Vector {
-    let (t2, t3) = (theta * theta, theta * theta * theta);
-    let (h00, h10, h01, h11) = (
-        1.0 - 3.0 * t2 + 2.0 * t3,
-        theta - 2.0 * t2 + t3,
-        3.0 * t2 - 2.0 * t3,
-        t3 - t2,
-    );
     let mut x = [0.0; MAX_DIM];
     for i in 0..dim {
-        x[i] = h00 * x0[i] + h10 * h * f0[i] + h01 * x1[i] + h11 * h * f1[i];
+        x[i] = super::hermite::value(x0[i], f0[i], x1[i], f1[i], h, theta);
     }
     x
 }
 
 /// A sub-step's end while a switch is located.
+#[derive(Clone)]
 struct Probe {
     theta: f64,
     end: Vector,

@@ -6,7 +6,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::analysis::AnalysisError;
 use crate::analysis::global::oscillator::Oscillator;
 use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
-use crate::model::Params;
 
 /// One step of a stepped sweep.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -19,17 +18,17 @@ pub struct SweepStep {
 
 /// Steps through `omegas` in the order given, starting at `start` = [λ_I, v]. After a
 /// collision the next step starts again from rest at λ_p, as after a reset of the rig.
-pub fn stepped_sweep(
-    params: &Params,
+pub fn stepped_sweep<O: Oscillator>(
+    params: &O,
     omegas: &[f64],
-    start: [f64; 2],
+    start: O::State,
     spec: &SteadyStateSpec,
     cancel: &AtomicBool,
     on_step: impl FnMut(&SweepStep),
 ) -> Result<Vec<SweepStep>, AnalysisError> {
     let steps = omegas
         .iter()
-        .map(|&w| Ok((w, params.with_omega(w)?)))
+        .map(|&w| Ok((w, params.with(params.frequency(), w)?)))
         .collect::<Result<Vec<_>, crate::model::ParamError>>()?;
     stepped_sweep_over(&steps, start, spec, cancel, on_step)
 }
@@ -73,6 +72,7 @@ pub fn stepped_sweep_over<O: Oscillator>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Params;
 
     /// Fig 3A's primary resonance at ADR 0.6 (softening, from the loss of tension): sweeping
     /// up stays low until ω_e ≈ 2.25; sweeping down jumps onto the high branch there and rides

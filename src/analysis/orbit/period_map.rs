@@ -98,15 +98,7 @@ impl PeriodMap for Rk4PeriodMap {
         self.point()?;
         let h = self.rk4.step();
         self.rk4.advance_period(&mut self.lanes, |_, b, e| {
-            let (x0, v0, x1, v1) = (b.x[0], b.v[0], e.x[0], e.v[0]);
-            rec.include(x1);
-            if let Some((_, peak)) = crate::solver::hermite::interior_extremum(x0, v0, x1, v1, h) {
-                rec.include(peak);
-            }
-            // exact integral of the cubic Hermite interpolant
-            rec.integral += h * 0.5 * (x0 + x1) + h * h * (v0 - v1) / 12.0;
-            rec.duration += h;
-            rec.samples.push(x1);
+            rec.add_step(b.x[0], b.v[0], e.x[0], e.v[0], h);
         });
         self.point()
     }

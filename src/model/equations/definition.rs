@@ -98,18 +98,10 @@ struct Document {
 }
 
 impl ModelDefinition {
-    /// The `[model]` table of a session's text, or None if it writes no equations (no
-    /// `states` key).
-    pub fn from_session_text(text: &str) -> Result<Option<ModelDefinition>, toml::de::Error> {
-        let table: toml::Table = toml::from_str(text)?;
-        let writes_equations = table
-            .get("model")
-            .and_then(|m| m.as_table())
-            .is_some_and(|m| m.contains_key("states"));
-        if !writes_equations {
-            return Ok(None);
-        }
-        toml::from_str::<Document>(text).map(|d| Some(d.model))
+    /// The `[model]` table of a session's text that writes its equations, read with where
+    /// each expression is.
+    pub fn from_text(text: &str) -> Result<ModelDefinition, toml::de::Error> {
+        toml::from_str::<Document>(text).map(|d| d.model)
     }
 }
 

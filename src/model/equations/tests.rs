@@ -12,7 +12,7 @@ pub(crate) fn paper_model() -> EquationModel {
         "/sessions/user_model_paper.toml"
     );
     let text = std::fs::read_to_string(path).unwrap();
-    let def = ModelDefinition::from_session_text(&text).unwrap().unwrap();
+    let def = ModelDefinition::from_text(&text).unwrap();
     EquationModel::new(&def, &text).unwrap()
 }
 
@@ -123,7 +123,7 @@ fn lanes_give_each_start_the_scalar_result_bit_for_bit() {
 fn catalogue(file: &str, set: &[(&str, f64)]) -> EquationSystem {
     let path = format!("{}/sessions/{file}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(path).unwrap();
-    let def = ModelDefinition::from_session_text(&text).unwrap().unwrap();
+    let def = ModelDefinition::from_text(&text).unwrap();
     let m = EquationModel::new(&def, &text).unwrap();
     let mut values = m.defaults();
     for (name, v) in set {
