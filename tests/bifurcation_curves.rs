@@ -33,14 +33,20 @@ fn subharmonic(adr: f64, omega: f64, dx: f64) -> (Params, ContinuedBranch) {
     let p = Params::paper(adr, omega).unwrap();
     let brute = steady_state(&p, p.lambda_p() + dx, 0.0, &SteadyStateSpec::default());
     assert_eq!(brute.period, Some(2));
-    let b = continue_branch(&p, 2, brute.poincare[0], &in_omega(), &Progress::new(0)).unwrap();
+    let b = continue_branch(&p, 2, &brute.poincare[0], &in_omega(), &Progress::new(0)).unwrap();
     (p, b)
 }
 
 /// The lowest ADR at which the 1:2 response of `isola` (continued in ω at ADR 0.6) exists
 /// at ω: its larger orbit there continued in ADR, down to the fold.
 fn lowest_adr_at(isola: &ContinuedBranch, omega: f64) -> f64 {
-    let orbits = isola.orbits_at(omega, &Default::default()).unwrap();
+    let orbits = isola
+        .orbits_at(
+            &Params::paper(0.6, omega).unwrap(),
+            omega,
+            &Default::default(),
+        )
+        .unwrap();
     let orbit = orbits
         .iter()
         .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
@@ -52,7 +58,7 @@ fn lowest_adr_at(isola: &ContinuedBranch, omega: f64) -> f64 {
         max: 1.0,
         ..ContinuationSpec::default()
     };
-    let b = continue_branch(&p, 2, orbit.poincare[0], &spec, &Progress::new(0)).unwrap();
+    let b = continue_branch(&p, 2, &orbit.poincare[0], &spec, &Progress::new(0)).unwrap();
     let fold = b
         .of_kind(BifurcationKind::Fold)
         .next()

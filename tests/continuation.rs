@@ -29,7 +29,14 @@ fn subharmonic(adr: f64, omega: f64, dx: f64) -> ContinuedBranch {
     let p = Params::paper(adr, omega).unwrap();
     let brute = steady_state(&p, p.lambda_p() + dx, 0.0, &SteadyStateSpec::default());
     assert_eq!(brute.period, Some(2));
-    continue_branch(&p, 2, brute.poincare[0], &spec(2.0, 6.0), &Progress::new(0)).unwrap()
+    continue_branch(
+        &p,
+        2,
+        &brute.poincare[0],
+        &spec(2.0, 6.0),
+        &Progress::new(0),
+    )
+    .unwrap()
 }
 
 fn liouville_ok(b: &ContinuedBranch) {
@@ -92,7 +99,7 @@ fn adr_1_0_subharmonic_ends_on_period_doublings_of_the_harmonic() {
     let main = continue_branch(
         &p,
         1,
-        harmonic.poincare[0],
+        &harmonic.poincare[0],
         &spec(3.0, 6.0),
         &Progress::new(0),
     )
@@ -103,7 +110,7 @@ fn adr_1_0_subharmonic_ends_on_period_doublings_of_the_harmonic() {
         assert!((pd.omega - end).abs() < 1e-8, "{} vs {end}", pd.omega);
     }
     let switched =
-        switch_at_period_doubling(&main, pds[0], &spec(2.0, 6.0), &Progress::new(0)).unwrap();
+        switch_at_period_doubling(&p, &main, pds[0], &spec(2.0, 6.0), &Progress::new(0)).unwrap();
     let (lo, _) = switched.parameter_range();
     assert!((lo - b.parameter_range().0).abs() < 1e-8, "{lo}");
     assert_eq!(
@@ -145,13 +152,14 @@ fn continued_branches_pass_through_the_brute_force_responses() {
     };
     let at = p.with_omega(fr.omegas[0]).unwrap();
     let branches = [1, 2]
-        .map(|k| continue_branch(&at, k, seed(k), &spec(3.5, 5.5), &Progress::new(0)).unwrap());
+        .map(|k| continue_branch(&at, k, &seed(k), &spec(3.5, 5.5), &Progress::new(0)).unwrap());
     let shooting = ShootingSpec::default();
     let mut checked = 0;
     let mut worst: f64 = 0.0;
     for r in fr.responses.iter().filter(|r| r.steady.period.is_some()) {
         let k = r.steady.period.unwrap();
-        let orbits: Vec<PeriodicOrbit> = branches[k - 1].orbits_at(r.omega, &shooting).unwrap();
+        let orbits: Vec<PeriodicOrbit> =
+            branches[k - 1].orbits_at(&at, r.omega, &shooting).unwrap();
         let a = r.steady.amplitude.unwrap();
         let d = orbits
             .iter()
@@ -180,7 +188,7 @@ fn drift(p: &Params, orbit: &PeriodicOrbit, dir: [f64; 2], eps: f64, n: usize) -
 fn stability_from_multipliers_agrees_with_time_integration_at_the_folds() {
     let b = subharmonic(0.6, 3.7, 0.3);
     let shooting = ShootingSpec::default();
-    let base = b.base.build().unwrap();
+    let base = Params::paper(0.6, 3.7).unwrap();
     for fold in b.of_kind(BifurcationKind::Fold) {
         // 0.01 inside the fold in ω: one orbit on each side of the fold
         let w = if fold.omega < 4.5 {
@@ -189,7 +197,7 @@ fn stability_from_multipliers_agrees_with_time_integration_at_the_folds() {
             fold.omega - 0.01
         };
         let p = base.with_omega(w).unwrap();
-        let orbits = b.orbits_at(w, &shooting).unwrap();
+        let orbits = b.orbits_at(&base, w, &shooting).unwrap();
         let near: Vec<_> = orbits
             .iter()
             .filter(|o| (o.amplitude - fold.amplitude).abs() < 0.1)
@@ -197,7 +205,7 @@ fn stability_from_multipliers_agrees_with_time_integration_at_the_folds() {
         assert_eq!(near.len(), 2, "{w}: {:?}", orbits.len());
         for o in near {
             let mu = o.multipliers.0[0].re;
-            let m = o.monodromy;
+            let m = &o.monodromy;
             if o.stable() {
                 // shrinks like the spectral radius
                 let d = drift(&p, o, [1.0, 0.0], 1e-6, 100);
@@ -214,4 +222,282 @@ fn stability_from_multipliers_agrees_with_time_integration_at_the_folds() {
             }
         }
     }
+}
+
+/// The paper's model as a session writes it (sessions/user_model_paper.toml), at `overrides`.
+fn written_paper(overrides: &[(&str, f64)]) -> isola::model::equations::EquationSystem {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/user_model_paper.toml"),
+    )
+    .unwrap();
+    let written = isola::session::written::WrittenModel::read(&text).unwrap();
+    let overrides = overrides.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    written.system(&overrides).unwrap()
+}
+
+/// A written model from its `[model]` table's text.
+fn written(model: &str) -> isola::model::equations::EquationSystem {
+    let text = format!("schema = 1\n{model}");
+    isola::session::written::WrittenModel::read(&text)
+        .unwrap()
+        .system(&Default::default())
+        .unwrap()
+}
+
+/// The monodromy of `k` periods from `x0` against central differences of the k-period map
+/// (step 1e-6: the difference quotient's error is about 1e-11 / 1e-6 from the integration
+/// tolerance, hence the tolerance 2e-5 relative), and Liouville's formula to 1e-9.
+fn monodromy_matches_differences<S: isola::analysis::orbit::shooting::Shootable>(
+    model: &S,
+    x0: &[f64],
+    k: usize,
+) -> usize {
+    let tol = ShootingSpec::default().tol;
+    let flow = model.period_flow(x0, k, tol).unwrap();
+    let n = x0.len();
+    let d = 1e-6;
+    for c in 0..n {
+        let (mut up, mut down) = (x0.to_vec(), x0.to_vec());
+        up[c] += d;
+        down[c] -= d;
+        let (a, b) = (
+            model.period_flow(&up, k, tol).unwrap().end,
+            model.period_flow(&down, k, tol).unwrap().end,
+        );
+        for r in 0..n {
+            let fd = (a[r] - b[r]) / (2.0 * d);
+            let m = flow.monodromy[(r, c)];
+            assert!(
+                (fd - m).abs() < 2e-5 * (1.0 + m.abs()),
+                "∂x_{r}/∂x0_{c}: differences {fd}, variational {m}"
+            );
+        }
+    }
+    let liouville = (flow.monodromy.determinant() - flow.trace_integral.exp()).abs();
+    assert!(liouville < 1e-9, "Liouville check off by {liouville:e}");
+    flow.switches
+}
+
+/// The written paper model's monodromy (symbolic Jacobian, switches of its max/if kinks
+/// located) matches difference quotients across the membranes' loss of tension, and agrees
+/// with the built-in model's hand-written variational equations to 1e-7.
+#[test]
+fn a_written_model_s_monodromy_matches_differences_and_the_built_in() {
+    let sys = written_paper(&[("ADR", 0.6), ("omega", 3.7)]);
+    let x0 = [1.02 + 0.3, 0.0];
+    let switches = monodromy_matches_differences(&sys, &x0, 2);
+    assert!(switches >= 4, "the orbit goes slack ({switches} switches)");
+    use isola::analysis::orbit::shooting::Shootable;
+    let tol = ShootingSpec::default().tol;
+    let built_in = Params::paper(0.6, 3.7)
+        .unwrap()
+        .period_flow(&x0, 2, tol)
+        .unwrap();
+    let ours = sys.period_flow(&x0, 2, tol).unwrap();
+    for r in 0..2 {
+        assert!((built_in.end[r] - ours.end[r]).abs() < 1e-9);
+        for c in 0..2 {
+            let (a, b) = (built_in.monodromy[(r, c)], ours.monodromy[(r, c)]);
+            assert!(
+                (a - b).abs() < 1e-7 * (1.0 + a.abs()),
+                "M[{r}][{c}]: {a} vs {b}"
+            );
+        }
+    }
+    assert!((built_in.lambda_max - ours.lambda_max).abs() < 1e-10);
+    assert!((built_in.lambda_min - ours.lambda_min).abs() < 1e-10);
+}
+
+/// A field that jumps where x crosses 1/2 (an `if` whose branches differ): the monodromy
+/// needs the saltation jump S = I + (f⁺ − f⁻)∇hᵀ/ḣ at each crossing; without it the
+/// difference quotients disagree by the jump's size (0.3/v). Liouville holds with det S.
+#[test]
+fn a_field_that_jumps_gets_the_saltation_jump() {
+    let sys = written(
+        r#"[model]
+states = ["x", "v"]
+frequency = "omega"
+amplitude = "x"
+[model.parameters]
+omega = 1.2
+c = 0.2
+F = 1.0
+[model.derivatives]
+x = "v"
+v = "-c*v - x + if(x > 0.5, -0.3, 0) + F*cos(omega*t)"
+"#,
+    );
+    let switches = monodromy_matches_differences(&sys, &[0.0, 0.0], 3);
+    assert!(switches >= 4, "{switches} crossings");
+}
+
+/// The paper's isola continued on the model written as equations: the same folds as the
+/// built-in model's within 1e-8 (README: ω 3.589644726 and 5.443868901), a closed branch.
+#[test]
+fn the_written_paper_model_continues_to_the_built_in_isola() {
+    let built_in = subharmonic(0.6, 3.7, 0.3);
+    let sys = written_paper(&[("ADR", 0.6), ("omega", 3.7)]);
+    let brute = steady_state(
+        &Params::paper(0.6, 3.7).unwrap(),
+        1.32,
+        0.0,
+        &SteadyStateSpec::default(),
+    );
+    let ours = continue_branch(
+        &sys,
+        2,
+        &brute.poincare[0],
+        &spec(2.0, 6.0),
+        &Progress::new(0),
+    )
+    .unwrap();
+    assert_eq!(ours.ends, [BranchEnd::Closed, BranchEnd::Closed]);
+    let folds = |b: &ContinuedBranch| {
+        let mut f: Vec<f64> = b.of_kind(BifurcationKind::Fold).map(|f| f.omega).collect();
+        f.sort_by(f64::total_cmp);
+        f
+    };
+    let (a, b) = (folds(&built_in), folds(&ours));
+    eprintln!("folds: built-in {a:?}, written {b:?}");
+    assert_eq!(a.len(), 2);
+    assert_eq!(b.len(), 2);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() < 1e-8, "fold {x} vs {y}");
+    }
+    liouville_ok(&ours);
+}
+
+/// The catalogue's Duffing oscillator with nonlinear damping (sessions/
+/// user_model_duffing_isola.toml), at `overrides`.
+fn duffing(overrides: &[(&str, f64)]) -> isola::model::equations::EquationSystem {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sessions/user_model_duffing_isola.toml"),
+    )
+    .unwrap();
+    let written = isola::session::written::WrittenModel::read(&text).unwrap();
+    let overrides = overrides.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    written.system(&overrides).unwrap()
+}
+
+/// The Duffing isola continued in ω and its lowest fold continued in (ω, F): against the
+/// independent integration quoted in the session (SciPy DOP853 with Newton shooting): the
+/// isola's amplitude at ω 1.06 is 3.683103850380 (to 1e-7), it is born at F ≈ 0.008893 (the
+/// minimum of F along its fold curve; harmonic balance says 0.00908), and it loses
+/// stability below ω ≈ 1.0466 at a Neimark–Sacker point.
+#[test]
+fn the_duffing_isola_is_continued_and_born_where_an_independent_integration_says() {
+    use isola::analysis::Oscillator;
+    use isola::analysis::continuation::bifurcation_curve::{
+        CurveSpec, Turning, continue_bifurcation,
+    };
+    use isola::analysis::parameter::{ContinuationParameter, FamilyParameter, Name};
+    let sys = duffing(&[]);
+    let seed = sys
+        .steady_state(sys.grid_start([0.0, 2.0]), &SteadyStateSpec::default())
+        .unwrap();
+    assert_eq!(seed.period, Some(1));
+    let start = sys.state_vec(&sys.poincare_states(&seed)[0]);
+    let in_omega = ContinuationSpec {
+        min: 0.9,
+        max: 1.2,
+        step: 0.005,
+        step_max: 0.005,
+        ..ContinuationSpec::default()
+    };
+    let isola = continue_branch(&sys, 1, &start, &in_omega, &Progress::new(0)).unwrap();
+    assert_eq!(
+        isola.ends,
+        [BranchEnd::Closed, BranchEnd::Closed],
+        "{:?}",
+        isola.ends
+    );
+    let at = isola
+        .orbits_at(&sys, 1.06, &ShootingSpec::default())
+        .unwrap();
+    let big = at.iter().map(|o| o.amplitude).fold(0.0, f64::max);
+    assert!((big - 3.683103850380).abs() < 1e-7, "{big}");
+    let ns: Vec<f64> = isola
+        .of_kind(BifurcationKind::NeimarkSacker)
+        .map(|b| b.omega)
+        .collect();
+    let folds: Vec<f64> = isola
+        .of_kind(BifurcationKind::Fold)
+        .map(|b| b.omega)
+        .collect();
+    eprintln!("Duffing isola: amplitude {big} at ω 1.06, folds {folds:?}, Neimark–Sacker {ns:?}");
+    assert!(ns.iter().any(|w| (w - 1.0466).abs() < 1e-3), "{ns:?}");
+    let low = isola
+        .of_kind(BifurcationKind::Fold)
+        .min_by(|a, b| a.omega.total_cmp(&b.omega))
+        .unwrap();
+    let f = ContinuationParameter::Model(FamilyParameter::Named(Name::new("F").unwrap()));
+    let curve_spec = CurveSpec {
+        second: f,
+        min: 0.005,
+        max: 0.0106,
+        first_min: 0.9,
+        first_max: 1.2,
+        step: 1e-3,
+        step_max: 2e-3,
+        ..CurveSpec::default()
+    };
+    let curve = continue_bifurcation(
+        &sys,
+        ContinuationParameter::Omega,
+        low,
+        &curve_spec,
+        &Progress::new(0),
+    )
+    .unwrap();
+    let birth = curve
+        .extrema_of(Turning::Second)
+        .filter(|e| e.minimum)
+        .map(|e| e.point.second)
+        .fold(f64::INFINITY, f64::min);
+    eprintln!("Duffing isola born at F = {birth}");
+    assert!((birth - 0.008893).abs() < 5e-6, "{birth}");
+}
+
+/// A written model of four states (sessions/user_model_viscoelastic.toml: a Zener branch per
+/// membrane): the 4 × 4 monodromy across the membranes' loss of tension against difference
+/// quotients and Liouville's formula, and its 1:1 response at ω 3.7 shot and continued in ω
+/// with four multipliers per point.
+#[test]
+fn a_four_state_model_is_shot_and_continued() {
+    use isola::analysis::Oscillator;
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sessions/user_model_viscoelastic.toml"),
+    )
+    .unwrap();
+    let sys = isola::session::written::WrittenModel::read(&text)
+        .unwrap()
+        .system(&Default::default())
+        .unwrap();
+    let x0 = [1.12, 0.0, 1.02, 1.02];
+    let switches = monodromy_matches_differences(&sys, &x0, 1);
+    assert!(switches >= 2, "the orbit goes slack ({switches} switches)");
+    let seed = sys
+        .steady_state(sys.grid_start([0.0, 0.0]), &SteadyStateSpec::default())
+        .unwrap();
+    assert_eq!(seed.period, Some(1));
+    let start = sys.state_vec(&sys.poincare_states(&seed)[0]);
+    let orbit =
+        isola::analysis::orbit::shooting::shoot(&sys, 1, &start, &ShootingSpec::default()).unwrap();
+    // the independent integration's amplitude (SciPy DOP853, rtol 1e-13), quoted in the session
+    assert!(
+        (orbit.amplitude - 0.014387070707).abs() < 1e-7,
+        "{}",
+        orbit.amplitude
+    );
+    assert_eq!(orbit.multipliers.0.len(), 4);
+    let b = continue_branch(&sys, 1, &start, &spec(3.5, 3.9), &Progress::new(0)).unwrap();
+    assert!(b.points.len() > 5);
+    assert!(
+        b.points
+            .iter()
+            .all(|p| p.multipliers.0.len() == 4 && p.x.len() == 4)
+    );
+    liouville_ok(&b);
 }

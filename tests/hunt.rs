@@ -37,7 +37,8 @@ fn hunt_at(adr: f64) -> Hunt {
 
 /// Every brute-force response of every subharmonic branch lies on the hunted branch it was
 /// attached to, at a stable point, and the continued range covers the brute-force one.
-fn brute_force_lies_on_stable_arcs(h: &Hunt) {
+fn brute_force_lies_on_stable_arcs(h: &Hunt, adr: f64) {
+    let p = Params::paper(adr, 3.0).unwrap();
     let grid_step = 0.1;
     let subharmonic: Vec<_> = h
         .response
@@ -67,7 +68,7 @@ fn brute_force_lies_on_stable_arcs(h: &Hunt) {
         {
             let orbits = hunted
                 .branch
-                .orbits_at(r.omega, &Default::default())
+                .orbits_at(&p, r.omega, &Default::default())
                 .unwrap();
             let matching = orbits.iter().find(|o| {
                 r.steady.poincare.iter().all(|p| {
@@ -121,6 +122,7 @@ fn brute_force_lies_on_stable_arcs(h: &Hunt) {
 #[test]
 fn adr_0_6_hunt_finds_one_hidden_isola() {
     let h = hunt_at(0.6);
+    let adr = 0.6;
     assert!(h.failures.is_empty(), "{:?}", h.failures);
     assert_eq!(
         h.branches.len(),
@@ -141,7 +143,7 @@ fn adr_0_6_hunt_finds_one_hidden_isola() {
     }
     assert_eq!(isola.stable_arcs.len(), 1, "{:?}", isola.stable_arcs);
     assert_eq!(isola.unstable_arcs.len(), 1, "{:?}", isola.unstable_arcs);
-    brute_force_lies_on_stable_arcs(&h);
+    brute_force_lies_on_stable_arcs(&h, adr);
 }
 
 /// ADR 1.0 (Fig 5): the 1:2 branch is attached (both ends on period doublings of the 1:1
@@ -150,6 +152,7 @@ fn adr_0_6_hunt_finds_one_hidden_isola() {
 #[test]
 fn adr_1_0_hunt_finds_the_attached_branch_and_the_1_3() {
     let h = hunt_at(1.0);
+    let adr = 1.0;
     for b in &h.branches {
         eprintln!("{}", b.describe());
     }
@@ -188,7 +191,7 @@ fn adr_1_0_hunt_finds_the_attached_branch_and_the_1_3() {
         .find(|b| b.branch.period == 3)
         .expect("a 1:3 branch");
     assert!(third.omega_min < 3.6 && third.omega_max > 3.6);
-    brute_force_lies_on_stable_arcs(&h);
+    brute_force_lies_on_stable_arcs(&h, adr);
 }
 
 /// Across ADR (Fig 7's family): no subharmonic at 0.15, a hidden isola at 0.3 and 0.6, an

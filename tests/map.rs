@@ -14,6 +14,7 @@ use isola::model::Params;
 fn a_map_over_adr_and_omega_around_the_merging() {
     let p = Params::paper(0.6, 3.0).unwrap();
     let spec = MapSpec {
+        hidden_branches: false,
         x: ContinuationParameter::Omega,
         parameter: FamilyParameter::Adr,
         values: Axis::new(0.55, 0.7, 4),
@@ -35,7 +36,7 @@ fn a_map_over_adr_and_omega_around_the_merging() {
     // the ADR 0.6 row is the frequency response at ADR 0.6, cell for cell
     let at_06 = Params::paper(0.6, 3.0).unwrap();
     let fr = frequency_response(&at_06, &spec.response, &Progress::new(0)).unwrap();
-    assert_eq!(rows[1], summarise(0.6, &fr));
+    assert_eq!(rows[1], summarise(&at_06, 0.6, &fr, false));
     // at (ADR 0.6, ω 3.7): the 1:1 and the hidden 1:2 of Fig 4
     let cell = &rows[1].cells[7];
     assert!(
@@ -73,6 +74,7 @@ fn a_map_along_a_model_parameter() {
         ..FrequencyResponseSpec::default()
     };
     let spec = MapSpec {
+        hidden_branches: false,
         x: ContinuationParameter::Model(FamilyParameter::CTilde),
         parameter: FamilyParameter::Adr,
         values: Axis::new(0.6, 0.6, 1),
@@ -86,7 +88,7 @@ fn a_map_along_a_model_parameter() {
         ..grid
     };
     let fr = frequency_response(&p, &in_omega, &Progress::new(0)).unwrap();
-    let at = &summarise(0.6, &fr).cells[0];
+    let at = &summarise(&p, 0.6, &fr, false).cells[0];
     assert_eq!(along_c.stable, at.stable);
     assert_eq!(along_c.largest_type, at.largest_type);
     let (a, b) = (
@@ -95,6 +97,7 @@ fn a_map_along_a_model_parameter() {
     );
     assert!((a - b).abs() < 1e-7, "{a} vs {b}");
     let same_axes = MapSpec {
+        hidden_branches: false,
         x: ContinuationParameter::Model(FamilyParameter::Adr),
         ..spec
     };
@@ -111,6 +114,7 @@ fn a_map_along_a_model_parameter() {
 fn a_map_announces_all_its_rows_at_once() {
     let p = Params::baseline();
     let spec = MapSpec {
+        hidden_branches: false,
         x: ContinuationParameter::Omega,
         parameter: FamilyParameter::Adr,
         values: Axis::new(0.4, 0.8, 5),

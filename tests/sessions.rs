@@ -485,9 +485,11 @@ v = { min = -1.0, max = 1.0, points = 11 }
     assert_eq!(b.0.len(), w.0.len());
     for (rb, rw) in b.0.iter().zip(&w.0) {
         assert_eq!(key(rb), key(rw));
+        // the written model's columns carry its names
+        assert!(rw.contains_key("poincare_lambda_I") && rw.contains_key("lambda_I_min"));
         if let (Ok(x), Ok(y)) = (
             rb["amplitude_stretch"].parse::<f64>(),
-            rw["amplitude_stretch"].parse::<f64>(),
+            rw["amplitude"].parse::<f64>(),
         ) {
             assert!((x - y).abs() < 1e-7, "{x} {y}");
         }
@@ -557,8 +559,13 @@ fn a_written_model_gets_clear_errors() {
         ),
         (
             "kind = \"time_history\"",
-            "kind = \"hunt\"",
+            "kind = \"chirp_sweep\"",
             "a written model runs",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"continuation\"\n[analysis.settings.continuation]\nparameter = \"adr\"",
+            "parameter `adr` is out of range: allowed one of the model's: k, omega",
         ),
         (
             "kind = \"time_history\"",

@@ -17,7 +17,6 @@ use super::orbit::force_curve::ForceCurveSpec;
 use super::orbit::steady_state::SteadyStateSpec;
 use super::orbit::time_history::TimeHistorySpec;
 use crate::model::ParamError;
-use crate::model::Params;
 use crate::model::limits;
 
 /// Steps of the fixed-step integrator in one forcing period at most: beyond this a drive
@@ -195,17 +194,14 @@ pub fn family(spec: &FamilySpec) -> Result<Cost, ParamError> {
     Ok(cost)
 }
 
-pub fn map(spec: &MapSpec, params: &Params) -> Result<Cost, ParamError> {
+/// A map about a model whose forcing frequency is `omega`.
+pub fn map(spec: &MapSpec, omega: f64) -> Result<Cost, ParamError> {
     let rows = spec.values.points as f64;
-    let at = (spec.x != super::parameter::ContinuationParameter::Omega).then(|| params.omega());
+    let at = (spec.x != super::parameter::ContinuationParameter::Omega).then_some(omega);
     let mut cost =
         response(&spec.response, at)?.times(rows, format!("{} rows (values.points)", count(rows)));
     if spec.curves {
-        let curve = continuation(
-            &ContinuationSpec::default(),
-            &spec.response.steady,
-            params.omega(),
-        )?;
+        let curve = continuation(&ContinuationSpec::default(), &spec.response.steady, omega)?;
         cost = cost.plus(curve.times(4.0, "curves (up to 4)".into()));
     }
     Ok(cost)
@@ -315,6 +311,7 @@ pub fn force(spec: &ForceCurveSpec) -> Cost {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Params;
 
     #[test]
     fn the_papers_basin_and_an_absurd_one() {

@@ -1,34 +1,81 @@
 //! The parameters an analysis can vary: a family's model parameter, and ω_e or a model
-//! parameter for a continuation, a map or a response against a parameter.
+//! parameter for a continuation, a map or a response against a parameter. The built-in
+//! model's have names of their own; a written model's are named as the model names them.
 
 use serde::{Deserialize, Serialize};
 
 use crate::model::error::ParamError;
 use crate::model::{DriveSpec, ParamSpec, Params};
 
-/// The parameters a family can vary.
+/// The built-in model's parameters an analysis can vary, as the errors list them.
+pub const BUILT_IN_PARAMETERS: &str = "omega, adr, e_a, c_tilde, lambda_p, j";
+
+/// Longest name of a written model's parameter that an analysis can vary.
+pub const MAX_NAME: usize = 46;
+
+/// The name of a written model's parameter, held inline (so that it is `Copy`).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Name {
+    len: u8,
+    bytes: [u8; MAX_NAME],
+}
+
+impl Name {
+    /// `s` if it is a name a model can give (letters, digits and `_`, not starting with a
+    /// digit, at most [`MAX_NAME`] bytes).
+    pub fn new(s: &str) -> Option<Name> {
+        let ok = !s.is_empty()
+            && s.len() <= MAX_NAME
+            && s.chars().all(|c| c.is_alphanumeric() || c == '_')
+            && !s.starts_with(|c: char| c.is_ascii_digit());
+        ok.then(|| {
+            let mut bytes = [0; MAX_NAME];
+            bytes[..s.len()].copy_from_slice(s.as_bytes());
+            Name {
+                len: s.len() as u8,
+                bytes,
+            }
+        })
+    }
+
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..self.len as usize]).expect("built from a str")
+    }
+}
+
+impl std::fmt::Debug for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+/// The parameters a family can vary: the built-in model's, or a written model's by name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(try_from = "String", into = "String")]
 pub enum FamilyParameter {
     Adr,
     EA,
     CTilde,
     LambdaP,
     J,
+    /// A written model's parameter.
+    Named(Name),
 }
 
 impl FamilyParameter {
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             FamilyParameter::Adr => "adr",
             FamilyParameter::EA => "e_a",
             FamilyParameter::CTilde => "c_tilde",
             FamilyParameter::LambdaP => "lambda_p",
             FamilyParameter::J => "j",
+            FamilyParameter::Named(n) => n.as_str(),
         }
     }
 
-    /// Parses a name as users write it.
+    /// Parses a name as users write it: the built-in model's names, else any name a
+    /// written model may give a parameter.
     pub fn parse(s: &str) -> Option<Self> {
         Some(match s {
             "adr" => FamilyParameter::Adr,
@@ -36,7 +83,7 @@ impl FamilyParameter {
             "c_tilde" | "damping" => FamilyParameter::CTilde,
             "lambda_p" | "lambda-p" => FamilyParameter::LambdaP,
             "j" => FamilyParameter::J,
-            _ => return None,
+            _ => FamilyParameter::Named(Name::new(s)?),
         })
     }
 
@@ -51,9 +98,48 @@ impl FamilyParameter {
             FamilyParameter::CTilde => spec.c_tilde = value,
             FamilyParameter::LambdaP => spec.lambda_p = value,
             FamilyParameter::J => spec.j = value,
+            FamilyParameter::Named(n) => return Err(not_built_in(n.as_str())),
         }
         spec.build()
     }
+
+    /// An error unless the built-in model has this parameter.
+    pub fn check_built_in(&self) -> Result<(), ParamError> {
+        match self {
+            FamilyParameter::Named(n) => Err(not_built_in(n.as_str())),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The error for a parameter the built-in model does not have.
+fn not_built_in(name: &str) -> ParamError {
+    ParamError {
+        field: format!("parameter `{name}`"),
+        value: f64::NAN,
+        allowed: format!("one of the built-in model's: {BUILT_IN_PARAMETERS}"),
+    }
+}
+
+impl TryFrom<String> for FamilyParameter {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Self::parse(&s).ok_or_else(|| unknown(&s))
+    }
+}
+
+impl From<FamilyParameter> for String {
+    fn from(p: FamilyParameter) -> String {
+        p.name().to_string()
+    }
+}
+
+/// The error for a text that cannot name a parameter.
+fn unknown(s: &str) -> String {
+    format!(
+        "unknown parameter '{s}': allowed {BUILT_IN_PARAMETERS}, or a written model's \
+         parameter (a name of at most {MAX_NAME} letters, digits and _)"
+    )
 }
 
 /// The parameter a branch is continued in: ω_e or one of the model's.
@@ -65,14 +151,15 @@ pub enum ContinuationParameter {
 }
 
 impl ContinuationParameter {
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             ContinuationParameter::Omega => "omega",
             ContinuationParameter::Model(p) => p.name(),
         }
     }
 
-    /// Parses a name as users write it (`omega`, `adr`, `e_a`, `c_tilde`, `lambda_p`, `j`).
+    /// Parses a name as users write it (`omega`, `adr`, `e_a`, `c_tilde`, `lambda_p`, `j`,
+    /// or a written model's parameter).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "omega" | "w" => Some(ContinuationParameter::Omega),
@@ -80,7 +167,15 @@ impl ContinuationParameter {
         }
     }
 
-    /// Its value in `p`.
+    /// An error unless the built-in model has this parameter.
+    pub fn check_built_in(&self) -> Result<(), ParamError> {
+        match self {
+            ContinuationParameter::Omega => Ok(()),
+            ContinuationParameter::Model(m) => m.check_built_in(),
+        }
+    }
+
+    /// Its value in `p` (NaN for a parameter the built-in model does not have).
     pub fn value(&self, p: &Params) -> f64 {
         match self {
             ContinuationParameter::Omega => p.omega(),
@@ -90,6 +185,7 @@ impl ContinuationParameter {
                 FamilyParameter::CTilde => p.c_tilde(),
                 FamilyParameter::LambdaP => p.lambda_p(),
                 FamilyParameter::J => p.j(),
+                FamilyParameter::Named(_) => f64::NAN,
             },
         }
     }
@@ -106,9 +202,7 @@ impl ContinuationParameter {
 impl TryFrom<String> for ContinuationParameter {
     type Error = String;
     fn try_from(s: String) -> Result<Self, String> {
-        Self::parse(&s).ok_or_else(|| {
-            format!("unknown parameter '{s}': allowed omega, adr, e_a, c_tilde, lambda_p, j")
-        })
+        Self::parse(&s).ok_or_else(|| unknown(&s))
     }
 }
 

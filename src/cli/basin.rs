@@ -74,7 +74,12 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        isola::session::export::basin_csv(&result, params.omega(), path)?;
+        isola::session::export::basin_csv(
+            &result,
+            params.omega(),
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {} and its .attractors.csv", path.display());
     }
     Ok(())

@@ -80,7 +80,7 @@ pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
                 args.vary.name(),
                 pd.parameter
             );
-            match switch_at_period_doubling(&branch, pd, &spec.continuation, &progress) {
+            match switch_at_period_doubling(&params, &branch, pd, &spec.continuation, &progress) {
                 Ok(b) => {
                     print_summary(&b);
                     born.push(b);
@@ -99,7 +99,11 @@ pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
     );
     if let Some(path) = &args.csv {
         let all: Vec<&ContinuedBranch> = std::iter::once(&branch).chain(&born).collect();
-        isola::session::export::continued_csv(&all, path)?;
+        isola::session::export::continued_csv(
+            &all,
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     Ok(())

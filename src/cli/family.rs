@@ -79,7 +79,12 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
         started.elapsed().as_secs_f64()
     );
     if let Some(path) = &args.csv {
-        isola::session::export::family_csv(name, &members, path)?;
+        isola::session::export::family_csv(
+            name,
+            &members,
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -188,13 +188,17 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.csv {
         let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
-        isola::session::export::continued_csv(&branches, path)?;
+        isola::session::export::continued_csv(
+            &branches,
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.response_csv {
         isola::session::export::response_csv(
             &found.response,
-            &isola::model::Device::default(),
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
         println!("wrote {}", path.display());

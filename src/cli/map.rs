@@ -67,6 +67,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     };
     let (dx, v) = args.starts.axes(args.ics);
     let spec = MapSpec {
+        hidden_branches: false,
         x: args.x,
         parameter: args.vary,
         values,
@@ -79,7 +80,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         curves: !args.no_curves,
     };
     spec.validate(&params)?;
-    super::check_memory("map", isola::analysis::cost::map(&spec, &params))?;
+    super::check_memory("map", isola::analysis::cost::map(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
@@ -140,13 +141,17 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
             (args.x.name(), name),
             &spec.response.omega.values(),
             &rows,
-            &isola::model::Device::silicone(),
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::silicone()),
             path,
         )?;
         println!("wrote {}", path.display());
     }
     if let Some(path) = &args.curves_csv {
-        isola::session::export::curves_csv(&curves, path)?;
+        isola::session::export::curves_csv(
+            &curves,
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -93,7 +93,11 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(path) = &args.csv {
-        isola::session::export::response_csv(&fr, &isola::model::Device::default(), path)?;
+        isola::session::export::response_csv(
+            &fr,
+            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
+            path,
+        )?;
         println!("wrote {}", path.display());
     }
     Ok(())

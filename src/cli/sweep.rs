@@ -80,7 +80,11 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             );
         }
         if let Some(path) = &args.csv {
-            isola::session::export::stepped_csv(&steps, &dev, path)?;
+            isola::session::export::stepped_csv(
+                &steps,
+                &isola::session::export::ModelColumns::built_in(&dev),
+                path,
+            )?;
             println!("wrote {}", path.display());
         }
         return Ok(());

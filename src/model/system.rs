@@ -33,6 +33,15 @@ pub trait System: Clone + Send {
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode;
     /// ∂f/∂x on the smooth piece `mode`: `jac[i][j]` = ∂f_i/∂x_j.
     fn jacobian(&mut self, tau: f64, x: &Vector, mode: Mode, jac: &mut [Vector; MAX_DIM]);
+    /// The gradient of switching function `k` on `mode` into `grad` (∂h/∂x_j), and ∂h/∂τ.
+    fn switch_gradient(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        k: usize,
+        grad: &mut Vector,
+    ) -> f64;
     /// The output whose max − min is the amplitude, and its rate of change.
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64);
     /// Whether (τ, x) has left the model (a collision ends the trajectory).
@@ -40,4 +49,86 @@ pub trait System: Clone + Send {
     /// Why (τ, x) gives a value that is not finite: the expression that first does, if the
     /// model can say.
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String>;
+}
+
+/// A state of `len` ≤ [`MAX_DIM`] numbers, held inline (so it is `Copy`), read as a slice,
+/// written and read back as a plain list of its numbers.
+#[derive(Clone, Copy, PartialEq)]
+pub struct StateVec {
+    len: u8,
+    x: Vector,
+}
+
+impl StateVec {
+    /// The first `values.len()` (at most [`MAX_DIM`]) numbers of `values`.
+    pub fn from_slice(values: &[f64]) -> StateVec {
+        let len = values.len().min(MAX_DIM);
+        let mut x = [0.0; MAX_DIM];
+        x[..len].copy_from_slice(&values[..len]);
+        StateVec { len: len as u8, x }
+    }
+
+    /// The first `dim` numbers of a padded state.
+    pub fn of(x: &Vector, dim: usize) -> StateVec {
+        StateVec::from_slice(&x[..dim.min(MAX_DIM)])
+    }
+
+    /// The state padded with zeros to [`MAX_DIM`].
+    pub fn padded(&self) -> Vector {
+        self.x
+    }
+
+    /// The first two numbers (the built-in model's whole state).
+    pub fn pair(&self) -> [f64; 2] {
+        [self.x[0], self.x[1]]
+    }
+}
+
+impl From<[f64; 2]> for StateVec {
+    fn from(x: [f64; 2]) -> StateVec {
+        StateVec::from_slice(&x)
+    }
+}
+
+impl std::ops::Deref for StateVec {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.x[..self.len as usize]
+    }
+}
+
+impl std::ops::DerefMut for StateVec {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        &mut self.x[..self.len as usize]
+    }
+}
+
+impl std::fmt::Debug for StateVec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl serde::Serialize for StateVec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeSeq;
+        let mut seq = s.serialize_seq(Some(self.len()))?;
+        for v in self.iter() {
+            seq.serialize_element(v)?;
+        }
+        seq.end()
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for StateVec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let values = Vec::<f64>::deserialize(d)?;
+        if values.len() > MAX_DIM {
+            return Err(serde::de::Error::custom(format!(
+                "a state of {} numbers (at most {MAX_DIM})",
+                values.len()
+            )));
+        }
+        Ok(StateVec::from_slice(&values))
+    }
 }

@@ -186,8 +186,7 @@ pub fn cost_of(session: &Session, entry: &AnalysisEntry) -> Result<Cost, BudgetE
         Settings::Family(s) => cost::family(s),
         Settings::Continuation(s) => cost::continuation(&s.continuation, &s.steady, omega),
         Settings::Hunt(s) => cost::hunt(s),
-        // a written model's map is refused as the session is read (`params` says why)
-        Settings::Map(s) => session.params(Some(entry)).and_then(|p| cost::map(s, &p)),
+        Settings::Map(s) => cost::map(s, omega),
     }
     .map_err(BudgetError::Setting)
 }

@@ -42,16 +42,82 @@ pub fn num(x: f64) -> String {
     }
 }
 
-/// The columns describing one steady state.
-pub const STEADY_COLUMNS: [&str; 7] = [
-    "class",
-    "period_forcing_periods",
-    "ratio",
-    "response_type",
-    "amplitude_stretch",
-    "lambda_min",
-    "lambda_max",
-];
+/// How a model's quantities are named in the columns of its results, and the device its
+/// frequencies are given in Hz for: the built-in model's `lambda_i`, `v`, `amplitude_stretch`
+/// and device; a written model's own state names, `amplitude`, and no device (no column in
+/// Hz is filled in).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelColumns {
+    /// Every state, in order (a continued branch's `STATE_0`).
+    pub states: Vec<String>,
+    /// The two states a grid spans (`poincare_STATE`).
+    pub grid: [String; 2],
+    /// The grid's two offsets from its origin (a basin's cells).
+    pub offsets: [String; 2],
+    /// The amplitude (max − min of the output).
+    pub amplitude: String,
+    /// The output whose extremes are `OUTPUT_min`, `OUTPUT_max`.
+    pub output: String,
+    pub device: Option<Device>,
+}
+
+impl ModelColumns {
+    pub fn built_in(device: &Device) -> ModelColumns {
+        ModelColumns {
+            states: vec!["lambda_i".into(), "v".into()],
+            grid: ["lambda".into(), "v".into()],
+            offsets: ["dx_stretch".into(), "v_per_tau".into()],
+            amplitude: "amplitude_stretch".into(),
+            output: "lambda".into(),
+            device: Some(*device),
+        }
+    }
+
+    /// A written model's: its states, grid and output (named after the amplitude's
+    /// expression where that is a name, else `output`).
+    pub fn written(model: &crate::model::equations::EquationModel) -> ModelColumns {
+        let states = model.states().to_vec();
+        let [a, b] = model.grid().map(|i| states[i].clone());
+        let output = model.amplitude_text();
+        let is_name = output.chars().all(|c| c.is_alphanumeric() || c == '_');
+        ModelColumns {
+            offsets: [format!("{a}_offset"), format!("{b}_offset")],
+            grid: [a, b],
+            states,
+            amplitude: "amplitude".into(),
+            output: if is_name {
+                output.to_string()
+            } else {
+                "output".into()
+            },
+            device: None,
+        }
+    }
+
+    /// The columns describing one steady state.
+    pub fn steady(&self) -> Vec<String> {
+        let mut c: Vec<String> = ["class", "period_forcing_periods", "ratio", "response_type"]
+            .map(String::from)
+            .to_vec();
+        c.push(self.amplitude.clone());
+        c.push(format!("{}_min", self.output));
+        c.push(format!("{}_max", self.output));
+        c
+    }
+
+    /// The stroboscopic points' columns.
+    fn poincare(&self) -> [String; 2] {
+        self.grid.clone().map(|s| format!("poincare_{s}"))
+    }
+
+    /// `omega` in Hz on the device, empty without one.
+    fn hz(&self, omega: f64) -> String {
+        self.device.map_or(String::new(), |d| num(d.hz(omega)))
+    }
+}
+
+/// The number of columns describing one steady state ([`ModelColumns::steady`]).
+pub const STEADY_COLUMN_COUNT: usize = 7;
 
 pub fn steady_fields(s: &SteadyState) -> [String; 7] {
     let opt = |x: Option<f64>| x.map_or(String::new(), num);
@@ -77,10 +143,12 @@ fn poincare_fields(s: &SteadyState) -> [String; 2] {
     })
 }
 
-/// One row per cell (`dx_stretch, v_per_tau, attractor`) and, beside it, the attractor table.
-pub fn basin_csv(b: &Basin, omega: f64, path: &Path) -> anyhow::Result<()> {
+/// One row per cell (`dx_stretch, v_per_tau, attractor`, the offsets named after a written
+/// model's grid states) and, beside it, the attractor table.
+pub fn basin_csv(b: &Basin, omega: f64, columns: &ModelColumns, path: &Path) -> anyhow::Result<()> {
     write_atomic(path, |w| {
-        w.write_record(["dx_stretch", "v_per_tau", "attractor", "ratio"])?;
+        let [x, y] = &columns.offsets;
+        w.write_record([x.as_str(), y, "attractor", "ratio"])?;
         let nv = b.v.len();
         for (c, &label) in b.labels.iter().enumerate() {
             let r = &b.table.attractors[label].response;
@@ -95,9 +163,11 @@ pub fn basin_csv(b: &Basin, omega: f64, path: &Path) -> anyhow::Result<()> {
     })?;
     let table: PathBuf = path.with_extension("attractors.csv");
     write_atomic(&table, |w| {
-        let mut header = vec!["attractor", "omega", "cells", "fraction"];
-        header.extend(STEADY_COLUMNS);
-        header.extend(["poincare_lambda", "poincare_v"]);
+        let mut header: Vec<String> = ["attractor", "omega", "cells", "fraction"]
+            .map(String::from)
+            .to_vec();
+        header.extend(columns.steady());
+        header.extend(columns.poincare());
         w.write_record(&header)?;
         for a in &b.table.attractors {
             let mut row = vec![
@@ -126,11 +196,11 @@ const RESPONSE_COLUMNS: [&str; 6] = [
 
 fn response_fields(
     r: &crate::analysis::global::frequency_response::Response,
-    device: &Device,
+    columns: &ModelColumns,
 ) -> Vec<String> {
     let mut row = vec![
         num(r.omega),
-        num(device.hz(r.omega)),
+        columns.hz(r.omega),
         r.branch.map_or(String::new(), |b| b.to_string()),
         r.hidden.map_or(String::new(), |h| h.to_string()),
         r.seeded.to_string(),
@@ -141,15 +211,24 @@ fn response_fields(
     row
 }
 
-/// One row per response per ω_e (`frequency_hz` for `device`).
-pub fn response_csv(fr: &FrequencyResponse, device: &Device, path: &Path) -> anyhow::Result<()> {
+/// The header of a response table (after any leading columns).
+fn response_header(columns: &ModelColumns) -> Vec<String> {
+    let mut header: Vec<String> = RESPONSE_COLUMNS.map(String::from).to_vec();
+    header.extend(columns.steady());
+    header.extend(columns.poincare());
+    header
+}
+
+/// One row per response per ω_e (`frequency_hz` for the columns' device).
+pub fn response_csv(
+    fr: &FrequencyResponse,
+    columns: &ModelColumns,
+    path: &Path,
+) -> anyhow::Result<()> {
     write_atomic(path, |w| {
-        let mut header = RESPONSE_COLUMNS.to_vec();
-        header.extend(STEADY_COLUMNS);
-        header.extend(["poincare_lambda", "poincare_v"]);
-        w.write_record(&header)?;
+        w.write_record(response_header(columns))?;
         for r in &fr.responses {
-            w.write_record(response_fields(r, device))?;
+            w.write_record(response_fields(r, columns))?;
         }
         Ok(())
     })
@@ -164,19 +243,17 @@ pub fn family_responses_path(family_csv: &Path) -> PathBuf {
 pub fn family_responses_csv(
     parameter: &str,
     members: &[crate::analysis::global::family::FamilyMember],
-    device: &Device,
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
     write_atomic(path, |w| {
-        let mut header = vec![parameter];
-        header.extend(RESPONSE_COLUMNS);
-        header.extend(STEADY_COLUMNS);
-        header.extend(["poincare_lambda", "poincare_v"]);
+        let mut header = vec![parameter.to_string()];
+        header.extend(response_header(columns));
         w.write_record(&header)?;
         for m in members {
             for r in &m.response.responses {
                 let mut row = vec![m.value.to_string()];
-                row.extend(response_fields(r, device));
+                row.extend(response_fields(r, columns));
                 w.write_record(&row)?;
             }
         }
@@ -303,18 +380,20 @@ pub fn chirp_csv(
 /// One row per step of a stepped sweep.
 pub fn stepped_csv(
     steps: &[crate::analysis::global::stepped_sweep::SweepStep],
-    device: &Device,
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
     write_atomic(path, |w| {
-        let mut header = vec!["step", "omega", "frequency_hz", "restarted"];
-        header.extend(STEADY_COLUMNS);
+        let mut header: Vec<String> = ["step", "omega", "frequency_hz", "restarted"]
+            .map(String::from)
+            .to_vec();
+        header.extend(columns.steady());
         w.write_record(&header)?;
         for (i, s) in steps.iter().enumerate() {
             let mut row = vec![
                 i.to_string(),
                 num(s.omega),
-                num(device.hz(s.omega)),
+                columns.hz(s.omega),
                 s.restarted.to_string(),
             ];
             row.extend(steady_fields(&s.steady));
@@ -328,8 +407,10 @@ pub fn stepped_csv(
 pub fn family_csv(
     parameter: &str,
     members: &[crate::analysis::global::family::FamilyMember],
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
+    let peak = format!("peak_{}", columns.amplitude);
     write_atomic(path, |w| {
         w.write_record([
             parameter,
@@ -339,7 +420,7 @@ pub fn family_csv(
             "response_type",
             "omega_min",
             "omega_max",
-            "peak_amplitude_stretch",
+            &peak,
             "peak_omega",
             "points",
             "hidden",
@@ -372,46 +453,36 @@ pub fn branches_path(response_csv: &Path) -> PathBuf {
     response_csv.with_extension("branches.csv")
 }
 
-/// The columns of a continued-branch file (see [`continued_csv`]); the parameter column is
-/// named after the continuation parameter.
-const CONTINUED_COLUMNS: [&str; 13] = [
-    "branch",
-    "period",
-    "verdict",
-    "kind",
-    "omega_e",
-    "lambda_i_0",
-    "v_0",
-    "amplitude_stretch",
-    "stable",
-    "mu1_re",
-    "mu1_im",
-    "mu2_re",
-    "mu2_im",
-];
-
 /// One row per point (kind `point`, in order along the branch) and per located bifurcation
 /// (its kind) of each branch, numbered from 0. Columns: branch, period, verdict (isola,
-/// attached, half-attached, open), kind, the continuation parameter, ω_e, the state at τ = 0,
-/// amplitude, stability and both Floquet multipliers.
+/// attached, half-attached, open), kind, the continuation parameter, `omega_e`, the state at
+/// τ = 0 (`STATE_0` for each state), the amplitude, `stable` and each Floquet multiplier
+/// (`muK_re`, `muK_im`, by decreasing modulus).
 pub fn continued_csv(
     branches: &[&crate::analysis::continuation::branch::ContinuedBranch],
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
     use crate::analysis::continuation::hunt::Verdict;
     use crate::analysis::orbit::floquet::Multipliers;
     let parameter = branches.first().map_or("omega", |b| b.parameter.name());
+    let n = columns.states.len();
     write_atomic(path, |w| {
-        let mut header = CONTINUED_COLUMNS[..4].to_vec();
-        header.push(parameter);
-        header.extend(&CONTINUED_COLUMNS[4..]);
+        let mut header: Vec<String> = ["branch", "period", "verdict", "kind", parameter, "omega_e"]
+            .map(String::from)
+            .to_vec();
+        header.extend(columns.states.iter().map(|s| format!("{s}_0")));
+        header.extend([columns.amplitude.clone(), "stable".into()]);
+        for k in 1..=n {
+            header.extend([format!("mu{k}_re"), format!("mu{k}_im")]);
+        }
         w.write_record(&header)?;
         for (id, b) in branches.iter().enumerate() {
             let verdict = Verdict::of(b).as_str();
             let row = |kind: &str,
                        par: f64,
                        omega: f64,
-                       x: [f64; 2],
+                       x: &[f64],
                        amp: f64,
                        stable: Option<bool>,
                        m: &Multipliers| {
@@ -422,12 +493,10 @@ pub fn continued_csv(
                     kind.to_string(),
                     num(par),
                     num(omega),
-                    num(x[0]),
-                    num(x[1]),
-                    num(amp),
-                    stable.map(|s| s.to_string()).unwrap_or_default(),
                 ];
-                for mu in m.0 {
+                r.extend(x.iter().map(|v| num(*v)));
+                r.extend([num(amp), stable.map(|s| s.to_string()).unwrap_or_default()]);
+                for mu in &m.0 {
                     r.push(num(mu.re));
                     r.push(num(mu.im));
                 }
@@ -438,7 +507,7 @@ pub fn continued_csv(
                     "point",
                     p.parameter,
                     p.omega,
-                    p.x,
+                    &p.x,
                     p.amplitude,
                     Some(p.stable),
                     &p.multipliers,
@@ -450,7 +519,7 @@ pub fn continued_csv(
                     f.kind.as_str(),
                     f.parameter,
                     f.omega,
-                    f.x,
+                    &f.x,
                     f.amplitude,
                     None,
                     &f.multipliers,
@@ -524,17 +593,18 @@ pub fn map_csv(
     (x, parameter): (&str, &str),
     xs: &[f64],
     rows: &[crate::analysis::continuation::map::MapRow],
-    device: &Device,
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
     let is_omega = x == "omega";
+    let largest = format!("largest_{}", columns.amplitude);
     write_atomic(path, |w| {
         w.write_record([
             parameter,
             x,
             "frequency_hz",
             "stable",
-            "largest_amplitude_stretch",
+            &largest,
             "largest_type",
             "hidden",
             "subharmonic",
@@ -547,7 +617,7 @@ pub fn map_csv(
                     row.value.to_string(),
                     num(*at),
                     if is_omega {
-                        num(device.hz(*at))
+                        columns.hz(*at)
                     } else {
                         String::new()
                     },
@@ -575,6 +645,7 @@ pub fn curves_path(map_csv: &Path) -> PathBuf {
 /// parameter named in `of`): `curve, kind, period, at, of, FIRST, SECOND, amplitude_stretch`.
 pub fn curves_csv(
     curves: &[crate::analysis::continuation::bifurcation_curve::BifurcationCurve],
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
     use crate::analysis::continuation::bifurcation_curve::Turning;
@@ -590,7 +661,7 @@ pub fn curves_csv(
             "of",
             first,
             second,
-            "amplitude_stretch",
+            &columns.amplitude,
         ])?;
         for (id, c) in curves.iter().enumerate() {
             let kind = c.kind.as_str();

@@ -601,19 +601,73 @@ impl ResultReader {
     }
 }
 
-/// Header-indexed access to a CSV row.
-struct Columns(HashMap<String, usize>);
+/// Header-indexed access to a CSV row: the columns by name, and a written model's columns
+/// by the built-in model's names too.
+struct Columns(HashMap<String, usize>, HashMap<String, usize>);
 
 impl Columns {
     fn new(reader: &mut csv::Reader<std::fs::File>) -> anyhow::Result<Self> {
-        Ok(Columns(
+        let mut c = Columns(
             reader
                 .headers()?
                 .iter()
                 .enumerate()
                 .map(|(i, h)| (h.to_string(), i))
                 .collect(),
-        ))
+            HashMap::new(),
+        );
+        c.alias_written();
+        Ok(c)
+    }
+
+    /// A written model's columns also under the built-in model's names, which the readers
+    /// use (see [`super::export::ModelColumns`]): `amplitude` as `amplitude_stretch`, the
+    /// output's extremes after it as `lambda_min` and `lambda_max`, the grid's Poincaré
+    /// columns as `poincare_lambda` and `poincare_v`, a basin's offsets as `dx_stretch` and
+    /// `v_per_tau`.
+    fn alias_written(&mut self) {
+        let mut by_index: Vec<(usize, String)> =
+            self.0.iter().map(|(n, &i)| (i, n.clone())).collect();
+        by_index.sort();
+        let names = &self.0;
+        let map = &mut self.1;
+        let add = |alias: &str, i: usize, map: &mut HashMap<String, usize>| {
+            if !names.contains_key(alias) {
+                map.insert(alias.to_string(), i);
+            }
+        };
+        let name_of = |i: usize| by_index.get(i).map(|(_, n)| n.as_str()).unwrap_or("");
+        for (i, name) in &by_index {
+            for stem in ["", "largest_", "peak_"] {
+                if *name == format!("{stem}amplitude") {
+                    add(&format!("{stem}amplitude_stretch"), *i, map);
+                }
+            }
+            if name == "amplitude" && name_of(i + 1).ends_with("_min") {
+                add("lambda_min", i + 1, map);
+                add("lambda_max", i + 2, map);
+            }
+        }
+        let starting = |prefix: &str| -> Vec<usize> {
+            by_index
+                .iter()
+                .filter(|(_, n)| n.starts_with(prefix))
+                .map(|(i, _)| *i)
+                .collect()
+        };
+        if let [a, b, ..] = starting("poincare_")[..] {
+            add("poincare_lambda", a, map);
+            add("poincare_v", b, map);
+        }
+        let offsets: Vec<usize> = by_index
+            .iter()
+            .filter(|(_, n)| n.ends_with("_offset"))
+            .map(|(i, _)| *i)
+            .collect();
+        if let [a, b, ..] = offsets[..] {
+            add("dx_stretch", a, map);
+            add("v_per_tau", b, map);
+        }
     }
 
     /// The name of column `i` (files whose columns are named after a parameter).
@@ -629,6 +683,7 @@ impl Columns {
         let i = self
             .0
             .get(name)
+            .or_else(|| self.1.get(name))
             .ok_or_else(|| anyhow::anyhow!("no column '{name}'"))?;
         Ok(row.get(*i).unwrap_or(""))
     }
@@ -833,6 +888,11 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
 fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
     let (c, rows) = rows(path)?;
     let parameter = c.name_at(4)?;
+    // the state columns after ω_e (a written model's own names)
+    let first = c.name_at(6)?;
+    let second = Some(c.name_at(7)?)
+        .filter(|name| name.ends_with("_0"))
+        .unwrap_or_else(|| first.clone());
     let mut branches: Vec<ContinuedView> = Vec::new();
     for r in &rows {
         let id = c.f64(r, "branch")? as usize;
@@ -853,7 +913,7 @@ fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
                 omega,
                 amplitude,
                 stable: c.str(r, "stable")? == "true",
-                start: [c.f64(r, "lambda_i_0")?, c.f64(r, "v_0")?],
+                start: [c.f64(r, &first)?, c.f64(r, &second)?],
             }),
             kind => b.bifurcations.push(BifurcationPoint {
                 kind: kind.to_string(),

@@ -21,6 +21,7 @@ use super::written::ModelPoint;
 use crate::analysis::continuation::branch_from_state::branch_from_state;
 use crate::analysis::continuation::hunt::{HuntSpec, hunt_in};
 use crate::analysis::continuation::map::{MapRow, MapSpec, map_curves, map_row};
+use crate::analysis::continuation::model::Continuable;
 use crate::analysis::global::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::global::family::{FamilyMember, FamilySpec, family_member};
 use crate::analysis::global::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
@@ -346,77 +347,83 @@ impl Run<'_> {
     }
 
     fn run(&self) -> anyhow::Result<Outcome> {
+        match self.session.point(Some(self.entry))? {
+            ModelPoint::BuiltIn(params) => self.run_on(
+                &params,
+                &export::ModelColumns::built_in(&self.session.device()),
+            ),
+            ModelPoint::Written(sys) => {
+                let columns = export::ModelColumns::written(sys.model());
+                self.run_on(&sys, &columns)
+            }
+        }
+    }
+
+    /// The analysis on `params`, the built-in model or a written one; `columns` name its
+    /// states in continued branches.
+    fn run_on<M: Continuable + Single>(
+        &self,
+        params: &M,
+        columns: &export::ModelColumns,
+    ) -> anyhow::Result<Outcome> {
         let entry = self.entry;
-        let params = match self.session.point(Some(entry))? {
-            ModelPoint::BuiltIn(params) => params,
-            ModelPoint::Written(sys) => return self.run_written(&sys),
-        };
         let progress = self.progress;
         let named = self.named();
         match &entry.settings {
-            Settings::Basin(spec) => self.basin(&params, spec, params.omega()),
-            Settings::FrequencyResponse(spec) => self.response(&params, spec, None),
-            Settings::Hunt(hunt) => self.response(&params, &hunt.response, Some((&params, hunt))),
+            Settings::Basin(spec) => self.basin(params, spec, params.omega(), columns),
+            Settings::FrequencyResponse(spec) => self.response(params, spec, None, columns),
+            Settings::Hunt(hunt) => self.response(params, &hunt.response, Some(hunt), columns),
             Settings::Map(spec) => {
-                spec.validate(&params)?;
+                spec.validate(params)?;
                 // the rows' work announced at once (rows found done count as done), so the
                 // gauge runs once from 0 to 100 %
                 let row_work = spec.response.work();
                 progress.grow_total(spec.values.points * row_work);
                 self.chunked(
                     |_| progress.add(row_work),
-                    |i| optional(map_row(&params, spec, i, progress)),
+                    |i| optional(map_row(params, spec, i, progress)),
                     |i, row: &MapRow| map_content(spec, i, row),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values.at(i)),
                     |chunks, csv| {
                         let rows: Vec<MapRow> = chunks.collect::<anyhow::Result<_>>()?;
                         let curves = if spec.curves {
-                            map_curves(&params, spec, &rows, progress).map_err(&named)?
+                            map_curves(params, spec, &rows, progress).map_err(&named)?
                         } else {
                             Vec::new()
                         };
                         finite(&curves, "the map's curves")?;
-                        export::curves_csv(&curves, &export::curves_path(csv))?;
+                        export::curves_csv(&curves, columns, &export::curves_path(csv))?;
                         let omegas = spec.response.omega.values();
                         let names = (spec.x.name(), spec.parameter.name());
-                        export::map_csv(names, &omegas, &rows, &self.session.device(), csv)
+                        export::map_csv(names, &omegas, &rows, columns, csv)
                     },
                 )
             }
             Settings::Family(spec) => {
-                spec.validate(&params)?;
-                let device = self.session.device();
+                spec.validate(params)?;
                 // the members' work announced at once, as a map's rows
                 let member_work = spec.response.work();
                 progress.grow_total(spec.values.len() * member_work);
                 self.chunked(
                     |_| progress.add(member_work),
-                    |i| optional(family_member(&params, spec, i, progress)),
+                    |i| optional(family_member(params, spec, i, progress)),
                     |i, member: &FamilyMember| family_content(spec, i, member),
                     |i| format!("{} = {}", spec.parameter.name(), spec.values[i]),
                     |chunks, csv| {
                         let members: Vec<FamilyMember> = chunks.collect::<anyhow::Result<_>>()?;
                         let name = spec.parameter.name();
-                        export::family_csv(name, &members, csv)?;
+                        export::family_csv(name, &members, columns, csv)?;
                         let responses = export::family_responses_path(csv);
-                        export::family_responses_csv(name, &members, &device, &responses)
+                        export::family_responses_csv(name, &members, columns, &responses)
                     },
                 )
             }
-            single => {
-                let device = self.session.device();
-                self.whole(|csv| run_single(single, &params, &device, csv, progress))
-            }
-        }
-    }
-
-    /// An analysis of a written model.
-    fn run_written(&self, sys: &EquationSystem) -> anyhow::Result<Outcome> {
-        let progress = self.progress;
-        match &self.entry.settings {
-            Settings::Basin(spec) => self.basin(sys, spec, sys.omega()),
-            Settings::FrequencyResponse(spec) => self.response(sys, spec, None),
-            single => self.whole(|csv| run_written_single(single, sys, csv, progress)),
+            Settings::Continuation(spec) => self.whole(|csv| {
+                let branch = branch_from_state(params, spec, progress)?;
+                finite(&branch, "the continued branch")?;
+                export::continued_csv(&[&branch], columns, csv)
+            }),
+            single => self.whole(|csv| params.run_single(single, columns, csv, progress)),
         }
     }
 
@@ -426,6 +433,7 @@ impl Run<'_> {
         osc: &O,
         spec: &BasinSpec,
         omega: f64,
+        columns: &export::ModelColumns,
     ) -> anyhow::Result<Outcome> {
         let progress = self.progress;
         let named = self.named();
@@ -450,25 +458,24 @@ impl Run<'_> {
                     return Err(e);
                 }
                 finite(&basin, "the assembled basin")?;
-                export::basin_csv(&basin, omega, csv)
+                export::basin_csv(&basin, omega, columns, csv)
             },
         )
     }
 
-    /// A frequency response (and, with `hunt`, the built-in model's isola hunt on it), one
-    /// chunk per ω_e.
-    fn response<O: Oscillator>(
+    /// A frequency response (and, with `hunt`, the isola hunt on it), one chunk per ω_e.
+    fn response<M: Continuable>(
         &self,
-        osc: &O,
+        osc: &M,
         spec: &FrequencyResponseSpec,
-        hunt: Option<(&Params, &HuntSpec)>,
+        hunt: Option<&HuntSpec>,
+        columns: &export::ModelColumns,
     ) -> anyhow::Result<Outcome> {
         let progress = self.progress;
         let named = self.named();
         let plan = ResponsePlan::new(osc, spec).map_err(&named)?;
         progress.grow_total(plan.work());
         let per_chunk = spec.dx.points * spec.v.points;
-        let device = self.session.device();
         self.chunked(
             |_| progress.add(per_chunk),
             |i| optional(plan.grid_at(i, progress)),
@@ -477,16 +484,15 @@ impl Run<'_> {
             |chunks, csv| {
                 let per_omega: Vec<Vec<Response>> = chunks.collect::<anyhow::Result<_>>()?;
                 let fr = plan.finish(per_omega, progress).map_err(&named)?;
-                if let Some((params, hunt)) = hunt {
-                    let found =
-                        hunt_in(params, fr, &hunt.continuation, progress).map_err(&named)?;
+                if let Some(hunt) = hunt {
+                    let found = hunt_in(osc, fr, &hunt.continuation, progress).map_err(&named)?;
                     finite(&found, "the hunt")?;
                     let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
-                    export::continued_csv(&branches, &export::branches_path(csv))?;
-                    export::response_csv(&found.response, &device, csv)
+                    export::continued_csv(&branches, columns, &export::branches_path(csv))?;
+                    export::response_csv(&found.response, columns, csv)
                 } else {
                     finite(&fr, "the frequency response")?;
-                    export::response_csv(&fr, &device, csv)
+                    export::response_csv(&fr, columns, csv)
                 }
             },
         )
@@ -814,10 +820,47 @@ fn finite<T: serde::Serialize>(value: &T, what: &str) -> anyhow::Result<()> {
     }
 }
 
+/// The analyses without chunks that depend on the model: computed at once and written to
+/// `csv`.
+trait Single {
+    fn run_single(
+        &self,
+        settings: &Settings,
+        columns: &export::ModelColumns,
+        csv: &Path,
+        progress: &Progress,
+    ) -> anyhow::Result<()>;
+}
+
+impl Single for Params {
+    fn run_single(
+        &self,
+        settings: &Settings,
+        columns: &export::ModelColumns,
+        csv: &Path,
+        progress: &Progress,
+    ) -> anyhow::Result<()> {
+        run_single(settings, self, columns, csv, progress)
+    }
+}
+
+impl Single for EquationSystem {
+    fn run_single(
+        &self,
+        settings: &Settings,
+        columns: &export::ModelColumns,
+        csv: &Path,
+        progress: &Progress,
+    ) -> anyhow::Result<()> {
+        run_written_single(settings, self, columns, csv, progress)
+    }
+}
+
 /// A written model's analyses that have no chunks: computed at once and written to `csv`.
 fn run_written_single(
     settings: &Settings,
     sys: &EquationSystem,
+    columns: &export::ModelColumns,
     csv: &Path,
     progress: &Progress,
 ) -> anyhow::Result<()> {
@@ -841,7 +884,7 @@ fn run_written_single(
                 |_| {},
             )?;
             finite(&swept, "the stepped sweep")?;
-            export::stepped_csv(&swept, &crate::model::Device::default(), csv)
+            export::stepped_csv(&swept, columns, csv)
         }
         other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
     }
@@ -851,10 +894,11 @@ fn run_written_single(
 fn run_single(
     settings: &Settings,
     params: &crate::model::Params,
-    device: &crate::model::Device,
+    columns: &export::ModelColumns,
     csv: &Path,
     progress: &Progress,
 ) -> anyhow::Result<()> {
+    let device = columns.device.unwrap_or_default();
     match settings {
         Settings::ForceCurve(spec) => {
             let curves = force_curves(spec)?;
@@ -864,12 +908,12 @@ fn run_single(
         Settings::TimeHistory(spec) => {
             let h = time_history(params, spec)?;
             finite(&h, "the time history")?;
-            export::history_csv(&h, device, csv)
+            export::history_csv(&h, &device, csv)
         }
         Settings::ChirpSweep(spec) => {
             let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
             finite(&s, "the chirp sweep")?;
-            export::chirp_csv(&s, device, csv)
+            export::chirp_csv(&s, &device, csv)
         }
         Settings::SteppedSweep(spec) => {
             let start = params.grid_start([spec.dx0, spec.v0]);
@@ -882,19 +926,15 @@ fn run_single(
                 |_| {},
             )?;
             finite(&steps, "the stepped sweep")?;
-            export::stepped_csv(&steps, device, csv)
+            export::stepped_csv(&steps, columns, csv)
         }
-        Settings::Continuation(spec) => {
-            let branch = branch_from_state(params, spec, progress)?;
-            finite(&branch, "the continued branch")?;
-            export::continued_csv(&[&branch], csv)
-        }
-        Settings::Basin(_)
+        Settings::Continuation(_)
+        | Settings::Basin(_)
         | Settings::FrequencyResponse(_)
         | Settings::Family(_)
         | Settings::Map(_)
         | Settings::Hunt(_) => {
-            unreachable!("chunked kinds are run chunk by chunk")
+            unreachable!("chunked kinds and continuations are run by run_on")
         }
     }
 }

@@ -239,10 +239,14 @@ impl Settings {
             Settings::ForceCurve(_) => ModelUse::Nothing,
             // each sweeps its own ω grid: the model's ω_e is never read
             Settings::FrequencyResponse(_) | Settings::SteppedSweep(_) | Settings::Hunt(_) => {
-                ModelUse::AllBut(vec!["omega"])
+                ModelUse::AllBut(vec!["omega".into()])
             }
-            Settings::Family(spec) => ModelUse::AllBut(vec!["omega", spec.parameter.name()]),
-            Settings::Map(spec) => ModelUse::AllBut(vec![spec.x.name(), spec.parameter.name()]),
+            Settings::Family(spec) => {
+                ModelUse::AllBut(vec!["omega".into(), spec.parameter.name().into()])
+            }
+            Settings::Map(spec) => {
+                ModelUse::AllBut(vec![spec.x.name().into(), spec.parameter.name().into()])
+            }
             // a chirp's integrator is set up from the model's period; a basin and a time
             // history run at the model's ω_e, and a continuation starts there
             Settings::ChirpSweep(_)
@@ -260,7 +264,7 @@ pub enum ModelUse {
     /// Everything but these model keys (`omega`, which it sweeps; the parameter a family or
     /// map sets itself). A key of the drive (`adr`, `e_a`) is left out only where the model
     /// gives the drive in those terms: given as voltages, they are what is read.
-    AllBut(Vec<&'static str>),
+    AllBut(Vec<String>),
     Nothing,
 }
 
@@ -373,7 +377,8 @@ impl Session {
             if let Some(w) = &written {
                 if !WRITTEN_KINDS.contains(&raw.kind.as_str()) {
                     return Err(syntax(format!(
-                        "analysis '{}' ({}): a written model runs {} so far",
+                        "analysis '{}' ({}): a written model runs {} (force curves and chirp \
+                         sweeps are the built-in DEA's own)",
                         raw.name,
                         raw.kind,
                         WRITTEN_KINDS.join(", ")
@@ -571,10 +576,10 @@ impl Session {
             ModelUse::AllBut(keys) => {
                 if let Some(object) = model.as_object_mut() {
                     for key in keys {
-                        object.remove(*key);
+                        object.remove(key.as_str());
                         if let Some(drive) = object.get_mut("drive").and_then(|d| d.as_object_mut())
                         {
-                            drive.remove(*key);
+                            drive.remove(key.as_str());
                         }
                     }
                 }
@@ -789,15 +794,15 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
             }),
         }
     };
-    // the kinds only the built-in model runs (a written one's are refused as it is read)
-    let params = || match point {
-        ModelPoint::BuiltIn(p) => Ok(p),
-        ModelPoint::Written(_) => Err(ParamError {
-            field: settings.kind().into(),
-            value: f64::NAN,
-            allowed: format!("one of {} for a written model", WRITTEN_KINDS.join(", ")),
-        }),
-    };
+    // a check over whichever model the point is
+    macro_rules! on_model {
+        (|$m:ident| $check:expr) => {
+            match point {
+                ModelPoint::BuiltIn($m) => $check,
+                ModelPoint::Written($m) => $check,
+            }
+        };
+    }
     match settings {
         Settings::ForceCurve(s) => s.validate(),
         Settings::TimeHistory(s) => {
@@ -826,22 +831,20 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
         }
         Settings::Basin(s) => s.validate(),
         Settings::Family(s) => {
-            s.validate(params()?)?;
+            on_model!(|m| s.validate(m))?;
             omegas(&s.response.omega, "response.omega")
         }
         Settings::Continuation(s) => {
             start(s.dx0, s.v0)?;
             s.steady.validate().map_err(|e| e.within("steady"))?;
-            s.continuation
-                .validate(params()?)
-                .map_err(|e| e.within("continuation"))
+            on_model!(|m| s.continuation.validate(m)).map_err(|e| e.within("continuation"))
         }
         Settings::Hunt(s) => {
-            s.validate(params()?)?;
+            on_model!(|m| s.validate(m))?;
             omegas(&s.response.omega, "response.omega")
         }
         Settings::Map(s) => {
-            s.validate(params()?)?;
+            on_model!(|m| s.validate(m))?;
             if s.x == crate::analysis::parameter::ContinuationParameter::Omega {
                 omegas(&s.response.omega, "response.omega")?;
             }

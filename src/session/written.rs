@@ -21,12 +21,17 @@ pub enum ModelPoint {
     Written(EquationSystem),
 }
 
-/// The kinds a written model can run so far.
-pub const WRITTEN_KINDS: [&str; 4] = [
+/// The kinds a written model can run (all but those of the built-in DEA's own: its force
+/// curves and chirp sweeps).
+pub const WRITTEN_KINDS: [&str; 8] = [
     "time_history",
     "stepped_sweep",
     "frequency_response",
     "basin",
+    "family",
+    "continuation",
+    "hunt",
+    "map",
 ];
 
 /// Whether `text`'s `[model]` writes equations (has `states`).
@@ -124,10 +129,10 @@ impl WrittenModel {
             ModelUse::All => {}
             ModelUse::AllBut(keys) => {
                 for key in keys {
-                    values.remove(if *key == "omega" {
+                    values.remove(if key == "omega" {
                         frequency.as_str()
                     } else {
-                        key
+                        key.as_str()
                     });
                 }
             }

@@ -169,7 +169,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let device = app.session.device();
     let ctx = PlotContext {
         theme: t,
-        device: &device,
+        device: app.session.written.is_none().then_some(&device),
         cursor: app.cursor,
     };
     if let Some(p) = &app.picked {

@@ -3,7 +3,7 @@
 //! minimum of the second parameter) or merges with another branch (two facing folds meet at
 //! a maximum).
 //!
-//! Unknowns y = (λ_I, v, μ₁, μ₂) at τ = 0; equations P^k(x) − x = 0 and the test function
+//! Unknowns y = (x, μ₁, μ₂) at τ = 0 (x = (λ_I, v) for the built-in model); equations P^k(x) − x = 0 and the test function
 //! det(M − I) = 0 (fold) or det(M + I) = 0 (period doubling), M the monodromy of the k-fold
 //! map; pseudo-arclength with the condition t·(y − y_pred) = 0. The state columns of the first
 //! two rows are M − I from the variational equations; every other entry of the Jacobian is a
@@ -11,18 +11,19 @@
 //! from collisions, and the integration tolerance 1e-11 leaves it good to about 1e-5, which
 //! only slows Newton, not the point it converges to).
 
-use nalgebra::{Matrix2, Matrix4, RowVector4, Vector4};
+use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::continuation::branch::{
-    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, check_steps,
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, bordered, check_steps,
 };
+use crate::analysis::continuation::model::{Continuable, ModelBase};
 use crate::analysis::orbit::floquet::{Multipliers, TestFunctions};
-use crate::analysis::orbit::shooting::{PeriodFlow, ShootingError, ShootingSpec, VariationalFlow};
+use crate::analysis::orbit::shooting::{PeriodFlow, ShootingError, ShootingSpec};
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
-use crate::model::{ParamSpec, Params};
+use crate::model::system::StateVec;
 use crate::solver::Collision;
 
 /// Relative step of the finite differences in the Jacobian.
@@ -73,8 +74,14 @@ impl Default for CurveSpec {
 
 impl CurveSpec {
     /// Checks every field for a curve whose first parameter is `first`, about `base`.
-    pub fn validate(&self, base: &Params, first: ContinuationParameter) -> Result<(), ParamError> {
-        if self.second == first {
+    pub fn validate<M: Continuable>(
+        &self,
+        base: &M,
+        first: ContinuationParameter,
+    ) -> Result<(), ParamError> {
+        let second = base.resolve(self.second).map_err(|e| e.within("second"))?;
+        let first_p = base.resolve(first)?;
+        if second == first_p {
             return Err(ParamError {
                 field: "second".into(),
                 value: f64::NAN,
@@ -94,12 +101,10 @@ impl CurveSpec {
             format!("< first_max = {}", self.first_max),
         )?;
         for (field, v) in [("min", self.min), ("max", self.max)] {
-            self.second
-                .apply(base, v)
-                .map_err(|e| e.as_value_of(field))?;
+            base.with(second, v).map_err(|e| e.as_value_of(field))?;
         }
         for (field, v) in [("first_min", self.first_min), ("first_max", self.first_max)] {
-            first.apply(base, v).map_err(|e| e.as_value_of(field))?;
+            base.with(first_p, v).map_err(|e| e.as_value_of(field))?;
         }
         check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
         self.shooting.validate().map_err(|e| e.within("shooting"))
@@ -113,8 +118,8 @@ pub struct CurvePoint {
     pub first: f64,
     pub second: f64,
     pub omega: f64,
-    /// The orbit's state [λ_I, v] at τ = 0.
-    pub x: [f64; 2],
+    /// The orbit's state at τ = 0 ([λ_I, v] for the built-in model).
+    pub x: StateVec,
     pub amplitude: f64,
     pub multipliers: Multipliers,
 }
@@ -149,7 +154,7 @@ pub struct BifurcationCurve {
     pub first: ContinuationParameter,
     pub second: ContinuationParameter,
     /// The model the curve started from.
-    pub base: ParamSpec,
+    pub base: ModelBase,
     /// In order along the curve.
     pub points: Vec<CurvePoint>,
     pub extrema: Vec<Extremum>,
@@ -166,8 +171,8 @@ impl BifurcationCurve {
 
 /// Continues `bif`, located on a branch of `base` continued in `first`, in `first` and
 /// `spec.second` both ways from where it was found.
-pub fn continue_bifurcation(
-    base: &Params,
+pub fn continue_bifurcation<M: Continuable>(
+    base: &M,
     first: ContinuationParameter,
     bif: &Bifurcation,
     spec: &CurveSpec,
@@ -186,24 +191,32 @@ pub fn continue_bifurcation(
         }
     };
     let problem = Curve {
-        base: *base,
+        base: base.clone(),
+        n: base.dim(),
         k: bif.period,
-        first,
-        second: spec.second,
+        first: base.resolve(first)?,
+        second: base.resolve(spec.second)?,
         flip,
         spec,
     };
-    let guess = Vector4::new(bif.x[0], bif.x[1], bif.parameter, spec.second.value(base));
+    let n = problem.n;
+    let second = base.value_of(problem.second);
+    let guess = DVector::from_fn(n + 2, |i, _| match i {
+        i if i < n => bif.x[i],
+        i if i == n => bif.parameter,
+        _ => second,
+    });
     // the located point is good to the locator's precision: polish it on the curve, the
     // arclength condition fixing the second parameter
-    let along_second = Vector4::new(0.0, 0.0, 0.0, 1.0);
+    let mut along_second = DVector::zeros(n + 2);
+    along_second[n + 1] = 1.0;
     let start = problem
         .correct(guess, &along_second)
         .map_err(|f| ContinuationError::Seed(f.into_shooting()))?;
     let t0 = problem
         .tangent(&start, &along_second)
         .ok_or(ContinuationError::Seed(ShootingError::Singular))?;
-    let (fwd, mut extrema, end_fwd) = problem.run(&start, t0, progress)?;
+    let (fwd, mut extrema, end_fwd) = problem.run(&start, t0.clone(), progress)?;
     let mut points = vec![problem.point(&start)];
     let end_back = if end_fwd == BranchEnd::Closed {
         BranchEnd::Closed
@@ -223,20 +236,37 @@ pub fn continue_bifurcation(
         period: bif.period,
         first,
         second: spec.second,
-        base: base.to_spec(),
+        base: base.base(),
         points,
         extrema,
         ends: [end_back, end_fwd],
     })
 }
 
+/// a · b, summed as nalgebra sums a 4-vector (pairwise), so that the built-in model's curves
+/// (n = 2, four unknowns) keep the bits they had with fixed-size vectors.
+fn dot(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    if a.len() == 4 {
+        let v = |x: &DVector<f64>| nalgebra::Vector4::from_column_slice(x.as_slice());
+        v(a).dot(&v(b))
+    } else {
+        a.dot(b)
+    }
+}
+
+/// |a|, summed as [`dot`].
+fn norm(a: &DVector<f64>) -> f64 {
+    dot(a, a).sqrt()
+}
+
 /// A corrected curve point with its Jacobian.
 #[derive(Debug, Clone)]
 struct Solved {
-    y: Vector4<f64>,
+    /// (x, μ₁, μ₂).
+    y: DVector<f64>,
     flow: PeriodFlow,
-    /// Rows: P^k(x) − x (two) and the test function; columns: λ_I, v, μ₁, μ₂.
-    jac: nalgebra::Matrix3x4<f64>,
+    /// Rows: P^k(x) − x (n) and the test function; columns: x, μ₁, μ₂.
+    jac: DMatrix<f64>,
     iterations: usize,
 }
 
@@ -256,51 +286,60 @@ impl Failure {
 }
 
 /// The curve problem for period `k` about the model `base`.
-struct Curve<'a> {
-    base: Params,
+struct Curve<'a, M: Continuable> {
+    base: M,
+    /// Number of states n: y has n + 2 entries, μ₁ and μ₂ last.
+    n: usize,
     k: usize,
-    first: ContinuationParameter,
-    second: ContinuationParameter,
+    first: M::Parameter,
+    second: M::Parameter,
     /// Period doubling (det(M + I)) rather than fold (det(M − I)).
     flip: bool,
     spec: &'a CurveSpec,
 }
 
-impl Curve<'_> {
-    fn params_at(&self, first: f64, second: f64) -> Option<Params> {
-        let p = self.second.apply(&self.base, second).ok()?;
-        self.first.apply(&p, first).ok()
+impl<M: Continuable> Curve<'_, M> {
+    fn params_at(&self, first: f64, second: f64) -> Option<M> {
+        let p = self.base.with(self.second, second).ok()?;
+        p.with(self.first, first).ok()
     }
 
-    fn flow(&self, y: &Vector4<f64>) -> Result<PeriodFlow, Failure> {
-        let p = self.params_at(y[2], y[3]).ok_or(Failure::Diverged)?;
-        VariationalFlow::new(&p, self.spec.shooting.tol)
-            .orbit([y[0], y[1]], self.k)
-            .map_err(Failure::Collision)
+    fn flow(&self, y: &DVector<f64>) -> Result<PeriodFlow, Failure> {
+        let n = self.n;
+        let p = self.params_at(y[n], y[n + 1]).ok_or(Failure::Diverged)?;
+        p.period_flow(&y.as_slice()[..n], self.k, self.spec.shooting.tol)
+            .map_err(|e| match e {
+                ShootingError::Collision(c) => Failure::Collision(c),
+                _ => Failure::Diverged,
+            })
     }
 
-    fn test(&self, m: &Matrix2<f64>) -> f64 {
-        let t = TestFunctions::of(m);
+    fn test(&self, m: &DMatrix<f64>) -> f64 {
+        let t = TestFunctions::of_matrix(m);
         if self.flip { t.flip } else { t.fold }
     }
 
     /// The residual [P^k(x) − x; test] of a flow from `y`.
-    fn residual(&self, y: &Vector4<f64>, flow: &PeriodFlow) -> nalgebra::Vector3<f64> {
-        nalgebra::Vector3::new(
-            flow.end[0] - y[0],
-            flow.end[1] - y[1],
-            self.test(&flow.monodromy),
-        )
+    fn residual(&self, y: &DVector<f64>, flow: &PeriodFlow) -> DVector<f64> {
+        let n = self.n;
+        DVector::from_fn(n + 1, |i, _| {
+            if i < n {
+                flow.end[i] - y[i]
+            } else {
+                self.test(&flow.monodromy)
+            }
+        })
     }
 
     /// The flow at `y` and the Jacobian of the residual there.
-    fn evaluate(&self, y: &Vector4<f64>) -> Result<Solved, Failure> {
+    fn evaluate(&self, y: &DVector<f64>) -> Result<Solved, Failure> {
+        let n = self.n;
         let flow = self.flow(y)?;
-        let mut jac = nalgebra::Matrix3x4::zeros();
-        for c in 0..4 {
+        let mut jac = DMatrix::zeros(n + 1, n + 2);
+        for c in 0..n + 2 {
             let d = DIFFERENCE_STEP * y[c].abs().max(1.0);
-            let mut up = *y;
-            let mut down = *y;
+            let mut up = y.clone();
+            let mut down = y.clone();
             up[c] += d;
             down[c] -= d;
             let (ru, rd) = (
@@ -310,12 +349,14 @@ impl Curve<'_> {
             jac.set_column(c, &((ru - rd) / (2.0 * d)));
         }
         // the state columns of P^k(x) − x exactly, from the variational equations
-        let m = flow.monodromy;
-        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-            jac[(r, c)] = m[(r, c)] - if r == c { 1.0 } else { 0.0 };
+        let m = &flow.monodromy;
+        for r in 0..n {
+            for c in 0..n {
+                jac[(r, c)] = m[(r, c)] - if r == c { 1.0 } else { 0.0 };
+            }
         }
         Ok(Solved {
-            y: *y,
+            y: y.clone(),
             flow,
             jac,
             iterations: 0,
@@ -323,18 +364,21 @@ impl Curve<'_> {
     }
 
     /// Newton on [residual; t·(y − pred)] = 0 from the predictor.
-    fn correct(&self, pred: Vector4<f64>, t: &Vector4<f64>) -> Result<Solved, Failure> {
+    fn correct(&self, pred: DVector<f64>, t: &DVector<f64>) -> Result<Solved, Failure> {
+        let n = self.n;
         let tol = self.spec.shooting.newton_tol;
-        let mut y = pred;
+        let mut y = pred.clone();
         for it in 0..self.spec.shooting.max_iterations {
             let mut s = self.evaluate(&y)?;
             let r = self.residual(&y, &s.flow);
-            if it > 0 && r[0].abs().max(r[1].abs()) < tol && r[2].abs() < TEST_TOL_FACTOR * tol {
+            let state_residual = (0..n).fold(0.0f64, |m, i| m.max(r[i].abs()));
+            if it > 0 && state_residual < tol && r[n].abs() < TEST_TOL_FACTOR * tol {
                 s.iterations = it;
                 return Ok(s);
             }
-            let a = Self::bordered(&s, t);
-            let rhs = Vector4::new(-r[0], -r[1], -r[2], -t.dot(&(y - pred)));
+            let a = bordered(&s.jac, t);
+            let along = -dot(t, &(&y - &pred));
+            let rhs = DVector::from_fn(n + 2, |i, _| if i <= n { -r[i] } else { along });
             let dy = a.lu().solve(&rhs).ok_or(Failure::Diverged)?;
             if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
                 return Err(Failure::Diverged);
@@ -344,46 +388,41 @@ impl Curve<'_> {
         Err(Failure::Diverged)
     }
 
-    /// The Jacobian with `t` as its last row.
-    fn bordered(s: &Solved, t: &Vector4<f64>) -> Matrix4<f64> {
-        Matrix4::from_rows(&[
-            s.jac.row(0).into_owned(),
-            s.jac.row(1).into_owned(),
-            s.jac.row(2).into_owned(),
-            RowVector4::new(t[0], t[1], t[2], t[3]),
-        ])
-    }
-
     /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
-    fn tangent(&self, s: &Solved, prev: &Vector4<f64>) -> Option<Vector4<f64>> {
-        let t = Self::bordered(s, prev)
-            .lu()
-            .solve(&Vector4::new(0.0, 0.0, 0.0, 1.0))?
-            .normalize();
+    fn tangent(&self, s: &Solved, prev: &DVector<f64>) -> Option<DVector<f64>> {
+        let n = self.n;
+        let mut e = DVector::zeros(n + 2);
+        e[n + 1] = 1.0;
+        let t = bordered(&s.jac, prev).lu().solve(&e)?;
+        let t = &t / norm(&t);
         t.iter()
             .all(|v| v.is_finite())
-            .then(|| if t.dot(prev) < 0.0 { -t } else { t })
+            .then(|| if dot(&t, prev) < 0.0 { -t } else { t })
     }
 
     fn point(&self, s: &Solved) -> CurvePoint {
-        let omega = match (self.first, self.second) {
-            (ContinuationParameter::Omega, _) => s.y[2],
-            (_, ContinuationParameter::Omega) => s.y[3],
-            _ => self.base.omega(),
+        let n = self.n;
+        let frequency = self.base.frequency();
+        let omega = if self.first == frequency {
+            s.y[n]
+        } else if self.second == frequency {
+            s.y[n + 1]
+        } else {
+            self.base.omega()
         };
         CurvePoint {
-            first: s.y[2],
-            second: s.y[3],
+            first: s.y[n],
+            second: s.y[n + 1],
             omega,
-            x: [s.y[0], s.y[1]],
+            x: StateVec::from_slice(&s.y.as_slice()[..n]),
             amplitude: s.flow.lambda_max - s.flow.lambda_min,
-            multipliers: Multipliers::of(&s.flow.monodromy),
+            multipliers: Multipliers::of_matrix(&s.flow.monodromy),
         }
     }
 
-    fn outside(&self, y: &Vector4<f64>) -> bool {
-        let s = self.spec;
-        y[2] < s.first_min || y[2] > s.first_max || y[3] < s.min || y[3] > s.max
+    fn outside(&self, y: &DVector<f64>) -> bool {
+        let (s, n) = (self.spec, self.n);
+        y[n] < s.first_min || y[n] > s.first_max || y[n + 1] < s.min || y[n + 1] > s.max
     }
 
     /// Continues from `start` along `t0` until an end; returns the points after `start` and
@@ -391,10 +430,11 @@ impl Curve<'_> {
     fn run(
         &self,
         start: &Solved,
-        t0: Vector4<f64>,
+        t0: DVector<f64>,
         progress: &Progress,
     ) -> Result<(Vec<CurvePoint>, Vec<Extremum>, BranchEnd), ContinuationError> {
         let spec = self.spec;
+        let n = self.n;
         let (mut prev, mut t, mut h) = (start.clone(), t0, spec.step);
         let mut points = Vec::new();
         let mut extrema = Vec::new();
@@ -405,7 +445,7 @@ impl Curve<'_> {
             if points.len() >= spec.max_points {
                 return Ok((points, extrema, BranchEnd::MaxPoints));
             }
-            let next = match self.correct(prev.y + t * h, &t) {
+            let next = match self.correct(&prev.y + &t * h, &t) {
                 Ok(s) => Some(s),
                 Err(Failure::Collision(c)) if h <= spec.step_min => {
                     return Ok((
@@ -421,8 +461,8 @@ impl Curve<'_> {
             };
             let next = next.and_then(|s| {
                 let tn = self.tangent(&s, &t)?;
-                let moved = (s.y - (prev.y + t * h)).norm();
-                let smooth = tn.dot(&t) > 0.9 && moved < 0.3 * h;
+                let moved = norm(&(&s.y - (&prev.y + &t * h)));
+                let smooth = dot(&tn, &t) > 0.9 && moved < 0.3 * h;
                 (smooth || h <= spec.step_min).then_some((s, tn))
             });
             let Some((next, t_next)) = next else {
@@ -433,21 +473,21 @@ impl Curve<'_> {
                 continue;
             };
             progress.step();
-            for (of, c) in [(Turning::First, 2), (Turning::Second, 3)] {
+            for (of, c) in [(Turning::First, n), (Turning::Second, n + 1)] {
                 if (t[c] < 0.0) != (t_next[c] < 0.0) {
                     extrema.push(self.extremum(&prev, &t, h, of, c));
                 }
             }
             if self.outside(&next.y) {
                 points.push(self.point(&next));
-                let value = if next.y[3] < spec.min || next.y[3] > spec.max {
-                    next.y[3]
+                let value = if next.y[n + 1] < spec.min || next.y[n + 1] > spec.max {
+                    next.y[n + 1]
                 } else {
-                    next.y[2]
+                    next.y[n]
                 };
                 return Ok((points, extrema, BranchEnd::Bound { value }));
             }
-            let back_home = points.len() >= 8 && (next.y - start.y).norm() < 0.5 * h;
+            let back_home = points.len() >= 8 && norm(&(&next.y - &start.y)) < 0.5 * h;
             points.push(self.point(&next));
             if back_home {
                 return Ok((points, extrema, BranchEnd::Closed));
@@ -467,9 +507,9 @@ impl Curve<'_> {
 
     /// The extremum of coordinate `c` between `from` and the point a step `h` along `t`: the
     /// tangent's component `c` driven to zero by false position on corrected points.
-    fn extremum(&self, from: &Solved, t: &Vector4<f64>, h: f64, of: Turning, c: usize) -> Extremum {
+    fn extremum(&self, from: &Solved, t: &DVector<f64>, h: f64, of: Turning, c: usize) -> Extremum {
         let component = |sigma: f64| -> Option<(f64, Solved)> {
-            let s = self.correct(from.y + t * sigma, t).ok()?;
+            let s = self.correct(&from.y + t * sigma, t).ok()?;
             let tn = self.tangent(&s, t)?;
             Some((tn[c], s))
         };

@@ -1,26 +1,28 @@
 //! Pseudo-arclength continuation of periodic responses in ω_e or a model parameter.
 //!
-//! Unknowns y = (λ_I, v, μ) at τ = 0; equations P^k(x; μ) − x = 0 plus the arclength
-//! condition t·(y − y_pred) = 0. The state columns of the Jacobian are M − I from the
-//! variational equations; the μ column is a central difference of the map. At each point the
+//! Unknowns y = (x, μ) at τ = 0 (x = (λ_I, v) for the built-in model, the n states of a
+//! written one); equations P^k(x; μ) − x = 0 plus the arclength condition t·(y − y_pred) = 0.
+//! The state columns of the Jacobian are M − I from the variational equations; the μ column
+//! is a central difference of the map. At each point the
 //! Floquet multipliers give stability and the test functions of [`TestFunctions`]; a sign
 //! change between two points is located by false position along the arclength (each trial a
 //! corrected point). A subharmonic branch that shrinks onto a response of a divisor period
 //! (its Poincaré points merge: a period doubling of the parent) ends there; one that comes
 //! back to its seed is closed, an isola when it is a subharmonic.
 
-use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
+use crate::analysis::continuation::model::{Continuable, ModelBase};
 use crate::analysis::orbit::floquet::{Multipliers, TestFunctions};
 use crate::analysis::orbit::shooting::{
-    PeriodFlow, PeriodicOrbit, ShootingError, ShootingSpec, VariationalFlow, shoot,
+    PeriodFlow, PeriodicOrbit, ShootingError, ShootingSpec, shoot,
 };
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
-use crate::model::{ParamSpec, Params};
+use crate::model::system::StateVec;
 use crate::solver::Collision;
 
 /// How a branch is continued.
@@ -56,8 +58,10 @@ impl Default for ContinuationSpec {
 }
 
 impl ContinuationSpec {
-    /// Checks every field; `base` must be valid at both ends of the range.
-    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+    /// Checks every field; `base` must have the parameter and be valid at both ends of the
+    /// range.
+    pub fn validate<M: Continuable>(&self, base: &M) -> Result<(), ParamError> {
+        let parameter = base.resolve(self.parameter)?;
         check(
             "min",
             self.min,
@@ -65,9 +69,7 @@ impl ContinuationSpec {
             format!("< max = {}", self.max),
         )?;
         for (field, v) in [("min", self.min), ("max", self.max)] {
-            self.parameter
-                .apply(base, v)
-                .map_err(|e| e.as_value_of(field))?;
+            base.with(parameter, v).map_err(|e| e.as_value_of(field))?;
         }
         check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
         self.shooting.validate().map_err(|e| e.within("shooting"))
@@ -108,9 +110,9 @@ pub struct BranchPoint {
     pub parameter: f64,
     /// Forcing frequency ω_e (the parameter itself when continuing in ω_e).
     pub omega: f64,
-    /// The stroboscopic point [λ_I, v] at τ = 0.
-    pub x: [f64; 2],
-    /// max − min of λ_I over the response period.
+    /// The stroboscopic state at τ = 0 ([λ_I, v] for the built-in model).
+    pub x: StateVec,
+    /// max − min of the amplitude's output (λ_I) over the response period.
     pub amplitude: f64,
     pub lambda_min: f64,
     pub lambda_max: f64,
@@ -153,7 +155,7 @@ pub struct Bifurcation {
     pub kind: BifurcationKind,
     pub parameter: f64,
     pub omega: f64,
-    pub x: [f64; 2],
+    pub x: StateVec,
     pub amplitude: f64,
     /// Multipliers there (of the parent's map for a parent period doubling).
     pub multipliers: Multipliers,
@@ -173,7 +175,8 @@ pub enum BranchEnd {
     Bound {
         value: f64,
     },
-    /// The orbit reaches a frame or the Gent limit.
+    /// The orbit reaches a frame or the Gent limit (a written model's collision; `lambda_i`
+    /// is then its first state).
     Collision {
         tau: f64,
         lambda_i: f64,
@@ -211,7 +214,7 @@ pub struct ContinuedBranch {
     pub period: usize,
     pub parameter: ContinuationParameter,
     /// The model at the seed.
-    pub base: ParamSpec,
+    pub base: ModelBase,
     pub points: Vec<BranchPoint>,
     pub bifurcations: Vec<Bifurcation>,
     /// How the first and the last point of `points` ended the branch.
@@ -241,37 +244,42 @@ impl ContinuedBranch {
     }
 
     /// The responses of the branch at parameter `value`: one per crossing of `value` along
-    /// the branch, each converged by shooting from the interpolated point.
-    pub fn orbits_at(
+    /// the branch, each converged by shooting from the interpolated point. `base` is the
+    /// model the branch was continued about.
+    pub fn orbits_at<M: Continuable>(
         &self,
+        base: &M,
         value: f64,
         shooting: &ShootingSpec,
     ) -> Result<Vec<PeriodicOrbit>, ContinuationError> {
-        let base = self.base.build()?;
-        let params = self.parameter.apply(&base, value)?;
+        let model = base.with(base.resolve(self.parameter)?, value)?;
         let mut out = Vec::new();
         for w in self.points.windows(2) {
             let (a, b) = (w[0].parameter - value, w[1].parameter - value);
             if a == 0.0 || (a < 0.0) != (b < 0.0) {
                 let f = a / (a - b);
-                let x = [0, 1].map(|c| w[0].x[c] + f * (w[1].x[c] - w[0].x[c]));
-                out.push(shoot(&params, self.period, x, shooting)?);
+                let mut x = w[0].x;
+                for (c, xc) in x.iter_mut().enumerate() {
+                    *xc += f * (w[1].x[c] - w[0].x[c]);
+                }
+                out.push(shoot(&model, self.period, &x, shooting)?);
             }
         }
         Ok(out)
     }
 
-    /// True if one of the branch's orbits at parameter `value` has every point of `points`
-    /// among its Poincaré points, within `tol` (max-norm on [λ_I, v]).
-    pub fn passes_through(
+    /// True if one of the branch's orbits at parameter `value` has every state of `points`
+    /// among its Poincaré states, within `tol` (max-norm).
+    pub fn passes_through<M: Continuable>(
         &self,
+        base: &M,
         value: f64,
-        points: &[[f64; 2]],
+        points: &[StateVec],
         tol: f64,
         shooting: &ShootingSpec,
     ) -> bool {
-        let near = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()) < tol;
-        self.orbits_at(value, shooting)
+        let near = |p: &StateVec, q: &StateVec| max_distance(p, q) < tol;
+        self.orbits_at(base, value, shooting)
             .unwrap_or_default()
             .iter()
             .any(|o| points.iter().all(|p| o.poincare.iter().any(|q| near(p, q))))
@@ -323,13 +331,47 @@ const PARENT_CONFIRM_STEP: f64 = 1e-3;
 /// Reads one test function (`None` where it does not apply).
 type TestOf = fn(&TestFunctions) -> Option<f64>;
 
+/// max_i |p_i − q_i|.
+pub(crate) fn max_distance(p: &[f64], q: &[f64]) -> f64 {
+    p.iter()
+        .zip(q)
+        .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+}
+
+/// The unit null vector of an n × (n + 1) matrix `jac` of rank n, oriented along `prev`:
+/// the cross product of the rows where n = 2, else the solution of the bordered system
+/// [jac; prevᵀ] t = e_{n+1}.
+pub(crate) fn null_vector(jac: &DMatrix<f64>, prev: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = jac.nrows();
+    let t = if n == 2 {
+        let r0 = Vector3::new(jac[(0, 0)], jac[(0, 1)], jac[(0, 2)]);
+        let r1 = Vector3::new(jac[(1, 0)], jac[(1, 1)], jac[(1, 2)]);
+        let t = r0.cross(&r1).normalize();
+        DVector::from_column_slice(t.as_slice())
+    } else {
+        let mut e = DVector::zeros(n + 1);
+        e[n] = 1.0;
+        bordered(jac, prev).lu().solve(&e)?.normalize()
+    };
+    t.iter()
+        .all(|v| v.is_finite())
+        .then(|| if t.dot(prev) < 0.0 { -t } else { t })
+}
+
+/// `jac` (n × (n + 1)) with `t` as its last row.
+pub(crate) fn bordered(jac: &DMatrix<f64>, t: &DVector<f64>) -> DMatrix<f64> {
+    let n = jac.nrows();
+    DMatrix::from_fn(n + 1, n + 1, |r, c| if r < n { jac[(r, c)] } else { t[c] })
+}
+
 /// A corrected point with everything computed there.
 #[derive(Debug, Clone)]
 struct Solved {
-    y: Vector3<f64>,
+    /// (x, μ).
+    y: DVector<f64>,
     flow: PeriodFlow,
     /// [M − I | ∂P/∂μ].
-    jac: Matrix2x3<f64>,
+    jac: DMatrix<f64>,
     iterations: usize,
 }
 
@@ -340,71 +382,90 @@ enum Failure {
 }
 
 /// The continuation problem for period `k` about the model `base`.
-struct Problem<'a> {
-    base: Params,
+struct Problem<'a, M: Continuable> {
+    base: M,
+    parameter: M::Parameter,
+    /// Number of states n: y has n + 1 entries, μ last.
+    n: usize,
     k: usize,
     spec: &'a ContinuationSpec,
 }
 
-impl Problem<'_> {
-    fn params_at(&self, mu: f64) -> Option<Params> {
-        self.spec.parameter.apply(&self.base, mu).ok()
+impl<'a, M: Continuable> Problem<'a, M> {
+    fn new(base: &M, k: usize, spec: &'a ContinuationSpec) -> Result<Self, ParamError> {
+        Ok(Problem {
+            parameter: base.resolve(spec.parameter)?,
+            n: base.dim(),
+            base: base.clone(),
+            k,
+            spec,
+        })
+    }
+
+    fn params_at(&self, mu: f64) -> Option<M> {
+        self.base.with(self.parameter, mu).ok()
+    }
+
+    /// (x, μ) as one vector.
+    fn join(&self, x: &[f64], mu: f64) -> DVector<f64> {
+        DVector::from_fn(self.n + 1, |i, _| if i < self.n { x[i] } else { mu })
     }
 
     /// P^k, its monodromy and the μ column at y.
-    fn evaluate(&self, y: &Vector3<f64>) -> Result<Solved, Failure> {
-        let p = self.params_at(y[2]).ok_or(Failure::Diverged)?;
-        let x = [y[0], y[1]];
-        let flow = VariationalFlow::new(&p, self.spec.shooting.tol)
-            .orbit(x, self.k)
-            .map_err(Failure::Collision)?;
-        let d = 1e-6 * y[2].abs().max(1.0);
+    fn evaluate(&self, y: &DVector<f64>) -> Result<Solved, Failure> {
+        let n = self.n;
+        let mu = y[n];
+        let p = self.params_at(mu).ok_or(Failure::Diverged)?;
+        let x = &y.as_slice()[..n];
+        let tol = self.spec.shooting.tol;
+        let flow = p.period_flow(x, self.k, tol).map_err(|e| match e {
+            ShootingError::Collision(c) => Failure::Collision(c),
+            _ => Failure::Diverged,
+        })?;
+        let d = 1e-6 * mu.abs().max(1.0);
         let side = |mu: f64| {
             let q = self.params_at(mu)?;
-            VariationalFlow::new(&q, self.spec.shooting.tol)
-                .map(x, self.k)
-                .ok()
+            q.period_flow(x, self.k, tol).ok().map(|f| f.end)
         };
-        let dp = match (side(y[2] + d), side(y[2] - d)) {
-            (Some(a), Some(b)) => [(a[0] - b[0]) / (2.0 * d), (a[1] - b[1]) / (2.0 * d)],
-            (Some(a), None) => [(a[0] - flow.end[0]) / d, (a[1] - flow.end[1]) / d],
-            (None, Some(b)) => [(flow.end[0] - b[0]) / d, (flow.end[1] - b[1]) / d],
+        let dp: Vec<f64> = match (side(mu + d), side(mu - d)) {
+            (Some(a), Some(b)) => (0..n).map(|i| (a[i] - b[i]) / (2.0 * d)).collect(),
+            (Some(a), None) => (0..n).map(|i| (a[i] - flow.end[i]) / d).collect(),
+            (None, Some(b)) => (0..n).map(|i| (flow.end[i] - b[i]) / d).collect(),
             (None, None) => return Err(Failure::Diverged),
         };
-        let m = flow.monodromy;
-        let jac = Matrix2x3::new(
-            m[(0, 0)] - 1.0,
-            m[(0, 1)],
-            dp[0],
-            m[(1, 0)],
-            m[(1, 1)] - 1.0,
-            dp[1],
-        );
+        let m = &flow.monodromy;
+        let jac = DMatrix::from_fn(n, n + 1, |r, c| match c {
+            c if c == n => dp[r],
+            c if c == r => m[(r, c)] - 1.0,
+            c => m[(r, c)],
+        });
         Ok(Solved {
-            y: *y,
+            y: y.clone(),
             flow,
             jac,
             iterations: 0,
         })
     }
 
-    fn residual(s: &Solved) -> Vector2<f64> {
-        Vector2::new(s.flow.end[0] - s.y[0], s.flow.end[1] - s.y[1])
+    fn residual(&self, s: &Solved) -> DVector<f64> {
+        DVector::from_fn(self.n, |i, _| s.flow.end[i] - s.y[i])
     }
 
     /// Newton on [P^k(x) − x; t·(y − pred)] = 0 from the predictor.
-    fn correct(&self, pred: Vector3<f64>, t: &Vector3<f64>) -> Result<Solved, Failure> {
+    fn correct(&self, pred: DVector<f64>, t: &DVector<f64>) -> Result<Solved, Failure> {
+        let n = self.n;
         let tol = self.spec.shooting.newton_tol;
-        let mut y = pred;
+        let mut y = pred.clone();
         for it in 0..self.spec.shooting.max_iterations {
             let mut s = self.evaluate(&y)?;
-            let r = Self::residual(&s);
+            let r = self.residual(&s);
             if it > 0 && r.amax() < tol {
                 s.iterations = it;
                 return Ok(s);
             }
-            let a = Matrix3::from_rows(&[s.jac.row(0).into(), s.jac.row(1).into(), t.transpose()]);
-            let rhs = Vector3::new(-r[0], -r[1], -t.dot(&(y - pred)));
+            let a = bordered(&s.jac, t);
+            let along = -t.dot(&(&y - &pred));
+            let rhs = DVector::from_fn(n + 1, |i, _| if i < n { -r[i] } else { along });
             let dy = a.lu().solve(&rhs).ok_or(Failure::Diverged)?;
             if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
                 return Err(Failure::Diverged);
@@ -415,45 +476,47 @@ impl Problem<'_> {
     }
 
     /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
-    fn tangent(s: &Solved, prev: &Vector3<f64>) -> Vector3<f64> {
-        let r0: Vector3<f64> = s.jac.row(0).transpose();
-        let r1: Vector3<f64> = s.jac.row(1).transpose();
-        let t = r0.cross(&r1).normalize();
-        if t.dot(prev) < 0.0 { -t } else { t }
+    fn tangent(s: &Solved, prev: &DVector<f64>) -> Option<DVector<f64>> {
+        null_vector(&s.jac, prev)
     }
 
     fn omega_at(&self, mu: f64) -> f64 {
-        match self.spec.parameter {
-            ContinuationParameter::Omega => mu,
-            ContinuationParameter::Model(_) => self.base.omega(),
+        if self.parameter == self.base.frequency() {
+            mu
+        } else {
+            self.base.omega()
         }
     }
 
     fn point(&self, s: &Solved) -> BranchPoint {
+        let n = self.n;
         let m = &s.flow.monodromy;
-        let multipliers = Multipliers::of(m);
+        let multipliers = Multipliers::of_matrix(m);
         BranchPoint {
-            parameter: s.y[2],
-            omega: self.omega_at(s.y[2]),
-            x: [s.y[0], s.y[1]],
+            parameter: s.y[n],
+            omega: self.omega_at(s.y[n]),
+            x: StateVec::from_slice(&s.y.as_slice()[..n]),
             amplitude: s.flow.lambda_max - s.flow.lambda_min,
             lambda_min: s.flow.lambda_min,
             lambda_max: s.flow.lambda_max,
-            multipliers,
             stable: multipliers.stable(),
-            tests: TestFunctions::of(m),
+            multipliers,
+            tests: TestFunctions::of_matrix(m),
             liouville_error: m.determinant() - s.flow.trace_integral.exp(),
         }
     }
 
     /// Difference vectors P^j(x) − x for each proper divisor j of k.
-    fn divisor_gaps(&self, s: &Solved) -> Vec<(usize, [f64; 2])> {
+    fn divisor_gaps(&self, s: &Solved) -> Vec<(usize, StateVec)> {
         let x = s.flow.poincare[0];
         (1..self.k)
             .filter(|j| self.k.is_multiple_of(*j))
             .map(|j| {
-                let pj = s.flow.poincare[j];
-                (j, [pj[0] - x[0], pj[1] - x[1]])
+                let mut d = s.flow.poincare[j];
+                for (dc, xc) in d.iter_mut().zip(x.iter()) {
+                    *dc -= xc;
+                }
+                (j, d)
             })
             .collect()
     }
@@ -464,22 +527,23 @@ impl Problem<'_> {
     fn locate(
         &self,
         from: &Solved,
-        t: &Vector3<f64>,
+        t: &DVector<f64>,
         (g0, g1, h, end): (f64, f64, f64, &Solved),
         g: impl Fn(&Solved) -> f64,
     ) -> (Solved, f64) {
+        let n = self.n;
         let (mut lo, mut hi, mut g_lo, mut g_hi) = (0.0, h, g0, g1);
         let (mut s_lo, mut s_hi) = (from.clone(), end.clone());
         let mut side = 0;
         for _ in 0..40 {
-            if (s_hi.y[2] - s_lo.y[2]).abs() < 1e-11 && (s_hi.y - s_lo.y).amax() < 1e-9 {
+            if (s_hi.y[n] - s_lo.y[n]).abs() < 1e-11 && (&s_hi.y - &s_lo.y).amax() < 1e-9 {
                 break;
             }
             let mut sigma = lo + (hi - lo) * g_lo / (g_lo - g_hi);
             if !(sigma > lo && sigma < hi) {
                 sigma = 0.5 * (lo + hi);
             }
-            let Ok(trial) = self.correct(from.y + t * sigma, t) else {
+            let Ok(trial) = self.correct(&from.y + t * sigma, t) else {
                 break;
             };
             let gt = g(&trial);
@@ -500,7 +564,7 @@ impl Problem<'_> {
                 side = -1;
             }
         }
-        let precision = (s_hi.y[2] - s_lo.y[2]).abs();
+        let precision = (s_hi.y[n] - s_lo.y[n]).abs();
         let best = if g_lo.abs() <= g_hi.abs() { s_lo } else { s_hi };
         (best, precision)
     }
@@ -520,10 +584,10 @@ impl Problem<'_> {
     }
 
     /// The bifurcations whose test functions change sign between `a` and `b`, located.
-    fn crossings(&self, a: &Solved, b: &Solved, t: &Vector3<f64>, h: f64) -> Vec<Bifurcation> {
+    fn crossings(&self, a: &Solved, b: &Solved, t: &DVector<f64>, h: f64) -> Vec<Bifurcation> {
         let (ta, tb) = (
-            TestFunctions::of(&a.flow.monodromy),
-            TestFunctions::of(&b.flow.monodromy),
+            TestFunctions::of_matrix(&a.flow.monodromy),
+            TestFunctions::of_matrix(&b.flow.monodromy),
         );
         let mut found = Vec::new();
         let tests: [(BifurcationKind, TestOf); 3] = [
@@ -536,7 +600,7 @@ impl Problem<'_> {
                 continue;
             };
             if (ga < 0.0) != (gb < 0.0) {
-                let g = |s: &Solved| f(&TestFunctions::of(&s.flow.monodromy)).unwrap_or(ga);
+                let g = |s: &Solved| f(&TestFunctions::of_matrix(&s.flow.monodromy)).unwrap_or(ga);
                 let (at, precision) = self.locate(a, t, (ga, gb, h, b), g);
                 found.push(self.bifurcation(kind, &at, precision));
             }
@@ -549,7 +613,7 @@ impl Problem<'_> {
     fn on_parent(&self, s: &Solved) -> Option<usize> {
         self.divisor_gaps(s)
             .into_iter()
-            .find(|(_, d)| d[0].abs().max(d[1].abs()) < PARENT_GAP)
+            .find(|(_, d)| d.iter().fold(0.0f64, |m, v| m.max(v.abs())) < PARENT_GAP)
             .map(|(j, _)| j)
     }
 
@@ -557,9 +621,10 @@ impl Problem<'_> {
     /// points merged in between, at the parent's period doubling.
     fn reversed_gap(&self, a: &Solved, b: &Solved) -> Option<usize> {
         let (ga, gb) = (self.divisor_gaps(a), self.divisor_gaps(b));
+        let norm = |v: &StateVec| v.iter().fold(0.0f64, |m, c| m.hypot(*c));
         ga.into_iter().zip(gb).find_map(|((j, da), (_, db))| {
-            let dot = da[0] * db[0] + da[1] * db[1];
-            let norms = da[0].hypot(da[1]) * db[0].hypot(db[1]);
+            let dot = da.iter().zip(db.iter()).fold(0.0, |s, (a, b)| s + a * b);
+            let norms = norm(&da) * norm(&db);
             (dot < -0.5 * norms).then_some(j)
         })
     }
@@ -569,22 +634,25 @@ impl Problem<'_> {
     /// points, and its flip test det(M_j + I) is driven to zero by the secant method in μ
     /// (the doubling sits at the branch's turning point, outside [μ_a, μ_b] in general).
     fn parent_period_doubling(&self, j: usize, a: &Solved, b: &Solved) -> Bifurcation {
+        let n = self.n;
         let shooting = &self.spec.shooting;
-        let parent = |s: &Solved, mu: f64, seed: Option<[f64; 2]>| {
+        let parent = |s: &Solved, mu: f64, seed: Option<StateVec>| {
             let x = s.flow.poincare[0];
             let pj = s.flow.poincare[j];
-            let guess = seed.unwrap_or([0.5 * (x[0] + pj[0]), 0.5 * (x[1] + pj[1])]);
+            let guess = seed.unwrap_or_else(|| {
+                let mut mid = x;
+                for (m, p) in mid.iter_mut().zip(pj.iter()) {
+                    *m = 0.5 * (*m + p);
+                }
+                mid
+            });
             let p = self.params_at(mu)?;
-            shoot(&p, j, guess, shooting).ok()
+            shoot(&p, j, &guess, shooting).ok()
         };
-        let flip = |o: &PeriodicOrbit| {
-            let m = o.monodromy;
-            let (tr, det) = (m[0][0] + m[1][1], m[0][0] * m[1][1] - m[0][1] * m[1][0]);
-            det + tr + 1.0
-        };
-        let mut best = parent(b, b.y[2], None).map(|o| (b.y[2], o));
-        let mut other = parent(a, a.y[2], None).map(|o| (a.y[2], o));
-        let mut precision = (b.y[2] - a.y[2]).abs();
+        let flip = |o: &PeriodicOrbit| TestFunctions::of_matrix(&o.monodromy_matrix()).flip;
+        let mut best = parent(b, b.y[n], None).map(|o| (b.y[n], o));
+        let mut other = parent(a, a.y[n], None).map(|o| (a.y[n], o));
+        let mut precision = (b.y[n] - a.y[n]).abs();
         for _ in 0..30 {
             let (Some((m1, o1)), Some((m0, o0))) = (&best, &other) else {
                 break;
@@ -609,7 +677,7 @@ impl Problem<'_> {
             bif.omega = self.omega_at(mu);
             bif.x = o.poincare[0];
             bif.amplitude = o.amplitude;
-            bif.multipliers = o.multipliers;
+            bif.multipliers = o.multipliers.clone();
         }
         bif
     }
@@ -618,15 +686,16 @@ impl Problem<'_> {
     fn run(
         &self,
         start: &Solved,
-        t0: Vector3<f64>,
-        seed: &[[f64; 2]],
+        t0: DVector<f64>,
+        seed: &[StateVec],
         progress: &Progress,
     ) -> Result<(Vec<BranchPoint>, Vec<Bifurcation>, BranchEnd), ContinuationError> {
         let spec = self.spec;
+        let n = self.n;
         let (mut prev, mut t, mut h) = (start.clone(), t0, spec.step);
         let mut points = Vec::new();
         let mut bifs = Vec::new();
-        let mu0 = start.y[2];
+        let mu0 = start.y[n];
         loop {
             if progress.is_cancelled() {
                 return Err(ContinuationError::Cancelled);
@@ -634,7 +703,7 @@ impl Problem<'_> {
             if points.len() >= spec.max_points {
                 return Ok((points, bifs, BranchEnd::MaxPoints));
             }
-            let next = match self.correct(prev.y + t * h, &t) {
+            let next = match self.correct(&prev.y + &t * h, &t) {
                 Ok(s) => Some(s),
                 Err(Failure::Collision(c)) if h <= spec.step_min => {
                     return Ok((
@@ -649,10 +718,10 @@ impl Problem<'_> {
                 Err(_) => None,
             };
             let next = next.and_then(|s| {
-                let tn = Self::tangent(&s, &t);
+                let tn = Self::tangent(&s, &t)?;
                 // refuse a step whose corrector moved far from the predictor or that turns
                 // the tangent sharply: it may have jumped to another part of the branch
-                let moved = (s.y - (prev.y + t * h)).norm();
+                let moved = (&s.y - (&prev.y + &t * h)).norm();
                 let smooth = tn.dot(&t) > 0.9 && moved < 0.3 * h;
                 (smooth || h <= spec.step_min).then_some((s, tn))
             });
@@ -666,12 +735,12 @@ impl Problem<'_> {
             // a branch's length is not known ahead: each point is counted as it is done
             progress.step();
             // the end of the parameter range
-            let mu = next.y[2];
+            let mu = next.y[n];
             if mu < spec.min || mu > spec.max {
                 let bound = if mu < spec.min { spec.min } else { spec.max };
-                let g = |s: &Solved| s.y[2] - bound;
+                let g = |s: &Solved| s.y[n] - bound;
                 let (at, _) = self.locate(&prev, &t, (g(&prev), g(&next), h, &next), g);
-                bifs.extend(self.crossings(&prev, &at, &t, t.dot(&(at.y - prev.y))));
+                bifs.extend(self.crossings(&prev, &at, &t, t.dot(&(&at.y - &prev.y))));
                 points.push(self.point(&at));
                 return Ok((points, bifs, BranchEnd::Bound { value: bound }));
             }
@@ -691,16 +760,16 @@ impl Problem<'_> {
             }
             bifs.extend(self.crossings(&prev, &next, &t, h));
             // back at the seed (or at one of its shifts, for a subharmonic)
-            let (a, b) = (prev.y[2] - mu0, next.y[2] - mu0);
+            let (a, b) = (prev.y[n] - mu0, next.y[n] - mu0);
             if points.len() >= 4 && (a < 0.0) != (b < 0.0) {
                 let w = a / (a - b);
-                let xi = [0, 1].map(|c| prev.y[c] + w * (next.y[c] - prev.y[c]));
-                let step_x = (next.y[0] - prev.y[0])
-                    .abs()
-                    .max((next.y[1] - prev.y[1]).abs());
+                let xi: Vec<f64> = (0..n)
+                    .map(|c| prev.y[c] + w * (next.y[c] - prev.y[c]))
+                    .collect();
+                let step_x = max_distance(&next.y.as_slice()[..n], &prev.y.as_slice()[..n]);
                 let near = seed
                     .iter()
-                    .any(|q| (q[0] - xi[0]).abs().max((q[1] - xi[1]).abs()) < 0.25 * step_x + 1e-7);
+                    .any(|q| max_distance(q, &xi) < 0.25 * step_x + 1e-7);
                 if near {
                     points.push(self.point(&next));
                     return Ok((points, bifs, BranchEnd::Closed));
@@ -718,40 +787,38 @@ impl Problem<'_> {
     }
 }
 
-/// The branch of period-`k` responses through `seed` = [λ_I, v] at τ = 0 (a point near the
-/// response in `params`), continued both ways in `spec.parameter`. The seed is first
-/// converged by Newton at fixed parameter.
-pub fn continue_branch(
-    params: &Params,
+/// The branch of period-`k` responses through the state `seed` at τ = 0 ([λ_I, v] for the
+/// built-in model; a point near the response in `model`), continued both ways in
+/// `spec.parameter`. The seed is first converged by Newton at fixed parameter.
+pub fn continue_branch<M: Continuable>(
+    model: &M,
     k: usize,
-    seed: [f64; 2],
+    seed: &[f64],
     spec: &ContinuationSpec,
     progress: &Progress,
 ) -> Result<ContinuedBranch, ContinuationError> {
-    spec.validate(params)?;
-    let orbit = shoot(params, k, seed, &spec.shooting)?;
-    continue_from_orbit(params, &orbit, spec, progress)
+    spec.validate(model)?;
+    let orbit = shoot(model, k, seed, &spec.shooting)?;
+    continue_from_orbit(model, &orbit, spec, progress)
 }
 
-/// The branch through a converged periodic response of `params`.
-pub fn continue_from_orbit(
-    params: &Params,
+/// The branch through a converged periodic response of `model`.
+pub fn continue_from_orbit<M: Continuable>(
+    model: &M,
     orbit: &PeriodicOrbit,
     spec: &ContinuationSpec,
     progress: &Progress,
 ) -> Result<ContinuedBranch, ContinuationError> {
-    let problem = Problem {
-        base: *params,
-        k: orbit.period,
-        spec,
-    };
-    let mu0 = spec.parameter.value(params);
-    let x = orbit.poincare[0];
+    let problem = Problem::new(model, orbit.period, spec)?;
+    let n = problem.n;
+    let mu0 = model.value_of(problem.parameter);
     let start = problem
-        .evaluate(&Vector3::new(x[0], x[1], mu0))
+        .evaluate(&problem.join(&orbit.poincare[0], mu0))
         .map_err(|_| ShootingError::Singular)?;
-    let t0 = Problem::tangent(&start, &Vector3::new(0.0, 0.0, 1.0));
-    let (fwd, mut bifs, end_fwd) = problem.run(&start, t0, &orbit.poincare, progress)?;
+    let mut along_mu = DVector::zeros(n + 1);
+    along_mu[n] = 1.0;
+    let t0 = Problem::<M>::tangent(&start, &along_mu).ok_or(ShootingError::Singular)?;
+    let (fwd, mut bifs, end_fwd) = problem.run(&start, t0.clone(), &orbit.poincare, progress)?;
     let mut points = vec![problem.point(&start)];
     let end_start = if end_fwd == BranchEnd::Closed {
         BranchEnd::Closed
@@ -765,46 +832,58 @@ pub fn continue_from_orbit(
     Ok(ContinuedBranch {
         period: orbit.period,
         parameter: spec.parameter,
-        base: params.to_spec(),
+        base: model.base(),
         points,
         bifurcations: bifs,
         ends: [end_start, end_fwd],
     })
 }
 
-/// At a period doubling of a period-k branch, the branch of period 2k born there: started
-/// along the critical eigenvector (multiplier −1) and continued both ways.
-pub fn switch_at_period_doubling(
+/// The null vector of M + I (the eigenvector of the multiplier −1), unit length: from a row
+/// where n = 2, else the right singular vector of the smallest singular value.
+fn flip_eigenvector(m: &DMatrix<f64>) -> DVector<f64> {
+    let n = m.nrows();
+    let a = m + DMatrix::<f64>::identity(n, n);
+    if n == 2 {
+        let row = |r: usize| a[(r, 0)].abs().max(a[(r, 1)].abs());
+        let e = if row(0) >= row(1) {
+            nalgebra::Vector2::new(-a[(0, 1)], a[(0, 0)])
+        } else {
+            nalgebra::Vector2::new(-a[(1, 1)], a[(1, 0)])
+        }
+        .normalize();
+        return DVector::from_column_slice(e.as_slice());
+    }
+    let svd = a.svd(false, true);
+    let v_t = svd.v_t.expect("asked for V");
+    let smallest = svd.singular_values.imin();
+    v_t.row(smallest).transpose().normalize()
+}
+
+/// At a period doubling of a period-k branch continued about `base`, the branch of period
+/// 2k born there: started along the critical eigenvector (multiplier −1) and continued both
+/// ways.
+pub fn switch_at_period_doubling<M: Continuable>(
+    base: &M,
     branch: &ContinuedBranch,
     pd: &Bifurcation,
     spec: &ContinuationSpec,
     progress: &Progress,
 ) -> Result<ContinuedBranch, ContinuationError> {
-    let base = branch.base.build()?;
-    let params = spec.parameter.apply(&base, pd.parameter)?;
+    let model = base.with(base.resolve(spec.parameter)?, pd.parameter)?;
     let k = branch.period;
-    let flow = VariationalFlow::new(&params, spec.shooting.tol)
-        .orbit(pd.x, k)
-        .map_err(|c| ContinuationError::Seed(ShootingError::Collision(c)))?;
-    // null vector of M + I
-    let a = flow.monodromy + Matrix2::identity();
-    let e = if a.row(0).amax() >= a.row(1).amax() {
-        Vector2::new(-a[(0, 1)], a[(0, 0)])
-    } else {
-        Vector2::new(-a[(1, 1)], a[(1, 0)])
-    }
-    .normalize();
-    let problem = Problem {
-        base: params,
-        k: 2 * k,
-        spec,
-    };
-    let t = Vector3::new(e[0], e[1], 0.0);
-    let origin = Vector3::new(pd.x[0], pd.x[1], pd.parameter);
+    let flow = model
+        .period_flow(&pd.x, k, spec.shooting.tol)
+        .map_err(ContinuationError::Seed)?;
+    let e = flip_eigenvector(&flow.monodromy);
+    let problem = Problem::new(&model, 2 * k, spec)?;
+    let n = problem.n;
+    let t = DVector::from_fn(n + 1, |i, _| if i < n { e[i] } else { 0.0 });
+    let origin = problem.join(&pd.x, pd.parameter);
     let mut h = spec.step;
     let first = loop {
-        match problem.correct(origin + t * h, &t) {
-            Ok(s) if (s.y - origin).amax() > 0.1 * h => break s,
+        match problem.correct(&origin + &t * h, &t) {
+            Ok(s) if (&s.y - &origin).amax() > 0.1 * h => break s,
             _ if h > spec.step_min => h *= 0.5,
             _ => {
                 return Err(ContinuationError::Seed(ShootingError::NoConvergence {
@@ -814,7 +893,9 @@ pub fn switch_at_period_doubling(
             }
         }
     };
-    let at = spec.parameter.apply(&base, first.y[2])?;
-    let orbit = PeriodicOrbit::from_flow(problem.omega_at(first.y[2]), 2 * k, &first.flow, 0);
+    let at = problem
+        .params_at(first.y[n])
+        .ok_or(ShootingError::Singular)?;
+    let orbit = PeriodicOrbit::from_flow(problem.omega_at(first.y[n]), 2 * k, &first.flow, 0);
     continue_from_orbit(&at, &orbit, spec, progress)
 }

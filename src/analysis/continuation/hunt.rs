@@ -1,5 +1,5 @@
-//! The isola hunter: every subharmonic branch a frequency response from many initial states
-//! found is continued both ways in ω_e, and told apart as an isola (it closes on itself
+//! The isola hunter: every subharmonic or hidden branch a frequency response from many
+//! initial states found is continued both ways in ω_e, and told apart as an isola (it closes on itself
 //! between two folds) or attached (it ends on a period doubling of the main branch).
 
 use serde::{Deserialize, Serialize};
@@ -9,13 +9,14 @@ use crate::analysis::continuation::branch::{
     BifurcationKind, BranchEnd, ContinuationError, ContinuationSpec, ContinuedBranch,
     continue_branch,
 };
+use crate::analysis::continuation::model::Continuable;
 use crate::analysis::global::frequency_response::{
     Branch, FrequencyResponse, FrequencyResponseSpec, frequency_response,
 };
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::progress::Progress;
-use crate::model::Params;
 use crate::model::error::ParamError;
+use crate::model::system::StateVec;
 
 /// Brute-force responses lie on a continued branch when their stroboscopic points match the
 /// branch's converged orbit at the same ω_e within this distance (max-norm on [λ_I, v]): the
@@ -34,7 +35,7 @@ pub struct HuntSpec {
 
 impl HuntSpec {
     /// Checks the response and the continuation, which must run in ω_e.
-    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+    pub fn validate<M: Continuable>(&self, base: &M) -> Result<(), ParamError> {
         self.response.validate().map_err(|e| e.within("response"))?;
         if self.continuation.parameter != ContinuationParameter::Omega {
             return Err(ParamError {
@@ -189,7 +190,7 @@ pub struct HuntFailure {
     pub reason: String,
 }
 
-/// The hunt's result: the frequency response and its subharmonic branches continued.
+/// The hunt's result: the frequency response and its subharmonic and hidden branches continued.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Hunt {
     pub response: FrequencyResponse,
@@ -204,18 +205,22 @@ impl Hunt {
     }
 }
 
-/// Runs the frequency response of `spec`, then continues each of its subharmonic branches.
-pub fn hunt(params: &Params, spec: &HuntSpec, progress: &Progress) -> Result<Hunt, AnalysisError> {
+/// Runs the frequency response of `spec`, then continues each of its subharmonic and hidden branches.
+pub fn hunt<M: Continuable>(
+    params: &M,
+    spec: &HuntSpec,
+    progress: &Progress,
+) -> Result<Hunt, AnalysisError> {
     spec.validate(params)?;
     let response = frequency_response(params, &spec.response, progress)?;
     hunt_in(params, response, &spec.continuation, progress)
 }
 
-/// Continues the subharmonic branches of a finished frequency response of `params`: each
+/// Continues the subharmonic and hidden branches of a finished frequency response of `params`: each
 /// seeded at its largest response, skipping brute-force branches that lie on a branch already
 /// continued. A continuation counts each point it finds as one unit of work.
-pub fn hunt_in(
-    params: &Params,
+pub fn hunt_in<M: Continuable>(
+    params: &M,
     response: FrequencyResponse,
     spec: &ContinuationSpec,
     progress: &Progress,
@@ -223,7 +228,7 @@ pub fn hunt_in(
     let mut seeds: Vec<&Branch> = response
         .branches
         .iter()
-        .filter(|b| b.is_subharmonic())
+        .filter(|b| b.may_be_an_isola())
         .collect();
     seeds.sort_by(|a, b| b.peak_amplitude.total_cmp(&a.peak_amplitude));
     let mut branches: Vec<HuntedBranch> = Vec::new();
@@ -231,15 +236,16 @@ pub fn hunt_in(
     for seed in seeds {
         if let Some(h) = branches
             .iter_mut()
-            .find(|h| lies_on(&response, seed, &h.branch, spec))
+            .find(|h| lies_on(params, &response, seed, &h.branch, spec))
         {
             h.seeds.push(seed.id);
             h.hidden &= seed.hidden;
             continue;
         }
         let peak = response.peak(seed.id).expect("a branch has responses");
-        let at = params.with_omega(peak.omega)?;
-        match continue_branch(&at, seed.period, peak.steady.poincare[0], spec, progress) {
+        let at = params.with(params.frequency(), peak.omega)?;
+        let start = at.state_vec(&at.poincare_states(&peak.steady)[0]);
+        match continue_branch(&at, seed.period, &start, spec, progress) {
             Ok(b) => branches.push(HuntedBranch::new(seed, seed.hidden, b)),
             Err(ContinuationError::Cancelled) => return Err(AnalysisError::Cancelled),
             Err(e) => failures.push(HuntFailure {
@@ -256,7 +262,8 @@ pub fn hunt_in(
 }
 
 /// True when every response of brute-force branch `seed` lies on `continued` at its ω_e.
-fn lies_on(
+fn lies_on<M: Continuable>(
+    model: &M,
     response: &FrequencyResponse,
     seed: &Branch,
     continued: &ContinuedBranch,
@@ -268,6 +275,11 @@ fn lies_on(
             .iter()
             .filter(|r| r.branch == Some(seed.id))
             .all(|r| {
-                continued.passes_through(r.omega, &r.steady.poincare, ON_BRANCH_TOL, &spec.shooting)
+                let states: Vec<StateVec> = model
+                    .poincare_states(&r.steady)
+                    .iter()
+                    .map(|s| model.state_vec(s))
+                    .collect();
+                continued.passes_through(model, r.omega, &states, ON_BRANCH_TOL, &spec.shooting)
             })
 }

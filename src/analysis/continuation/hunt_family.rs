@@ -6,9 +6,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
 use crate::analysis::continuation::hunt::{HuntSpec, HuntedBranch, Verdict, hunt};
-use crate::analysis::parameter::FamilyParameter;
+use crate::analysis::continuation::model::Continuable;
+use crate::analysis::parameter::{ContinuationParameter, FamilyParameter};
 use crate::analysis::progress::Progress;
-use crate::model::Params;
 use crate::model::error::ParamError;
 
 /// A hunt per value of `parameter`.
@@ -23,7 +23,7 @@ pub struct HuntFamilySpec {
 
 impl HuntFamilySpec {
     /// Checks the values (1 to 1000, increasing, each a valid model with `base`) and the hunt.
-    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+    pub fn validate<M: Continuable>(&self, base: &M) -> Result<(), ParamError> {
         let increasing = self.values.windows(2).all(|w| w[1] > w[0]);
         if self.values.is_empty() || self.values.len() > 1000 || !increasing {
             return Err(ParamError {
@@ -32,10 +32,10 @@ impl HuntFamilySpec {
                 allowed: "1 to 1000 increasing values".into(),
             });
         }
+        let parameter = base.resolve(ContinuationParameter::Model(self.parameter))?;
         for &v in &self.values {
-            let p = self
-                .parameter
-                .apply(base, v)
+            let p = base
+                .with(parameter, v)
                 .map_err(|e| e.as_value_of("values"))?;
             self.hunt.validate(&p)?;
         }
@@ -98,17 +98,18 @@ impl Transition {
 }
 
 /// Runs the hunt at each value in turn (each on the whole pool).
-pub fn hunt_family(
-    params: &Params,
+pub fn hunt_family<M: Continuable>(
+    params: &M,
     spec: &HuntFamilySpec,
     progress: &Progress,
     mut on_member: impl FnMut(&HuntMember),
 ) -> Result<Vec<HuntMember>, AnalysisError> {
     spec.validate(params)?;
+    let parameter = params.resolve(ContinuationParameter::Model(spec.parameter))?;
     spec.values
         .iter()
         .map(|&value| {
-            let p = spec.parameter.apply(params, value)?;
+            let p = params.with(parameter, value)?;
             let found = hunt(&p, &spec.hunt, progress)?;
             let member = HuntMember {
                 value,

@@ -22,10 +22,10 @@ use crate::analysis::continuation::hunt::Verdict;
 use crate::analysis::continuation::hunt_family::{
     HuntFamilySpec, HuntMember, Transition, transitions,
 };
+use crate::analysis::continuation::model::Continuable;
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::parameter::FamilyParameter;
 use crate::analysis::progress::Progress;
-use crate::model::Params;
 
 /// A located limit of an isola.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -43,15 +43,15 @@ pub struct IsolaLimit {
 /// bounds the continuation (its `second` is replaced by `parameter`; its upper bound by the
 /// current value, so the curve ends at the isola's other fold). `None` if the curve does not
 /// turn within the bounds.
-pub fn isola_birth(
-    params: &Params,
+pub fn isola_birth<M: Continuable>(
+    params: &M,
     isola: &ContinuedBranch,
     parameter: FamilyParameter,
     curve: &CurveSpec,
     progress: &Progress,
 ) -> Result<Option<IsolaLimit>, ContinuationError> {
     let second = ContinuationParameter::Model(parameter);
-    let now = second.value(params);
+    let now = params.value_of(params.resolve(second)?);
     let Some(low) = isola
         .of_kind(BifurcationKind::Fold)
         .min_by(|a, b| a.omega.total_cmp(&b.omega))
@@ -84,8 +84,8 @@ fn limit(p: &CurvePoint, precision: f64) -> IsolaLimit {
 /// Where the isola `isola` (closed, continued in ω_e about `params`) merges with an attached
 /// branch as `parameter` moves from its value in `params` to `towards` (where the branch is
 /// attached): bisected to `tolerance`. `None` if at `towards` the branch is still closed.
-pub fn isola_merge(
-    params: &Params,
+pub fn isola_merge<M: Continuable>(
+    params: &M,
     isola: &ContinuedBranch,
     parameter: FamilyParameter,
     towards: f64,
@@ -94,7 +94,8 @@ pub fn isola_merge(
     progress: &Progress,
 ) -> Result<Option<IsolaLimit>, ContinuationError> {
     let model = ContinuationParameter::Model(parameter);
-    let from = model.value(params);
+    let resolved = params.resolve(model)?;
+    let from = params.value_of(resolved);
     // follow a mid-range stable orbit of the isola in the parameter at fixed ω_e
     let (w_lo, w_hi) = isola.parameter_range();
     let middle = 0.5 * (w_lo + w_hi);
@@ -105,7 +106,7 @@ pub fn isola_merge(
     }) else {
         return Ok(None);
     };
-    let at_seed = params.with_omega(seed.omega)?;
+    let at_seed = params.with(params.frequency(), seed.omega)?;
     // a little past both ends, so that both are crossed, not just reached
     let margin = 0.01 * (towards - from).abs();
     let in_parameter = ContinuationSpec {
@@ -114,17 +115,17 @@ pub fn isola_merge(
         max: from.max(towards) + margin,
         ..*spec
     };
-    let along = continue_branch(&at_seed, isola.period, seed.x, &in_parameter, progress)?;
+    let along = continue_branch(&at_seed, isola.period, &seed.x, &in_parameter, progress)?;
     type Trial = Option<(Verdict, ContinuedBranch)>;
     let verdict_at = |value: f64| -> Result<Trial, ContinuationError> {
-        let orbits = along.orbits_at(value, &spec.shooting)?;
+        let orbits = along.orbits_at(&at_seed, value, &spec.shooting)?;
         let Some(orbit) = orbits
             .into_iter()
             .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
         else {
             return Ok(None);
         };
-        let p = model.apply(&at_seed, value)?;
+        let p = at_seed.with(resolved, value)?;
         let branch = continue_from_orbit(&p, &orbit, spec, progress)?;
         Ok(Some((Verdict::of(&branch), branch)))
     };
@@ -174,14 +175,14 @@ pub fn isola_merge(
 /// Each birth and merging a hunt family's verdicts bracket, located: a birth (no branch →
 /// isola) from the isola's fold curve, a merging (isola → attached) by bisection to
 /// `tolerance`.
-pub fn locate_limits(
-    params: &Params,
+pub fn locate_limits<M: Continuable>(
+    params: &M,
     spec: &HuntFamilySpec,
     members: &[HuntMember],
     tolerance: f64,
     progress: &Progress,
 ) -> Result<Vec<(Transition, Option<IsolaLimit>)>, ContinuationError> {
-    let model = ContinuationParameter::Model(spec.parameter);
+    let model = params.resolve(ContinuationParameter::Model(spec.parameter))?;
     let hi = spec.values.iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v));
     let isola_at = |value: f64, k: usize| {
         members
@@ -200,7 +201,8 @@ pub fn locate_limits(
                 let at = if t.after.is_some() { t.to } else { t.from };
                 match isola_at(at, t.period) {
                     Some(h) => {
-                        let p = model.apply(params, at)?.with_omega(h.peak_omega)?;
+                        let p = params.with(model, at)?;
+                        let p = p.with(p.frequency(), h.peak_omega)?;
                         // a birth bracketed by these values turns above the lower one, a
                         // valid model of the family
                         let curve = CurveSpec {
@@ -220,7 +222,8 @@ pub fn locate_limits(
             (Some(Verdict::Isola), Some(Verdict::Attached | Verdict::HalfAttached)) => {
                 match isola_at(t.from, t.period) {
                     Some(h) => {
-                        let p = model.apply(params, t.from)?.with_omega(h.peak_omega)?;
+                        let p = params.with(model, t.from)?;
+                        let p = p.with(p.frequency(), h.peak_omega)?;
                         isola_merge(&p, &h.branch, spec.parameter, t.to, c, tolerance, progress)?
                     }
                     None => None,

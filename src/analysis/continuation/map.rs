@@ -2,8 +2,8 @@
 //! stable responses coexist, the largest amplitude and its type, and whether a hidden
 //! response exists there (one that neither a forward nor a backward quasi-static sweep of x
 //! reaches: with x = ω_e the paper's definition), each row a response from many initial
-//! states; with the fold and period-doubling curves of the subharmonic branches continued in
-//! both parameters drawn over it.
+//! states; with the fold and period-doubling curves of the subharmonic branches (and, if
+//! asked, the hidden ones of any period) continued in both parameters drawn over it.
 
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +14,7 @@ use crate::analysis::continuation::bifurcation_curve::{
 use crate::analysis::continuation::branch::{
     BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
 };
+use crate::analysis::continuation::model::Continuable;
 use crate::analysis::global::frequency_response::{
     FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
@@ -22,8 +23,8 @@ use crate::analysis::orbit::steady_state::Class;
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::parameter::FamilyParameter;
 use crate::analysis::progress::Progress;
-use crate::model::Params;
 use crate::model::error::ParamError;
+use crate::model::system::StateVec;
 
 /// Points a curve may take each way in a map (they are drawn, not studied).
 const MAP_CURVE_POINTS: usize = 400;
@@ -41,9 +42,13 @@ pub struct MapSpec {
     #[serde(default)]
     pub response: FrequencyResponseSpec,
     /// Continue the folds and period doublings of the subharmonic branches in both
-    /// parameters (from the row with the most subharmonic branches).
+    /// parameters (from the row with the most such branches).
     #[serde(default = "yes")]
     pub curves: bool,
+    /// Continue the hidden branches of any period too (a 1:1 isola, as a Duffing
+    /// oscillator's, is not subharmonic).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub hidden_branches: bool,
 }
 
 fn yes() -> bool {
@@ -56,8 +61,10 @@ fn omega() -> ContinuationParameter {
 
 impl MapSpec {
     /// Checks the values (each a valid model with `base`, 1 to 1000 rows) and the response.
-    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
-        if self.x == ContinuationParameter::Model(self.parameter) {
+    pub fn validate<M: Continuable>(&self, base: &M) -> Result<(), ParamError> {
+        let rows = base.resolve(ContinuationParameter::Model(self.parameter))?;
+        let x = base.resolve(self.x).map_err(|e| e.within("x"))?;
+        if x == rows {
             return Err(ParamError {
                 field: "x".into(),
                 value: f64::NAN,
@@ -72,16 +79,14 @@ impl MapSpec {
             ("values.min", self.values.min),
             ("values.max", self.values.max),
         ] {
-            self.parameter
-                .apply(base, v)
-                .map_err(|e| e.as_value_of(field))?;
+            base.with(rows, v).map_err(|e| e.as_value_of(field))?;
         }
-        if self.x != ContinuationParameter::Omega {
+        if x != base.frequency() {
             for (field, v) in [
                 ("response.omega.min", self.response.omega.min),
                 ("response.omega.max", self.response.omega.max),
             ] {
-                self.x.apply(base, v).map_err(|e| e.as_value_of(field))?;
+                base.with(x, v).map_err(|e| e.as_value_of(field))?;
             }
         }
         self.response.validate().map_err(|e| e.within("response"))
@@ -112,7 +117,8 @@ pub struct BranchSeed {
     pub period: usize,
     /// The value of x there.
     pub at: f64,
-    pub x: [f64; 2],
+    /// The response's state at τ = 0.
+    pub x: StateVec,
 }
 
 /// A row of the map: one value of the parameter.
@@ -124,9 +130,14 @@ pub struct MapRow {
     pub seeds: Vec<BranchSeed>,
 }
 
-/// The cells of a response (against ω_e or another x), one per value, and its subharmonic
-/// seeds.
-pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
+/// The cells of a response (against ω_e or another x), one per value, and the seeds of its
+/// subharmonic branches (and of its hidden ones, with `hidden`).
+pub fn summarise<M: Continuable>(
+    model: &M,
+    value: f64,
+    fr: &FrequencyResponse,
+    hidden: bool,
+) -> MapRow {
     let cells = (0..fr.omegas.len())
         .map(|i| {
             let here: Vec<_> = fr.at(i).collect();
@@ -161,13 +172,13 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
     let seeds = fr
         .branches
         .iter()
-        .filter(|b| b.is_subharmonic())
+        .filter(|b| b.is_subharmonic() || (hidden && b.hidden))
         .filter_map(|b| {
             let peak = fr.peak(b.id)?;
             Some(BranchSeed {
                 period: b.period,
                 at: peak.omega,
-                x: *peak.steady.poincare.first()?,
+                x: model.state_vec(model.poincare_states(&peak.steady).first()?),
             })
         })
         .collect();
@@ -180,23 +191,27 @@ pub fn summarise(value: f64, fr: &FrequencyResponse) -> MapRow {
 
 /// Row `i` of the map (on the whole pool); its work, [`FrequencyResponseSpec::work`], is
 /// announced on `progress` by the caller.
-pub fn map_row(
-    params: &Params,
+pub fn map_row<M: Continuable>(
+    params: &M,
     spec: &MapSpec,
     i: usize,
     progress: &Progress,
 ) -> Result<MapRow, AnalysisError> {
     let value = spec.values.at(i);
-    let p = spec.parameter.apply(params, value)?;
-    let fr = frequency_response_over(&p, &spec.response, spec.x, progress, Work::Announced)?;
-    Ok(summarise(value, &fr))
+    let p = params.with(
+        params.resolve(ContinuationParameter::Model(spec.parameter))?,
+        value,
+    )?;
+    let x = p.resolve(spec.x)?;
+    let fr = frequency_response_over(&p, &spec.response, x, progress, Work::Announced)?;
+    Ok(summarise(&p, value, &fr, spec.hidden_branches))
 }
 
 /// The fold and period-doubling curves of the subharmonic branches of the row with the most
 /// of them, continued over the map's ω_e and parameter ranges. Branches that cannot be
 /// continued are skipped (a map is drawn even if a curve is missing).
-pub fn map_curves(
-    params: &Params,
+pub fn map_curves<M: Continuable>(
+    params: &M,
     spec: &MapSpec,
     rows: &[MapRow],
     progress: &Progress,
@@ -212,32 +227,50 @@ pub fn map_curves(
         spec.values.min.min(spec.values.max),
         spec.values.min.max(spec.values.max),
     );
-    let base = spec.parameter.apply(params, row.value)?;
+    let base = params.with(
+        params.resolve(ContinuationParameter::Model(spec.parameter))?,
+        row.value,
+    )?;
+    let x = base.resolve(spec.x)?;
+    // arclength steps no longer than a fiftieth of the window in x (a third of the narrower
+    // window for the curves), so that a narrow window is not stepped across
+    let branch_default = ContinuationSpec::default();
+    let step_max = branch_default.step_max.min((w_hi - w_lo) / 50.0);
     let in_x = ContinuationSpec {
         parameter: spec.x,
         min: w_lo,
         max: w_hi,
-        ..ContinuationSpec::default()
+        step: branch_default.step.min(step_max),
+        step_max,
+        ..branch_default
     };
+    let curve_default = CurveSpec::default();
+    let curve_step_max = curve_default
+        .step_max
+        .min((w_hi - w_lo).min(v_hi - v_lo) / 3.0);
     let curve_spec = CurveSpec {
         second: ContinuationParameter::Model(spec.parameter),
         min: v_lo,
         max: v_hi,
         first_min: w_lo,
         first_max: w_hi,
+        step: curve_default.step.min(curve_step_max),
+        step_max: curve_step_max,
+        step_min: curve_default.step_min.min(0.01 * curve_step_max),
         max_points: MAP_CURVE_POINTS,
-        ..CurveSpec::default()
+        ..curve_default
     };
     let mut branches: Vec<ContinuedBranch> = Vec::new();
     for seed in &row.seeds {
         let on_known = branches.iter().any(|b| {
-            b.period == seed.period && b.passes_through(seed.at, &[seed.x], 1e-4, &in_x.shooting)
+            b.period == seed.period
+                && b.passes_through(&base, seed.at, &[seed.x], 1e-4, &in_x.shooting)
         });
         if on_known {
             continue;
         }
-        let p = spec.x.apply(&base, seed.at)?;
-        if let Ok(b) = continue_branch(&p, seed.period, seed.x, &in_x, progress) {
+        let p = base.with(x, seed.at)?;
+        if let Ok(b) = continue_branch(&p, seed.period, &seed.x, &in_x, progress) {
             branches.push(b);
         }
     }
@@ -289,8 +322,8 @@ fn amplitude(r: &crate::analysis::global::frequency_response::Response) -> f64 {
 }
 
 /// The whole map: rows in order, then the curves.
-pub fn map(
-    params: &Params,
+pub fn map<M: Continuable>(
+    params: &M,
     spec: &MapSpec,
     progress: &Progress,
 ) -> Result<(Vec<MapRow>, Vec<BifurcationCurve>), AnalysisError> {

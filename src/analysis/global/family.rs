@@ -4,13 +4,13 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
+use crate::analysis::Oscillator;
 use crate::analysis::global::frequency_response::{
     Branch, FrequencyResponse, FrequencyResponseSpec, Work, frequency_response_over,
 };
 use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::parameter::FamilyParameter;
 use crate::analysis::progress::Progress;
-use crate::model::Params;
 use crate::model::error::ParamError;
 
 /// A family: one parameter over a list of values.
@@ -39,7 +39,8 @@ impl FamilyMember {
 
 impl FamilySpec {
     /// Checks the values (1 to 1000, each a valid model with `base`) and the response.
-    pub fn validate(&self, base: &Params) -> Result<(), ParamError> {
+    pub fn validate<O: Oscillator>(&self, base: &O) -> Result<(), ParamError> {
+        let parameter = base.resolve(ContinuationParameter::Model(self.parameter))?;
         if self.values.is_empty() || self.values.len() > 1000 {
             return Err(ParamError {
                 field: "values".into(),
@@ -48,8 +49,7 @@ impl FamilySpec {
             });
         }
         for &v in &self.values {
-            self.parameter
-                .apply(base, v)
+            base.with(parameter, v)
                 .map_err(|e| e.as_value_of("values"))?;
         }
         self.response.validate().map_err(|e| e.within("response"))
@@ -58,28 +58,26 @@ impl FamilySpec {
 
 /// Member `i` of the family: the frequency response at the i-th value (on the whole pool);
 /// its work, [`FrequencyResponseSpec::work`], is announced on `progress` by the caller.
-pub fn family_member(
-    params: &Params,
+pub fn family_member<O: Oscillator>(
+    params: &O,
     spec: &FamilySpec,
     i: usize,
     progress: &Progress,
 ) -> Result<FamilyMember, AnalysisError> {
     let value = spec.values[i];
-    let p = spec.parameter.apply(params, value)?;
-    let response = frequency_response_over(
-        &p,
-        &spec.response,
-        ContinuationParameter::Omega,
-        progress,
-        Work::Announced,
+    let p = params.with(
+        params.resolve(ContinuationParameter::Model(spec.parameter))?,
+        value,
     )?;
+    let response =
+        frequency_response_over(&p, &spec.response, p.frequency(), progress, Work::Announced)?;
     Ok(FamilyMember { value, response })
 }
 
 /// Runs the frequency response of each member in turn (each on the whole pool), their work
 /// announced together at the start.
-pub fn family(
-    params: &Params,
+pub fn family<O: Oscillator>(
+    params: &O,
     spec: &FamilySpec,
     progress: &Progress,
     mut on_member: impl FnMut(&FamilyMember),

@@ -153,6 +153,12 @@ impl Branch {
         self.period >= 2
     }
 
+    /// A branch the isola hunter continues: a subharmonic one, or one that is hidden
+    /// whatever its period (a 1:1 isola, as a Duffing oscillator's, is reached by no sweep).
+    pub fn may_be_an_isola(&self) -> bool {
+        self.is_subharmonic() || self.hidden
+    }
+
     /// One line: type, ω range, peak, and whether the sweeps reach it.
     pub fn describe(&self) -> String {
         let reach = if self.hidden {

@@ -13,3 +13,4 @@ pub mod scalogram;
 pub mod shooting;
 pub mod steady_state;
 pub mod time_history;
+pub mod variational;

@@ -1,18 +1,20 @@
 //! Shooting for periodic responses: a period-k response is a fixed point of the k-fold
 //! stroboscopic map P^k, found by Newton with the monodromy matrix ∂P^k/∂x0 integrated beside
-//! the state (the variational equations Φ' = A(τ)Φ).
+//! the state (the variational equations Φ' = A(τ)Φ). [`shoot`] works on any [`Shootable`]
+//! model; this file holds the built-in model's flow, [`super::variational`] a written one's.
 //!
-//! The field is continuous where a membrane goes slack (the tension is zero there), so the
+//! In the built-in model the field is continuous where a membrane goes slack (the tension is zero there), so the
 //! monodromy needs no saltation jump; but A(τ) jumps, so every switch of p_I or p_II is
 //! located to round-off and a step never straddles one. Because tr A = ∂a/∂v = −c̃ · (number of
 //! taut membranes), Liouville's formula gives an independent check:
 //! det Φ(kT) = exp(−c̃ ∫ n_taut dτ), with the integral summed exactly over the located pieces.
 
-use nalgebra::{Matrix2, Vector2};
+use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::orbit::floquet::Multipliers;
 use crate::model::Params;
+use crate::model::system::StateVec;
 use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::field::{Field, Membrane, Mode};
 use crate::solver::{Collision, Tolerance};
@@ -36,20 +38,60 @@ pub fn gent_slope(lambda: f64, j: f64) -> f64 {
     (dnum * den - num * dden) / (den * den)
 }
 
+/// A model at one parameter point whose periodic responses can be shot: the built-in DEA
+/// ([`Params`]) or a written model ([`crate::model::equations::EquationSystem`]).
+pub trait Shootable: Clone + Send + Sync {
+    /// Number of state variables.
+    fn dim(&self) -> usize;
+    /// The forcing frequency ω (the period is 2π/ω).
+    fn omega(&self) -> f64;
+    /// The orbit from `x0` at τ = 0 over `k` forcing periods, with its monodromy, integrated
+    /// to `tol`.
+    fn period_flow(
+        &self,
+        x0: &[f64],
+        k: usize,
+        tol: Tolerance,
+    ) -> Result<PeriodFlow, ShootingError>;
+}
+
+impl Shootable for Params {
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn omega(&self) -> f64 {
+        Params::omega(self)
+    }
+
+    fn period_flow(
+        &self,
+        x0: &[f64],
+        k: usize,
+        tol: Tolerance,
+    ) -> Result<PeriodFlow, ShootingError> {
+        VariationalFlow::new(self, tol)
+            .orbit([x0[0], x0[1]], k)
+            .map_err(ShootingError::Collision)
+    }
+}
+
 /// One k-period orbit followed from τ = 0 with its monodromy matrix.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodFlow {
-    /// [λ_I, v] after k forcing periods.
-    pub end: [f64; 2],
-    /// ∂(end)/∂(start).
-    pub monodromy: Matrix2<f64>,
+    /// The state after k forcing periods.
+    pub end: StateVec,
+    /// ∂(end)/∂(start), n × n.
+    pub monodromy: DMatrix<f64>,
     /// The stroboscopic points at τ = 0, T, …, (k − 1)T.
-    pub poincare: Vec<[f64; 2]>,
+    pub poincare: Vec<StateVec>,
+    /// Least and greatest value of the amplitude's output (λ_I for the built-in model).
     pub lambda_min: f64,
     pub lambda_max: f64,
-    /// ∫ tr A dτ = −c̃ ∫ n_taut dτ over the k periods, from the located pieces.
+    /// ∫ tr A dτ over the k periods (plus ln det of any saltation jump), from the located
+    /// pieces: what ln det Φ must equal.
     pub trace_integral: f64,
-    /// Membrane switches met on the way.
+    /// Switches met on the way.
     pub switches: usize,
 }
 
@@ -222,9 +264,9 @@ impl VariationalFlow {
         let mut t = 0.0;
         let mut h = (period / 64.0).min(self.h_max);
         let mut out = PeriodFlow {
-            end: x0,
-            monodromy: Matrix2::identity(),
-            poincare: vec![x0],
+            end: StateVec::from(x0),
+            monodromy: DMatrix::identity(2, 2),
+            poincare: vec![StateVec::from(x0)],
             lambda_min: x0[0],
             lambda_max: x0[0],
             trace_integral: 0.0,
@@ -327,11 +369,11 @@ impl VariationalFlow {
             k1 = self.deriv(t, &y, mode);
             if reached_end {
                 if j_period == k {
-                    out.end = [y[0], y[1]];
-                    out.monodromy = Matrix2::new(y[2], y[3], y[4], y[5]);
+                    out.end = StateVec::from([y[0], y[1]]);
+                    out.monodromy = DMatrix::from_row_slice(2, 2, &[y[2], y[3], y[4], y[5]]);
                     return Ok(out);
                 }
-                out.poincare.push([y[0], y[1]]);
+                out.poincare.push(StateVec::from([y[0], y[1]]));
                 j_period += 1;
             }
         }
@@ -340,7 +382,7 @@ impl VariationalFlow {
 
     /// P^k(x0) alone (the monodromy is integrated too; the cost is the same order).
     pub fn map(&self, x0: [f64; 2], k: usize) -> Result<[f64; 2], Collision> {
-        self.orbit(x0, k).map(|o| o.end)
+        self.orbit(x0, k).map(|o| o.end.pair())
     }
 }
 
@@ -399,6 +441,10 @@ pub enum ShootingError {
     NoConvergence { iterations: usize, residual: f64 },
     #[error("the k-fold map has a multiplier at +1 here (singular Newton matrix)")]
     Singular,
+    #[error("the model gives a value that is not finite at τ = {tau}: {detail}")]
+    NonFinite { tau: f64, detail: String },
+    #[error("the integration stalled at τ = {tau} (step size below round-off)")]
+    Stalled { tau: f64 },
 }
 
 /// A periodic response found by shooting.
@@ -408,17 +454,18 @@ pub struct PeriodicOrbit {
     pub omega: f64,
     /// Response period in forcing periods.
     pub period: usize,
-    /// The k stroboscopic points [λ_I, v] at τ = 0, T, …, (k − 1)T; the first is the fixed
-    /// point Newton solved for.
-    pub poincare: Vec<[f64; 2]>,
-    /// max − min of λ_I over the k periods (MODEL.md §4), turning points located.
+    /// The k stroboscopic states ([λ_I, v] for the built-in model) at τ = 0, T, …,
+    /// (k − 1)T; the first is the fixed point Newton solved for.
+    pub poincare: Vec<StateVec>,
+    /// max − min of the amplitude's output (λ_I) over the k periods (MODEL.md §4), turning
+    /// points located.
     pub amplitude: f64,
     pub lambda_min: f64,
     pub lambda_max: f64,
     /// Floquet multipliers of the k-fold map.
     pub multipliers: Multipliers,
-    /// The monodromy matrix, row-major.
-    pub monodromy: [[f64; 2]; 2],
+    /// The monodromy matrix, row by row.
+    pub monodromy: Vec<Vec<f64>>,
     /// exp(∫ tr A dτ), what det(monodromy) must equal.
     pub liouville_det: f64,
     /// Max-norm of P^k(x) − x at the solution.
@@ -439,18 +486,27 @@ impl PeriodicOrbit {
             amplitude: flow.lambda_max - flow.lambda_min,
             lambda_min: flow.lambda_min,
             lambda_max: flow.lambda_max,
-            multipliers: Multipliers::of(m),
-            monodromy: [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]],
+            multipliers: Multipliers::of_matrix(m),
+            monodromy: m.row_iter().map(|r| r.iter().copied().collect()).collect(),
             liouville_det: flow.trace_integral.exp(),
-            residual: (flow.end[0] - x[0]).abs().max((flow.end[1] - x[1]).abs()),
+            residual: flow
+                .end
+                .iter()
+                .zip(x.iter())
+                .fold(0.0, |r, (e, x)| f64::max(r, (e - x).abs())),
             iterations,
         }
     }
 
+    /// The monodromy as a matrix.
+    pub fn monodromy_matrix(&self) -> DMatrix<f64> {
+        let n = self.monodromy.len();
+        DMatrix::from_fn(n, n, |r, c| self.monodromy[r][c])
+    }
+
     /// det(monodromy) − exp(∫ tr A dτ).
     pub fn liouville_error(&self) -> f64 {
-        let m = &self.monodromy;
-        (m[0][0] * m[1][1] - m[0][1] * m[1][0]) - self.liouville_det
+        self.monodromy_matrix().determinant() - self.liouville_det
     }
 
     /// All multipliers inside the unit circle.
@@ -459,26 +515,25 @@ impl PeriodicOrbit {
     }
 }
 
-/// The period-`k` response through the seed [λ_I, v] at τ = 0, by Newton on P^k(x) − x = 0.
-pub fn shoot(
-    params: &Params,
+/// The period-`k` response through the seed state at τ = 0 ([λ_I, v] for the built-in
+/// model), by Newton on P^k(x) − x = 0.
+pub fn shoot<M: Shootable>(
+    model: &M,
     k: usize,
-    seed: [f64; 2],
+    seed: &[f64],
     spec: &ShootingSpec,
 ) -> Result<PeriodicOrbit, ShootingError> {
-    let flow = VariationalFlow::new(params, spec.tol);
-    let mut x = Vector2::new(seed[0], seed[1]);
+    let n = model.dim();
+    let mut x = DVector::from_column_slice(&seed[..n]);
     let mut residual = f64::INFINITY;
     for it in 0..spec.max_iterations {
-        let orbit = flow
-            .orbit([x[0], x[1]], k)
-            .map_err(ShootingError::Collision)?;
-        let r = Vector2::new(orbit.end[0] - x[0], orbit.end[1] - x[1]);
+        let orbit = model.period_flow(x.as_slice(), k, spec.tol)?;
+        let r = DVector::from_fn(n, |i, _| orbit.end[i] - x[i]);
         residual = r.amax();
-        let jac = orbit.monodromy - Matrix2::identity();
+        let jac = &orbit.monodromy - DMatrix::identity(n, n);
         let dx = jac.try_inverse().ok_or(ShootingError::Singular)? * (-r);
         if residual < spec.newton_tol && dx.amax() < spec.newton_tol {
-            return Ok(PeriodicOrbit::from_flow(params.omega(), k, &orbit, it));
+            return Ok(PeriodicOrbit::from_flow(model.omega(), k, &orbit, it));
         }
         // keep a wild step from leaving the basin of Newton's method
         let scale = (0.2 / dx.amax()).min(1.0);
@@ -537,12 +592,12 @@ mod tests {
     fn newton_finds_the_harmonic_and_the_subharmonic() {
         let p = Params::paper(0.6, 3.7).unwrap();
         let spec = ShootingSpec::default();
-        let low = shoot(&p, 1, [1.02, 0.0], &spec).unwrap();
+        let low = shoot(&p, 1, &[1.02, 0.0], &spec).unwrap();
         assert!((low.amplitude - 0.012292).abs() < 2e-6, "{}", low.amplitude);
         assert!(low.stable());
         // seeded from the brute-force steady state reached from Δλ = 0.3, v = 0
         let brute = crate::analysis::steady_state(&p, 1.32, 0.0, &Default::default());
-        let high = shoot(&p, 2, brute.poincare[0], &spec).unwrap();
+        let high = shoot(&p, 2, &brute.poincare[0], &spec).unwrap();
         assert!(
             (high.amplitude - 0.415622).abs() < 2e-6,
             "{}",
@@ -550,7 +605,7 @@ mod tests {
         );
         assert!(high.stable());
         // the same Newton from the start itself lands on the unstable 1:2 orbit of the isola
-        let saddle = shoot(&p, 2, [1.32, 0.0], &spec).unwrap();
+        let saddle = shoot(&p, 2, &[1.32, 0.0], &spec).unwrap();
         assert!(!saddle.stable() && saddle.multipliers.0[0].re > 1.0);
         assert!(high.liouville_error().abs() < 1e-9);
     }

@@ -80,6 +80,8 @@ pub(crate) struct Compiled {
     pub jacobian: Vec<NodeId>,
     /// The amplitude's output and its rate.
     pub output: [NodeId; 2],
+    /// The amplitude's expression as written.
+    pub amplitude: String,
     pub collisions: Vec<Cond>,
     /// Every named value (intermediates, then derivatives) in dependency order, to say which
     /// is the first that is not finite.
@@ -89,6 +91,9 @@ pub(crate) struct Compiled {
     pub output_tape: Tape,
     pub collision_tape: Tape,
     pub named_tape: Tape,
+    /// Per switching function h: ∂h/∂x_j for each state, then ∂h/∂τ.
+    pub switch_gradients: Vec<Vec<NodeId>>,
+    pub switch_gradient_tapes: Vec<Tape>,
 }
 
 /// Stack of the compiler's thread (virtual: only what it uses is committed).
@@ -125,6 +130,11 @@ impl EquationModel {
         .map(|inner| EquationModel {
             inner: Arc::new(inner),
         })
+    }
+
+    /// The expression whose max − min is the amplitude, as written.
+    pub fn amplitude_text(&self) -> &str {
+        &self.inner.amplitude
     }
 
     pub fn name(&self) -> Option<&str> {
@@ -417,6 +427,19 @@ impl<'d> Builder<'d> {
             let term = g.mul(dy, f);
             rate = g.add(rate, term);
         }
+        // ∇h and ∂h/∂τ of each switching function h, for the saltation of the monodromy
+        // where a switch makes the field jump
+        let switch_values: Vec<NodeId> = g.switches.iter().map(|s| s.value).collect();
+        let switch_gradients: Vec<Vec<NodeId>> = switch_values
+            .iter()
+            .map(|&h| {
+                let mut grad: Vec<NodeId> = (0..n)
+                    .map(|j| g.derivative(h, Wrt::State(j as u8)))
+                    .collect();
+                grad.push(g.derivative(h, Wrt::Time));
+                grad
+            })
+            .collect();
         let mut field_roots = derivatives.clone();
         field_roots.extend(g.switches.iter().map(|s| s.value));
         let mut collision_roots = Vec::new();
@@ -458,9 +481,12 @@ impl<'d> Builder<'d> {
             output_tape: Tape::new(g, &[y, rate]),
             collision_tape: Tape::new(g, &collision_roots),
             named_tape: Tape::new(g, &named_roots),
+            switch_gradient_tapes: switch_gradients.iter().map(|r| Tape::new(g, r)).collect(),
+            switch_gradients,
             derivatives,
             jacobian,
             output: [y, rate],
+            amplitude: def.amplitude.get_ref().trim().to_string(),
             collisions,
             named: self.named,
             graph: self.graph,

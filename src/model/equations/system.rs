@@ -143,6 +143,25 @@ impl System for EquationSystem {
         }
     }
 
+    fn switch_gradient(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        k: usize,
+        grad: &mut Vector,
+    ) -> f64 {
+        let c = &*self.model.inner;
+        let ids = &c.switch_gradients[k];
+        self.regs.load(tau, x);
+        c.switch_gradient_tapes[k].run_in(&mut self.regs.values, mode);
+        let (time, states) = ids.split_last().expect("a gradient has its ∂/∂τ");
+        for (g, &id) in grad.iter_mut().zip(states) {
+            *g = self.regs.get(id);
+        }
+        self.regs.get(*time)
+    }
+
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
         let c = &*self.model.inner;
         self.regs.load(tau, x);

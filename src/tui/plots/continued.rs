@@ -191,7 +191,7 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
     let all = || view.branches.iter().flat_map(|b| b.points.iter());
     let mut plot = XyPlot::new(
         Axis::fit(view.parameter.as_str(), all().map(|p| p.parameter), 0.02),
-        Axis::fit("amplitude Δλ", all().map(|p| p.amplitude), 0.05),
+        Axis::fit(ctx.amplitude_axis(), all().map(|p| p.amplitude), 0.05),
     );
     plot.axis_style = ctx.theme.muted();
     plot.cursor_style = ctx.theme.cursor();
@@ -209,11 +209,11 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
             Line::from(vec![
                 Span::styled("▸ ", ctx.theme.key()),
                 Span::raw(format!(
-                    "{} {:.5}  ω {:.4} ({:.2} Hz)  A {:.4}  {}",
+                    "{} {:.5}  ω {:.4}{}  A {:.4}  {}",
                     view.parameter,
                     p.parameter,
                     p.omega,
-                    ctx.device.hz(p.omega),
+                    ctx.in_hz(p.omega, 2),
                     p.amplitude,
                     if p.stable { "stable" } else { "unstable" }
                 )),

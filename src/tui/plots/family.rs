@@ -14,7 +14,7 @@ pub fn plot(f: &FamilyView, ctx: &PlotContext) -> XyPlot {
     let top = all().filter_map(|p| p.amplitude).fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
         Axis::fit("ω_e", all().map(|p| p.omega), 0.0),
-        Axis::new("amplitude Δλ", 0.0, (top * 1.1).max(0.01)),
+        Axis::new(ctx.amplitude_axis(), 0.0, (top * 1.1).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();

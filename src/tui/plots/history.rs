@@ -40,10 +40,9 @@ pub fn draw(
     }
     if n > 0 {
         // a written model's time is its own: no seconds of the paper's device
-        let seconds = match h.states {
-            None => format!(" ({:.4} s)", ctx.device.seconds(h.tau[i])),
-            Some(_) => String::new(),
-        };
+        let seconds = ctx.device.map_or(String::new(), |d| {
+            format!(" ({:.4} s)", d.seconds(h.tau[i]))
+        });
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
@@ -60,16 +59,16 @@ pub fn draw(
         ]));
     }
     if let Some(s) = &h.summary {
-        let device = ctx.device;
-        let period = match s.period_forcing_periods {
+        let period = match (s.period_forcing_periods, ctx.device) {
             // a subharmonic's own frequency beside the forcing's
-            Some(1) => format!("1:1 at {:.2} Hz", device.hz(s.omega)),
-            Some(k) => format!(
+            (Some(1), Some(device)) => format!("1:1 at {:.2} Hz", device.hz(s.omega)),
+            (Some(k), Some(device)) => format!(
                 "1:{k}, {:.2} Hz (forcing {:.2} Hz)",
                 device.hz(s.omega) / k as f64,
                 device.hz(s.omega)
             ),
-            None => "no period within the record".into(),
+            (Some(k), None) => format!("1:{k}"),
+            (None, _) => "no period within the record".into(),
         };
         footer.push(Line::from(vec![
             Span::styled("steady ", theme.muted()),

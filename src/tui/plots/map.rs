@@ -101,7 +101,7 @@ pub fn draw(
             None => "not computed".into(),
         };
         let at = if m.x == "omega" {
-            format!("ω {w:.3} ({:.1} Hz)", ctx.device.hz(*w))
+            format!("ω {w:.3}{}", ctx.in_hz(*w, 1))
         } else {
             format!("{} {w:.4}", m.x)
         };

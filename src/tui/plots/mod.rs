@@ -21,8 +21,27 @@ use super::theme::Theme;
 /// What every view needs besides its data.
 pub struct PlotContext<'a> {
     pub theme: &'a Theme,
-    pub device: &'a Device,
+    /// The device frequencies are given in Hz for: none for a written model.
+    pub device: Option<&'a Device>,
     pub cursor: (usize, usize),
+}
+
+impl PlotContext<'_> {
+    /// ` (52.67 Hz)`: ω_e in Hz on the device with `decimals`, or nothing without one.
+    pub fn in_hz(&self, omega: f64, decimals: usize) -> String {
+        self.device.map_or(String::new(), |d| {
+            format!(" ({:.decimals$}\u{a0}Hz)", d.hz(omega))
+        })
+    }
+
+    /// The amplitude axis: of Δλ for the built-in model, of a written model's output.
+    pub fn amplitude_axis(&self) -> &'static str {
+        if self.device.is_some() {
+            "amplitude Δλ"
+        } else {
+            "amplitude"
+        }
+    }
 }
 
 /// Points grouped by ω_e (columns, in ω order) and sorted by amplitude within a column: the

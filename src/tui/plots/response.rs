@@ -60,7 +60,7 @@ pub fn plot(
         .fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
         Axis::new("ω_e", omega_range.0, omega_range.1),
-        Axis::new("amplitude Δλ", 0.0, (top * 1.2).max(0.01)),
+        Axis::new(ctx.amplitude_axis(), 0.0, (top * 1.2).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();
@@ -175,12 +175,15 @@ pub fn plot(
     for b in annotated.into_iter().filter(|_| continued.is_empty()) {
         plot.footer.push(Line::from(Span::styled(
             format!(
-                "{} ω {:.2}–{:.2} ({:.1}–{:.1} Hz) peak {:.3}{}",
+                "{} ω {:.2}–{:.2}{} peak {:.3}{}",
                 short_type(&b.response_type),
                 b.omega_min,
                 b.omega_max,
-                ctx.device.hz(b.omega_min),
-                ctx.device.hz(b.omega_max),
+                ctx.device.map_or(String::new(), |d| format!(
+                    " ({:.1}–{:.1} Hz)",
+                    d.hz(b.omega_min),
+                    d.hz(b.omega_max)
+                )),
                 b.peak_amplitude,
                 if b.hidden {
                     " hidden"
@@ -210,21 +213,22 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
     let mut spans = vec![
         Span::styled("▸ ", ctx.theme.key()),
         Span::raw(format!(
-            "ω {:.3} ({:.2}\u{a0}Hz)  A {}  {}",
+            "ω {:.3}{}  A {}  {}",
             p.omega,
-            ctx.device.hz(p.omega),
+            ctx.in_hz(p.omega, 2),
             p.amplitude.map_or("—".into(), |a| format!("{a:.4}")),
             short_type(&p.response_type)
         )),
     ];
     // a subharmonic's own frequency (1:2 at 52 Hz forcing responds at 26 Hz)
-    if let Some(k) = p
-        .period
-        .filter(|&k| k > 1 && p.response_type.starts_with("1:"))
-    {
+    if let (Some(k), Some(device)) = (
+        p.period
+            .filter(|&k| k > 1 && p.response_type.starts_with("1:")),
+        ctx.device,
+    ) {
         spans.push(Span::raw(format!(
             "\u{a0}at\u{a0}{:.2}\u{a0}Hz",
-            ctx.device.hz(p.omega) / k as f64
+            device.hz(p.omega) / k as f64
         )));
     }
     if p.hidden == Some(true) {

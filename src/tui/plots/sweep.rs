@@ -62,10 +62,10 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
             plot.footer.push(Line::from(vec![
                 Span::styled("▸ ", theme.key()),
                 Span::raw(format!(
-                    "{}: ω_e {:.3} ({:.2} Hz)  envelope {:.4}",
+                    "{}: ω_e {:.3}{}  envelope {:.4}",
                     s.name,
                     e[0],
-                    ctx.device.hz(e[0]),
+                    ctx.in_hz(e[0], 2),
                     e[1]
                 )),
                 Span::styled(

@@ -7,6 +7,7 @@ use crate::analysis::AnalysisError;
 use crate::analysis::global::batch::{KnownAttractors, steady_states};
 use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec, steady_state};
 use crate::analysis::parameter::ContinuationParameter;
+use crate::model::system::StateVec;
 use crate::model::{ParamError, Params};
 
 impl Oscillator for Params {
@@ -19,6 +20,21 @@ impl Oscillator for Params {
 
     fn with(&self, parameter: ContinuationParameter, value: f64) -> Result<Params, ParamError> {
         parameter.apply(self, value)
+    }
+
+    fn resolve(
+        &self,
+        parameter: ContinuationParameter,
+    ) -> Result<ContinuationParameter, ParamError> {
+        parameter.check_built_in().map(|()| parameter)
+    }
+
+    fn value_of(&self, parameter: ContinuationParameter) -> f64 {
+        parameter.value(self)
+    }
+
+    fn state_vec(&self, state: &[f64; 2]) -> StateVec {
+        StateVec::from(*state)
     }
 
     fn grid_start(&self, [dx, v]: [f64; 2]) -> [f64; 2] {

@@ -12,7 +12,9 @@ use std::sync::atomic::AtomicBool;
 use crate::analysis::AnalysisError;
 use crate::analysis::global::batch::KnownAttractors;
 use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
+use crate::analysis::parameter::ContinuationParameter;
 use crate::model::ParamError;
+use crate::model::system::StateVec;
 
 /// A model at one parameter point, as the brute-force analyses use it.
 pub trait Oscillator: Clone + Send + Sync + Sized {
@@ -25,6 +27,13 @@ pub trait Oscillator: Clone + Send + Sync + Sized {
     fn frequency(&self) -> Self::Parameter;
     /// The same model with `parameter` set to `value`, checked.
     fn with(&self, parameter: Self::Parameter, value: f64) -> Result<Self, ParamError>;
+    /// `parameter`, named as users write it, as this model knows it; an error names what it
+    /// has instead.
+    fn resolve(&self, parameter: ContinuationParameter) -> Result<Self::Parameter, ParamError>;
+    /// The value of `parameter` here.
+    fn value_of(&self, parameter: Self::Parameter) -> f64;
+    /// A whole state as a list of the model's state variables.
+    fn state_vec(&self, state: &Self::State) -> StateVec;
     /// The state whose two grid states are the grid's origin plus `offset` (the built-in:
     /// λ_I = λ_p + Δλ, v), the others at their initial values.
     fn grid_start(&self, offset: [f64; 2]) -> Self::State;

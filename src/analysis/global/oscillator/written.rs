@@ -14,10 +14,11 @@ use crate::analysis::orbit::period_map::OrbitRecord;
 use crate::analysis::orbit::steady_state::{
     Class, SteadyState, SteadyStateSpec, collided, from_record,
 };
+use crate::analysis::parameter::ContinuationParameter;
 use crate::model::ParamError;
 use crate::model::equations::EquationSystem;
 use crate::model::equations::lanes::EquationLanes;
-use crate::model::system::{MAX_DIM, System, Vector};
+use crate::model::system::{MAX_DIM, StateVec, System, Vector};
 use crate::solver::Collision;
 use crate::solver::general::{GeneralRk4, Stop, Trajectory};
 use crate::solver::general_lanes::Lanes;
@@ -148,6 +149,31 @@ impl Oscillator for EquationSystem {
         let mut values = self.values().to_vec();
         values[parameter] = value;
         self.model().system(&values)
+    }
+
+    fn resolve(&self, parameter: ContinuationParameter) -> Result<usize, ParamError> {
+        let model = self.model();
+        let named = match parameter {
+            ContinuationParameter::Omega => return Ok(model.frequency()),
+            ContinuationParameter::Model(p) => p,
+        };
+        let name = named.name();
+        model.parameter(name).ok_or_else(|| {
+            let names: Vec<&str> = model.parameters().iter().map(|p| p.name.as_str()).collect();
+            ParamError {
+                field: format!("parameter `{name}`"),
+                value: f64::NAN,
+                allowed: format!("one of the model's: {}", names.join(", ")),
+            }
+        })
+    }
+
+    fn value_of(&self, parameter: usize) -> f64 {
+        self.values()[parameter]
+    }
+
+    fn state_vec(&self, state: &Vector) -> StateVec {
+        StateVec::of(state, System::dim(self))
     }
 
     fn grid_start(&self, offset: [f64; 2]) -> Vector {

@@ -1,0 +1,451 @@
+//! The k-period flow of any [`System`] with its monodromy, for shooting and continuation on
+//! models written in the session: adaptive Dormand–Prince 5(4) on the state, the variational
+//! equations Φ' = A(τ)Φ (A the model's symbolic Jacobian) and ∫ tr A dτ together.
+//!
+//! Every switch (a sign change of a switching function: an argument of `max`, `min`, `abs`,
+//! `if`) is located to round-off on real steps, so no step straddles one and A(τ) is smooth on
+//! every step. Where the field jumps at a switch (an `if` whose branches differ there) Φ takes
+//! the saltation jump S = I + (f⁺ − f⁻) ∇hᵀ / (∇h·f⁻ + ∂h/∂τ); where it is continuous (every
+//! `max`, `min` and `abs` kink) S = I. Liouville's formula checks the whole:
+//! det Φ(kT) = exp(∫ tr A dτ) · Π det S, and det S = (∇h·f⁺ + ∂h/∂τ)/(∇h·f⁻ + ∂h/∂τ).
+
+use nalgebra::DMatrix;
+
+use crate::analysis::orbit::shooting::{PeriodFlow, Shootable, ShootingError};
+use crate::model::equations::EquationSystem;
+use crate::model::system::{MAX_DIM, Mode, StateVec, System, Vector};
+use crate::solver::dopri_tableau::{A, C, E};
+use crate::solver::{Collision, Tolerance};
+
+/// The augmented state: x (n), Φ row-major (n²), ∫ tr A dτ (1); n ≤ [`MAX_DIM`].
+const AUG: usize = MAX_DIM + MAX_DIM * MAX_DIM + 1;
+type Aug = [f64; AUG];
+
+/// Most switching functions (the bits of a mode).
+const MAX_SWITCHES: usize = 64;
+/// Points per step at which the switching functions are scanned (cubic Hermite in x).
+const SCAN_POINTS: usize = 4;
+/// Most steps in one call (a guard against a stalled step size).
+const MAX_STEPS: usize = 2_000_000;
+/// A jump of the field at a switch below this, relative to the field, is the round-off of a
+/// continuous field (the state is just past the switch): no saltation.
+const JUMP_TOLERANCE: f64 = 1e-9;
+
+/// The orbit of `sys` from `x0` at τ = 0 over `k` forcing periods, with its monodromy.
+pub fn period_flow<S: System>(
+    sys: &S,
+    x0: &[f64],
+    k: usize,
+    tol: Tolerance,
+) -> Result<PeriodFlow, ShootingError> {
+    let n = sys.dim();
+    let mut flow = Flow {
+        sys: sys.clone(),
+        n,
+        mask: sys.switch_mask(),
+        tol,
+        jac: [[0.0; MAX_DIM]; MAX_DIM],
+    };
+    flow.orbit(&x0[..n], k)
+}
+
+impl Shootable for EquationSystem {
+    fn dim(&self) -> usize {
+        System::dim(self)
+    }
+
+    fn omega(&self) -> f64 {
+        EquationSystem::omega(self)
+    }
+
+    fn period_flow(
+        &self,
+        x0: &[f64],
+        k: usize,
+        tol: Tolerance,
+    ) -> Result<PeriodFlow, ShootingError> {
+        period_flow(self, x0, k, tol)
+    }
+}
+
+struct Flow<S: System> {
+    sys: S,
+    n: usize,
+    mask: Mode,
+    tol: Tolerance,
+    /// Scratch for the Jacobian.
+    jac: [Vector; MAX_DIM],
+}
+
+/// The state part of an augmented state, padded.
+fn state(y: &Aug, n: usize) -> Vector {
+    let mut x = [0.0; MAX_DIM];
+    x[..n].copy_from_slice(&y[..n]);
+    x
+}
+
+impl<S: System> Flow<S> {
+    /// Entries of the augmented state in use.
+    fn used(&self) -> usize {
+        self.n + self.n * self.n + 1
+    }
+
+    fn deriv(&mut self, t: f64, y: &Aug, mode: Mode) -> Aug {
+        let n = self.n;
+        let x = state(y, n);
+        let mut f = [0.0; MAX_DIM];
+        self.sys.field(t, &x, mode, &mut f);
+        self.sys.jacobian(t, &x, mode, &mut self.jac);
+        let mut dy = [0.0; AUG];
+        dy[..n].copy_from_slice(&f[..n]);
+        for i in 0..n {
+            for j in 0..n {
+                let mut acc = 0.0;
+                for l in 0..n {
+                    acc += self.jac[i][l] * y[n + l * n + j];
+                }
+                dy[n + i * n + j] = acc;
+            }
+        }
+        dy[n + n * n] = (0..n).map(|i| self.jac[i][i]).sum();
+        dy
+    }
+
+    /// One Dormand–Prince step on `mode`: the new state, its derivative and the scaled error
+    /// (of the state and Φ; infinite where a value is not finite).
+    fn step(&mut self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> (Aug, Aug, f64) {
+        let m = self.used();
+        let mut k = [[0.0; AUG]; 7];
+        k[0] = *k1;
+        let mut y1 = *y;
+        for s in 1..7 {
+            let mut ys = *y;
+            for (kj, &aj) in k.iter().zip(A[s - 1]) {
+                for c in 0..m {
+                    ys[c] += h * aj * kj[c];
+                }
+            }
+            if s == 6 {
+                y1 = ys;
+            }
+            k[s] = self.deriv(t + C[s] * h, &ys, mode);
+        }
+        let controlled = m - 1;
+        let mut err_sq = 0.0;
+        for c in 0..controlled {
+            let e: f64 = (0..7).map(|i| E[i] * k[i][c]).sum::<f64>() * h;
+            let scale = self.tol.atol + self.tol.rtol * y[c].abs().max(y1[c].abs());
+            err_sq += (e / scale) * (e / scale);
+        }
+        let err = (err_sq / controlled as f64).sqrt();
+        let finite = y1[..m].iter().chain(&k[6][..m]).all(|v| v.is_finite());
+        (y1, k[6], if finite { err } else { f64::INFINITY })
+    }
+
+    /// The switching functions at (t, x) on `mode`, each signed to be positive on `mode`'s
+    /// side, and the bits whose sign says another piece.
+    fn crossed(&mut self, t: f64, x: &Vector, mode: Mode) -> (Mode, [f64; MAX_SWITCHES]) {
+        let mut s = [0.0; MAX_SWITCHES];
+        let seen = self.sys.switching(t, x, mode, &mut s);
+        for (k, v) in s.iter_mut().enumerate() {
+            if mode & (1 << k) == 0 {
+                *v = -*v;
+            }
+        }
+        ((seen ^ mode) & self.mask, s)
+    }
+
+    /// The shortest sub-step σ in (lo, hi] that ends on another piece, to round-off, by
+    /// false position (Illinois) on real steps; `hi` ends on another piece. Returns σ and the
+    /// bits that differ there.
+    fn locate_switch(
+        &mut self,
+        t: f64,
+        y: &Aug,
+        k1: &Aug,
+        mode: Mode,
+        (mut lo, mut hi): (f64, f64),
+    ) -> (f64, Mode) {
+        let n = self.n;
+        let probe = |flow: &mut Self, sigma: f64| {
+            let end = if sigma == 0.0 {
+                *y
+            } else {
+                flow.step(t, y, k1, sigma, mode).0
+            };
+            flow.crossed(t + sigma, &state(&end, n), mode)
+        };
+        let (c_lo, mut g_lo) = probe(self, lo);
+        if c_lo != 0 {
+            // the scan's interpolant was optimistic: search from the start of the step
+            lo = 0.0;
+            g_lo = probe(self, 0.0).1;
+        }
+        let (mut c_hi, mut g_hi) = probe(self, hi);
+        let mut weight = (1.0, 1.0);
+        let mut side = 0;
+        for _ in 0..200 {
+            if hi - lo <= 4.0 * f64::EPSILON * (t.abs() + hi) {
+                break;
+            }
+            let bit = c_hi.trailing_zeros() as usize;
+            let (a, b) = (g_lo[bit] * weight.0, g_hi[bit] * weight.1);
+            let mut sigma = if a > 0.0 && b <= 0.0 && a - b > 0.0 {
+                lo + (hi - lo) * a / (a - b)
+            } else {
+                0.5 * (lo + hi)
+            };
+            if !(sigma > lo && sigma < hi) {
+                sigma = 0.5 * (lo + hi);
+            }
+            let (c, g) = probe(self, sigma);
+            if c != 0 {
+                if c.trailing_zeros() != c_hi.trailing_zeros() {
+                    weight = (1.0, 1.0);
+                    side = 0;
+                }
+                (hi, c_hi, g_hi) = (sigma, c, g);
+                weight = (if side == -1 { weight.0 * 0.5 } else { 1.0 }, 1.0);
+                side = -1;
+            } else {
+                (lo, g_lo) = (sigma, g);
+                weight = (1.0, if side == 1 { weight.1 * 0.5 } else { 1.0 });
+                side = 1;
+            }
+        }
+        (hi, c_hi)
+    }
+
+    /// The sub-step σ in (0, h) where the output's rate `rate(σ)` passes zero (it has the
+    /// sign of `sign` at 0 and the other at h), by false position on real steps.
+    fn locate_turning(&mut self, t: f64, y: &Aug, k1: &Aug, mode: Mode, h: f64, sign: f64) -> f64 {
+        let n = self.n;
+        let rate = |flow: &mut Self, sigma: f64| {
+            let end = flow.step(t, y, k1, sigma, mode).0;
+            sign * flow.sys.output(t + sigma, &state(&end, n), mode).1
+        };
+        let (mut lo, mut hi) = (0.0, h);
+        let x0 = state(y, n);
+        let (mut r_lo, mut r_hi) = (sign * self.sys.output(t, &x0, mode).1, rate(self, h));
+        let mut side = 0;
+        for _ in 0..100 {
+            if hi - lo <= 4.0 * f64::EPSILON * (t.abs() + hi) {
+                break;
+            }
+            let mut s = if r_lo - r_hi > 0.0 {
+                lo + (hi - lo) * r_lo / (r_lo - r_hi)
+            } else {
+                0.5 * (lo + hi)
+            };
+            if !(s > lo && s < hi) {
+                s = 0.5 * (lo + hi);
+            }
+            let r = rate(self, s);
+            if r < 0.0 {
+                (hi, r_hi) = (s, r);
+                if side == -1 {
+                    r_lo *= 0.5;
+                }
+                side = -1;
+            } else {
+                (lo, r_lo) = (s, r);
+                if side == 1 {
+                    r_hi *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        hi
+    }
+
+    /// Φ ← S Φ at a switch from `old` to `new` at (t, y), where the field jumps; returns
+    /// ln |det S| (0 where it does not jump).
+    fn saltation(&mut self, t: f64, y: &mut Aug, old: Mode, new: Mode, bit: usize) -> f64 {
+        let n = self.n;
+        let x = state(y, n);
+        let (mut f_old, mut f_new) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
+        self.sys.field(t, &x, old, &mut f_old);
+        self.sys.field(t, &x, new, &mut f_new);
+        let scale = 1.0 + f_old[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let jump = (0..n).fold(0.0f64, |m, i| m.max((f_new[i] - f_old[i]).abs()));
+        if jump <= JUMP_TOLERANCE * scale {
+            return 0.0;
+        }
+        let mut grad = [0.0; MAX_DIM];
+        let h_t = self.sys.switch_gradient(t, &x, old, bit, &mut grad);
+        let rate = |f: &Vector| (0..n).map(|j| grad[j] * f[j]).sum::<f64>() + h_t;
+        let (before, after) = (rate(&f_old), rate(&f_new));
+        if !before.is_finite() || before.abs() <= f64::EPSILON * scale {
+            // grazing: the trajectory touches the switch tangentially
+            return 0.0;
+        }
+        // Φ_ij += (f⁺ − f⁻)_i (∇h · Φ_·j) / ḣ⁻
+        for j in 0..n {
+            let g_phi: f64 = (0..n).map(|l| grad[l] * y[n + l * n + j]).sum();
+            for i in 0..n {
+                y[n + i * n + j] += (f_new[i] - f_old[i]) * g_phi / before;
+            }
+        }
+        (after / before).abs().ln()
+    }
+
+    fn orbit(&mut self, x0: &[f64], k: usize) -> Result<PeriodFlow, ShootingError> {
+        let n = self.n;
+        let period = self.sys.period();
+        let x_start = StateVec::from_slice(x0);
+        let padded = x_start.padded();
+        if self.sys.collided(0.0, &padded) {
+            return Err(ShootingError::Collision(Collision {
+                tau: 0.0,
+                lambda_i: x0[0],
+            }));
+        }
+        let mut mode = self.sys.mode_at(0.0, &padded) & self.mask;
+        let mut y = [0.0; AUG];
+        y[..n].copy_from_slice(x0);
+        for i in 0..n {
+            y[n + i * n + i] = 1.0;
+        }
+        let mut t = 0.0;
+        let mut h = period / 64.0;
+        let h_max = period / 16.0;
+        let (out0, mut rate) = self.sys.output(0.0, &padded, mode);
+        let mut out = PeriodFlow {
+            end: x_start,
+            monodromy: DMatrix::identity(n, n),
+            poincare: vec![x_start],
+            lambda_min: out0,
+            lambda_max: out0,
+            trace_integral: 0.0,
+            switches: 0,
+        };
+        let mut salted = 0.0;
+        let mut k1 = self.deriv(t, &y, mode);
+        let mut j_period = 1;
+        for _ in 0..MAX_STEPS {
+            let t_end = j_period as f64 * period;
+            let remaining = t_end - t;
+            let last = h >= remaining;
+            let hs = if last { remaining } else { h };
+            let (y1, k7, err) = self.step(t, &y, &k1, hs, mode);
+            // rejected, or not finite (err is infinite then, never NaN)
+            if err > 1.0 || err.is_nan() {
+                let fac = if err.is_finite() {
+                    (0.9 * err.powf(-0.2)).clamp(0.2, 1.0)
+                } else {
+                    0.2
+                };
+                h = hs * fac;
+                if h < 1e-14 * period {
+                    let x = state(&y, n);
+                    return Err(if err.is_finite() {
+                        ShootingError::Stalled { tau: t }
+                    } else {
+                        ShootingError::NonFinite {
+                            tau: t,
+                            detail: self
+                                .sys
+                                .explain_non_finite(t, &x)
+                                .unwrap_or_else(|| "a value of the model".into()),
+                        }
+                    });
+                }
+                continue;
+            }
+            let fac = if err == 0.0 {
+                5.0
+            } else {
+                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+            };
+            // scan the switching functions along the cubic Hermite interpolant of the state
+            let mut bracket = None;
+            let mut s_prev = 0.0;
+            for i in 1..=SCAN_POINTS {
+                let s = i as f64 / SCAN_POINTS as f64;
+                let x = if i == SCAN_POINTS {
+                    state(&y1, n)
+                } else {
+                    let mut x = [0.0; MAX_DIM];
+                    for c in 0..n {
+                        x[c] = crate::solver::hermite::value(y[c], k1[c], y1[c], k7[c], hs, s);
+                    }
+                    x
+                };
+                if self.crossed(t + s * hs, &x, mode).0 != 0 {
+                    bracket = Some((s_prev * hs, s * hs));
+                    break;
+                }
+                s_prev = s;
+            }
+            // a bracket only the interpolant saw is checked on real steps: the first real
+            // step to the bracket's end or the step's end that lands on another piece
+            let event = bracket.and_then(|(lo, hi)| {
+                let lands = |flow: &mut Self, sigma: f64| {
+                    let end = flow.step(t, &y, &k1, sigma, mode).0;
+                    flow.crossed(t + sigma, &state(&end, n), mode).0 != 0
+                };
+                if lands(self, hi) {
+                    Some((lo, hi))
+                } else if hi < hs && self.crossed(t + hs, &state(&y1, n), mode).0 != 0 {
+                    Some((hi, hs))
+                } else {
+                    None
+                }
+            });
+            let (h_taken, mut y_new, flipped) = match event {
+                None => (hs, y1, 0),
+                Some(b) => {
+                    let (sigma, flipped) = self.locate_switch(t, &y, &k1, mode, b);
+                    (sigma, self.step(t, &y, &k1, sigma, mode).0, flipped)
+                }
+            };
+            // a turning point of the output inside the step: refine it on real steps
+            let x_new = state(&y_new, n);
+            let (out_new, rate_new) = self.sys.output(t + h_taken, &x_new, mode);
+            if rate * rate_new < 0.0 {
+                let sign = rate.signum();
+                let s = self.locate_turning(t, &y, &k1, mode, h_taken, sign);
+                let end = self.step(t, &y, &k1, s, mode).0;
+                let o = self.sys.output(t + s, &state(&end, n), mode).0;
+                out.lambda_min = out.lambda_min.min(o);
+                out.lambda_max = out.lambda_max.max(o);
+            }
+            out.lambda_min = out.lambda_min.min(out_new);
+            out.lambda_max = out.lambda_max.max(out_new);
+            let crossed = flipped != 0;
+            let reached_end = !crossed && last;
+            t = if reached_end { t_end } else { t + h_taken };
+            if crossed {
+                let new = mode ^ flipped;
+                let bit = flipped.trailing_zeros() as usize;
+                salted += self.saltation(t, &mut y_new, mode, new, bit);
+                mode = new;
+                out.switches += 1;
+            } else if !last {
+                h = (hs * fac).min(h_max);
+            }
+            y = y_new;
+            let x = state(&y, n);
+            if self.sys.collided(t, &x) {
+                return Err(ShootingError::Collision(Collision {
+                    tau: t,
+                    lambda_i: x[0],
+                }));
+            }
+            k1 = self.deriv(t, &y, mode);
+            rate = self.sys.output(t, &x, mode).1;
+            if reached_end {
+                let end = StateVec::from_slice(&y[..n]);
+                if j_period == k {
+                    out.end = end;
+                    out.monodromy = DMatrix::from_row_slice(n, n, &y[n..n + n * n]);
+                    out.trace_integral = y[n + n * n] + salted;
+                    return Ok(out);
+                }
+                out.poincare.push(end);
+                j_period += 1;
+            }
+        }
+        Err(ShootingError::Stalled { tau: t })
+    }
+}
