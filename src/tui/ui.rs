@@ -170,6 +170,10 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let ctx = PlotContext {
         theme: t,
         device: app.session.written.is_none().then_some(&device),
+        grid: app.session.written.as_ref().map(|w| {
+            let states = w.model.states();
+            w.model.grid().map(|i| states[i].clone())
+        }),
         cursor: app.cursor,
     };
     if let Some(p) = &app.picked {

@@ -75,8 +75,11 @@ pub fn draw(
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
-                "Δλ {dx:+.3} (λ_I {:.3})  v {v:+.3}  → {}",
-                lambda_p + dx,
+                "{}  → {}",
+                match &ctx.grid {
+                    None => format!("Δλ {dx:+.3} (λ_I {:.3})  v {v:+.3}", lambda_p + dx),
+                    Some([a, b]) => format!("{a} {dx:+.3}  {b} {v:+.3} (from the origin)"),
+                },
                 target.map_or("not computed".into(), |a| format!(
                     "{} {}",
                     short_type(&a.response_type),
@@ -134,14 +137,18 @@ pub fn draw(
             theme,
         ));
     }
+    let (x_label, y_label) = match &ctx.grid {
+        None => ("Δλ".to_string(), "v (per τ)".to_string()),
+        Some([a, b]) => (format!("Δ{a}"), format!("Δ{b}")),
+    };
     let map = HeatMap {
         x: Axis::new(
-            "Δλ",
+            x_label,
             b.dx.first().copied().unwrap_or(-1.0),
             b.dx.last().copied().unwrap_or(1.0),
         ),
         y: Axis::new(
-            "v (per τ)",
+            y_label,
             b.v.first().copied().unwrap_or(-1.0),
             b.v.last().copied().unwrap_or(1.0),
         ),

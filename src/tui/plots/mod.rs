@@ -23,6 +23,8 @@ pub struct PlotContext<'a> {
     pub theme: &'a Theme,
     /// The device frequencies are given in Hz for: none for a written model.
     pub device: Option<&'a Device>,
+    /// A written model's two grid states (the built-in model's are Δλ and v).
+    pub grid: Option<[String; 2]>,
     pub cursor: (usize, usize),
 }
 
@@ -30,7 +32,7 @@ impl PlotContext<'_> {
     /// ` (52.67 Hz)`: ω_e in Hz on the device with `decimals`, or nothing without one.
     pub fn in_hz(&self, omega: f64, decimals: usize) -> String {
         self.device.map_or(String::new(), |d| {
-            format!(" ({:.decimals$}\u{a0}Hz)", d.hz(omega))
+            format!(" ({:.decimals$} Hz)", d.hz(omega))
         })
     }
 

@@ -215,7 +215,11 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
         Span::raw(format!(
             "ω {:.3}{}  A {}  {}",
             p.omega,
-            ctx.in_hz(p.omega, 2),
+            // the Hz kept with its number when the footer wraps
+            ctx.device.map_or(String::new(), |d| format!(
+                " ({:.2}\u{a0}Hz)",
+                d.hz(p.omega)
+            )),
             p.amplitude.map_or("—".into(), |a| format!("{a:.4}")),
             short_type(&p.response_type)
         )),
