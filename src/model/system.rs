@@ -31,8 +31,16 @@ pub trait System: Clone + Send {
     /// The switching functions' values on `mode` into `s` (for locating where one changes
     /// sign), and the mode their signs select.
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode;
-    /// ∂f/∂x on the smooth piece `mode`: `jac[i][j]` = ∂f_i/∂x_j.
-    fn jacobian(&mut self, tau: f64, x: &Vector, mode: Mode, jac: &mut [Vector; MAX_DIM]);
+    /// dx/dτ into `dx` and ∂f/∂x into `jac` (`jac[i][j]` = ∂f_i/∂x_j), both on the smooth
+    /// piece `mode`, in one evaluation (they share most of their work).
+    fn field_and_jacobian(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        dx: &mut Vector,
+        jac: &mut [Vector; MAX_DIM],
+    );
     /// The gradient of switching function `k` on `mode` into `grad` (∂h/∂x_j), and ∂h/∂τ.
     fn switch_gradient(
         &mut self,

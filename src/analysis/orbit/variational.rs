@@ -94,8 +94,8 @@ impl<S: System> Flow<S> {
         let n = self.n;
         let x = state(y, n);
         let mut f = [0.0; MAX_DIM];
-        self.sys.field(t, &x, mode, &mut f);
-        self.sys.jacobian(t, &x, mode, &mut self.jac);
+        self.sys
+            .field_and_jacobian(t, &x, mode, &mut f, &mut self.jac);
         let mut dy = [0.0; AUG];
         dy[..n].copy_from_slice(&f[..n]);
         for i in 0..n {
@@ -109,6 +109,30 @@ impl<S: System> Flow<S> {
         }
         dy[n + n * n] = (0..n).map(|i| self.jac[i][i]).sum();
         dy
+    }
+
+    /// The state part of [`Self::step`] alone (the state does not depend on Φ, so its bits
+    /// are the same): what probes locating a switch or a turning point need.
+    fn state_step(&mut self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> Vector {
+        let n = self.n;
+        let mut k = [[0.0; MAX_DIM]; 7];
+        k[0][..n].copy_from_slice(&k1[..n]);
+        let mut x1 = [0.0; MAX_DIM];
+        for s in 1..7 {
+            let mut xs = state(y, n);
+            for (kj, &aj) in k.iter().zip(A[s - 1]) {
+                for c in 0..n {
+                    xs[c] += h * aj * kj[c];
+                }
+            }
+            if s == 6 {
+                x1 = xs;
+            }
+            let mut f = [0.0; MAX_DIM];
+            self.sys.field(t + C[s] * h, &xs, mode, &mut f);
+            k[s] = f;
+        }
+        x1
     }
 
     /// One Dormand–Prince step on `mode`: the new state, its derivative and the scaled error
@@ -169,11 +193,11 @@ impl<S: System> Flow<S> {
         let n = self.n;
         let probe = |flow: &mut Self, sigma: f64| {
             let end = if sigma == 0.0 {
-                *y
+                state(y, n)
             } else {
-                flow.step(t, y, k1, sigma, mode).0
+                flow.state_step(t, y, k1, sigma, mode)
             };
-            flow.crossed(t + sigma, &state(&end, n), mode)
+            flow.crossed(t + sigma, &end, mode)
         };
         let (c_lo, mut g_lo) = probe(self, lo);
         if c_lo != 0 {
@@ -221,8 +245,8 @@ impl<S: System> Flow<S> {
     fn locate_turning(&mut self, t: f64, y: &Aug, k1: &Aug, mode: Mode, h: f64, sign: f64) -> f64 {
         let n = self.n;
         let rate = |flow: &mut Self, sigma: f64| {
-            let end = flow.step(t, y, k1, sigma, mode).0;
-            sign * flow.sys.output(t + sigma, &state(&end, n), mode).1
+            let end = flow.state_step(t, y, k1, sigma, mode);
+            sign * flow.sys.output(t + sigma, &end, mode).1
         };
         let (mut lo, mut hi) = (0.0, h);
         let x0 = state(y, n);
@@ -381,8 +405,8 @@ impl<S: System> Flow<S> {
             // step to the bracket's end or the step's end that lands on another piece
             let event = bracket.and_then(|(lo, hi)| {
                 let lands = |flow: &mut Self, sigma: f64| {
-                    let end = flow.step(t, &y, &k1, sigma, mode).0;
-                    flow.crossed(t + sigma, &state(&end, n), mode).0 != 0
+                    let end = flow.state_step(t, &y, &k1, sigma, mode);
+                    flow.crossed(t + sigma, &end, mode).0 != 0
                 };
                 if lands(self, hi) {
                     Some((lo, hi))
@@ -405,8 +429,8 @@ impl<S: System> Flow<S> {
             if rate * rate_new < 0.0 {
                 let sign = rate.signum();
                 let s = self.locate_turning(t, &y, &k1, mode, h_taken, sign);
-                let end = self.step(t, &y, &k1, s, mode).0;
-                let o = self.sys.output(t + s, &state(&end, n), mode).0;
+                let end = self.state_step(t, &y, &k1, s, mode);
+                let o = self.sys.output(t + s, &end, mode).0;
                 out.lambda_min = out.lambda_min.min(o);
                 out.lambda_max = out.lambda_max.max(o);
             }

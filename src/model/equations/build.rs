@@ -87,6 +87,7 @@ pub(crate) struct Compiled {
     /// is the first that is not finite.
     pub named: Vec<(String, NodeId)>,
     pub field_tape: Tape,
+    /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
     pub output_tape: Tape,
     pub collision_tape: Tape,
@@ -477,7 +478,7 @@ impl<'d> Builder<'d> {
             grid,
             origin,
             field_tape: Tape::new(g, &field_roots),
-            jacobian_tape: Tape::new(g, &jacobian),
+            jacobian_tape: Tape::new(g, &[derivatives.as_slice(), &jacobian].concat()),
             output_tape: Tape::new(g, &[y, rate]),
             collision_tape: Tape::new(g, &collision_roots),
             named_tape: Tape::new(g, &named_roots),

@@ -131,11 +131,21 @@ impl System for EquationSystem {
         observed
     }
 
-    fn jacobian(&mut self, tau: f64, x: &Vector, mode: Mode, jac: &mut [Vector; MAX_DIM]) {
+    fn field_and_jacobian(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        dx: &mut Vector,
+        jac: &mut [Vector; MAX_DIM],
+    ) {
         let c = &*self.model.inner;
         let n = c.states.len();
         self.regs.load(tau, x);
         c.jacobian_tape.run_in(&mut self.regs.values, mode);
+        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
+            *d = self.regs.get(id);
+        }
         for (row, ids) in jac.iter_mut().zip(c.jacobian.chunks(n)) {
             for (entry, &id) in row.iter_mut().zip(ids) {
                 *entry = self.regs.get(id);
