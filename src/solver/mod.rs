@@ -13,6 +13,7 @@ pub mod field;
 pub mod general;
 pub mod general_lanes;
 pub mod hermite;
+pub mod illinois;
 pub mod isa;
 pub mod resolution;
 pub mod rk4;

@@ -206,47 +206,17 @@ impl VariationalFlow {
         y: &Aug,
         k1: &Aug,
         mode: Mode,
-        (mut lo, mut hi): (f64, f64),
+        (mut lo, hi): (f64, f64),
         g: impl Fn(f64, &Aug) -> f64,
     ) -> f64 {
         let value = |s: f64| g(t + s, &self.step(t, y, k1, s, mode).0);
-        let (mut g_lo, mut g_hi) = (if lo > 0.0 { value(lo) } else { g(t, y) }, value(hi));
+        let (mut g_lo, g_hi) = (if lo > 0.0 { value(lo) } else { g(t, y) }, value(hi));
         if g_lo < 0.0 {
             // the scan's interpolant was optimistic: search from the start of the step
             lo = 0.0;
             g_lo = g(t, y).max(0.0);
         }
-        let mut side = 0;
-        for _ in 0..100 {
-            if hi - lo <= 4.0 * f64::EPSILON * (t.abs() + hi) {
-                break;
-            }
-            let mut s = if g_lo - g_hi > 0.0 {
-                lo + (hi - lo) * g_lo / (g_lo - g_hi)
-            } else {
-                0.5 * (lo + hi)
-            };
-            if s <= lo || s >= hi {
-                s = 0.5 * (lo + hi);
-            }
-            let gs = value(s);
-            if gs < 0.0 {
-                hi = s;
-                g_hi = gs;
-                if side == -1 {
-                    g_lo *= 0.5;
-                }
-                side = -1;
-            } else {
-                lo = s;
-                g_lo = gs;
-                if side == 1 {
-                    g_hi *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        hi
+        crate::solver::illinois::illinois(t, (lo, hi), (g_lo, g_hi), value)
     }
 
     /// Follows [λ_I, v] = `x0` from τ = 0 over `k` forcing periods with Φ(0) = I.

@@ -248,38 +248,10 @@ impl<S: System> Flow<S> {
             let end = flow.state_step(t, y, k1, sigma, mode);
             sign * flow.sys.output(t + sigma, &end, mode).1
         };
-        let (mut lo, mut hi) = (0.0, h);
         let x0 = state(y, n);
-        let (mut r_lo, mut r_hi) = (sign * self.sys.output(t, &x0, mode).1, rate(self, h));
-        let mut side = 0;
-        for _ in 0..100 {
-            if hi - lo <= 4.0 * f64::EPSILON * (t.abs() + hi) {
-                break;
-            }
-            let mut s = if r_lo - r_hi > 0.0 {
-                lo + (hi - lo) * r_lo / (r_lo - r_hi)
-            } else {
-                0.5 * (lo + hi)
-            };
-            if !(s > lo && s < hi) {
-                s = 0.5 * (lo + hi);
-            }
-            let r = rate(self, s);
-            if r < 0.0 {
-                (hi, r_hi) = (s, r);
-                if side == -1 {
-                    r_lo *= 0.5;
-                }
-                side = -1;
-            } else {
-                (lo, r_lo) = (s, r);
-                if side == 1 {
-                    r_hi *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        hi
+        let r_lo = sign * self.sys.output(t, &x0, mode).1;
+        let r_hi = rate(self, h);
+        crate::solver::illinois::illinois(t, (0.0, h), (r_lo, r_hi), |s| rate(self, s))
     }
 
     /// Φ ← S Φ at a switch from `old` to `new` at (t, y), where the field jumps; returns
