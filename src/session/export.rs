@@ -116,9 +116,6 @@ impl ModelColumns {
     }
 }
 
-/// The number of columns describing one steady state ([`ModelColumns::steady`]).
-pub const STEADY_COLUMN_COUNT: usize = 7;
-
 pub fn steady_fields(s: &SteadyState) -> [String; 7] {
     let opt = |x: Option<f64>| x.map_or(String::new(), num);
     [

@@ -832,18 +832,7 @@ trait Single {
     ) -> anyhow::Result<()>;
 }
 
-impl Single for Params {
-    fn run_single(
-        &self,
-        settings: &Settings,
-        columns: &export::ModelColumns,
-        csv: &Path,
-        progress: &Progress,
-    ) -> anyhow::Result<()> {
-        run_single(settings, self, columns, csv, progress)
-    }
-}
-
+/// A written model's analyses that have no chunks.
 impl Single for EquationSystem {
     fn run_single(
         &self,
@@ -852,89 +841,82 @@ impl Single for EquationSystem {
         csv: &Path,
         progress: &Progress,
     ) -> anyhow::Result<()> {
-        run_written_single(settings, self, columns, csv, progress)
+        let sys = self;
+        match settings {
+            Settings::TimeHistory(spec) => {
+                let h = state_history(sys, spec)?;
+                finite(&h, "the time history")?;
+                let bytes = export::state_history_bytes(&h, sys.model().grid())?;
+                super::output::write_output(csv, &bytes, &super::output::Protected::none())?;
+                Ok(())
+            }
+            Settings::SteppedSweep(spec) => {
+                let start = sys.grid_start([spec.dx0, spec.v0]);
+                let omegas = spec.omega.values();
+                let swept = stepped_sweep(
+                    sys,
+                    &omegas,
+                    start,
+                    &spec.steady,
+                    progress.cancel_flag(),
+                    |_| {},
+                )?;
+                finite(&swept, "the stepped sweep")?;
+                export::stepped_csv(&swept, columns, csv)
+            }
+            other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
+        }
     }
 }
 
-/// A written model's analyses that have no chunks: computed at once and written to `csv`.
-fn run_written_single(
-    settings: &Settings,
-    sys: &EquationSystem,
-    columns: &export::ModelColumns,
-    csv: &Path,
-    progress: &Progress,
-) -> anyhow::Result<()> {
-    match settings {
-        Settings::TimeHistory(spec) => {
-            let h = state_history(sys, spec)?;
-            finite(&h, "the time history")?;
-            let bytes = export::state_history_bytes(&h, sys.model().grid())?;
-            super::output::write_output(csv, &bytes, &super::output::Protected::none())?;
-            Ok(())
-        }
-        Settings::SteppedSweep(spec) => {
-            let start = sys.grid_start([spec.dx0, spec.v0]);
-            let omegas = spec.omega.values();
-            let swept = stepped_sweep(
-                sys,
-                &omegas,
-                start,
-                &spec.steady,
-                progress.cancel_flag(),
-                |_| {},
-            )?;
-            finite(&swept, "the stepped sweep")?;
-            export::stepped_csv(&swept, columns, csv)
-        }
-        other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
-    }
-}
-
-/// The analyses that have no chunks: computed at once and written to `csv`.
-fn run_single(
-    settings: &Settings,
-    params: &crate::model::Params,
-    columns: &export::ModelColumns,
-    csv: &Path,
-    progress: &Progress,
-) -> anyhow::Result<()> {
-    let device = columns.device.unwrap_or_default();
-    match settings {
-        Settings::ForceCurve(spec) => {
-            let curves = force_curves(spec)?;
-            finite(&curves, "the force curves")?;
-            export::force_csv(&curves, csv)
-        }
-        Settings::TimeHistory(spec) => {
-            let h = time_history(params, spec)?;
-            finite(&h, "the time history")?;
-            export::history_csv(&h, &device, csv)
-        }
-        Settings::ChirpSweep(spec) => {
-            let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
-            finite(&s, "the chirp sweep")?;
-            export::chirp_csv(&s, &device, csv)
-        }
-        Settings::SteppedSweep(spec) => {
-            let start = params.grid_start([spec.dx0, spec.v0]);
-            let steps = stepped_sweep(
-                params,
-                &spec.omega.values(),
-                start,
-                &spec.steady,
-                progress.cancel_flag(),
-                |_| {},
-            )?;
-            finite(&steps, "the stepped sweep")?;
-            export::stepped_csv(&steps, columns, csv)
-        }
-        Settings::Continuation(_)
-        | Settings::Basin(_)
-        | Settings::FrequencyResponse(_)
-        | Settings::Family(_)
-        | Settings::Map(_)
-        | Settings::Hunt(_) => {
-            unreachable!("chunked kinds and continuations are run by run_on")
+/// The built-in model's analyses that have no chunks.
+impl Single for Params {
+    fn run_single(
+        &self,
+        settings: &Settings,
+        columns: &export::ModelColumns,
+        csv: &Path,
+        progress: &Progress,
+    ) -> anyhow::Result<()> {
+        let params = self;
+        let device = columns.device.unwrap_or_default();
+        match settings {
+            Settings::ForceCurve(spec) => {
+                let curves = force_curves(spec)?;
+                finite(&curves, "the force curves")?;
+                export::force_csv(&curves, csv)
+            }
+            Settings::TimeHistory(spec) => {
+                let h = time_history(params, spec)?;
+                finite(&h, "the time history")?;
+                export::history_csv(&h, &device, csv)
+            }
+            Settings::ChirpSweep(spec) => {
+                let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
+                finite(&s, "the chirp sweep")?;
+                export::chirp_csv(&s, &device, csv)
+            }
+            Settings::SteppedSweep(spec) => {
+                let start = params.grid_start([spec.dx0, spec.v0]);
+                let steps = stepped_sweep(
+                    params,
+                    &spec.omega.values(),
+                    start,
+                    &spec.steady,
+                    progress.cancel_flag(),
+                    |_| {},
+                )?;
+                finite(&steps, "the stepped sweep")?;
+                export::stepped_csv(&steps, columns, csv)
+            }
+            Settings::Continuation(_)
+            | Settings::Basin(_)
+            | Settings::FrequencyResponse(_)
+            | Settings::Family(_)
+            | Settings::Map(_)
+            | Settings::Hunt(_) => {
+                unreachable!("chunked kinds and continuations are run by run_on")
+            }
         }
     }
 }

@@ -15,7 +15,8 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::continuation::branch::{
-    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, bordered, check_steps,
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationError, Failure, bordered, check_steps,
+    dot, norm, null_vector,
 };
 use crate::analysis::continuation::model::{Continuable, ModelBase};
 use crate::analysis::orbit::floquet::{Multipliers, TestFunctions};
@@ -24,7 +25,6 @@ use crate::analysis::parameter::ContinuationParameter;
 use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
 use crate::model::system::StateVec;
-use crate::solver::Collision;
 
 /// Relative step of the finite differences in the Jacobian.
 const DIFFERENCE_STEP: f64 = 1e-6;
@@ -243,22 +243,6 @@ pub fn continue_bifurcation<M: Continuable>(
     })
 }
 
-/// a · b, summed as nalgebra sums a 4-vector (pairwise), so that the built-in model's curves
-/// (n = 2, four unknowns) keep the bits they had with fixed-size vectors.
-fn dot(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
-    if a.len() == 4 {
-        let v = |x: &DVector<f64>| nalgebra::Vector4::from_column_slice(x.as_slice());
-        v(a).dot(&v(b))
-    } else {
-        a.dot(b)
-    }
-}
-
-/// |a|, summed as [`dot`].
-fn norm(a: &DVector<f64>) -> f64 {
-    dot(a, a).sqrt()
-}
-
 /// A corrected curve point with its Jacobian.
 #[derive(Debug, Clone)]
 struct Solved {
@@ -268,21 +252,6 @@ struct Solved {
     /// Rows: P^k(x) − x (n) and the test function; columns: x, μ₁, μ₂.
     jac: DMatrix<f64>,
     iterations: usize,
-}
-
-/// Why a corrector failed.
-enum Failure {
-    Collision(Collision),
-    Diverged,
-}
-
-impl Failure {
-    fn into_shooting(self) -> ShootingError {
-        match self {
-            Failure::Collision(c) => ShootingError::Collision(c),
-            Failure::Diverged => ShootingError::Singular,
-        }
-    }
 }
 
 /// The curve problem for period `k` about the model `base`.
@@ -307,11 +276,7 @@ impl<M: Continuable> Curve<'_, M> {
     fn flow(&self, y: &DVector<f64>) -> Result<PeriodFlow, Failure> {
         let n = self.n;
         let p = self.params_at(y[n], y[n + 1]).ok_or(Failure::Diverged)?;
-        p.period_flow(&y.as_slice()[..n], self.k, self.spec.shooting.tol)
-            .map_err(|e| match e {
-                ShootingError::Collision(c) => Failure::Collision(c),
-                _ => Failure::Diverged,
-            })
+        Ok(p.period_flow(&y.as_slice()[..n], self.k, self.spec.shooting.tol)?)
     }
 
     fn test(&self, m: &DMatrix<f64>) -> f64 {
@@ -390,14 +355,7 @@ impl<M: Continuable> Curve<'_, M> {
 
     /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
     fn tangent(&self, s: &Solved, prev: &DVector<f64>) -> Option<DVector<f64>> {
-        let n = self.n;
-        let mut e = DVector::zeros(n + 2);
-        e[n + 1] = 1.0;
-        let t = bordered(&s.jac, prev).lu().solve(&e)?;
-        let t = &t / norm(&t);
-        t.iter()
-            .all(|v| v.is_finite())
-            .then(|| if dot(&t, prev) < 0.0 { -t } else { t })
+        null_vector(&s.jac, prev)
     }
 
     fn point(&self, s: &Solved) -> CurvePoint {

@@ -338,24 +338,42 @@ pub(crate) fn max_distance(p: &[f64], q: &[f64]) -> f64 {
         .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
 }
 
-/// The unit null vector of an n × (n + 1) matrix `jac` of rank n, oriented along `prev`:
-/// the cross product of the rows where n = 2, else the solution of the bordered system
-/// [jac; prevᵀ] t = e_{n+1}.
+/// a · b, summed as nalgebra sums a fixed-size vector of that length (a 4-vector pairwise),
+/// so that the built-in model's branches (3 unknowns) and curves (4) keep the bits they had
+/// with fixed-size vectors.
+pub(crate) fn dot(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    if a.len() == 4 {
+        let v = |x: &DVector<f64>| nalgebra::Vector4::from_column_slice(x.as_slice());
+        v(a).dot(&v(b))
+    } else {
+        a.dot(b)
+    }
+}
+
+/// |a|, summed as [`dot`].
+pub(crate) fn norm(a: &DVector<f64>) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The unit null vector of an m × (m + 1) matrix `jac` of rank m, oriented along `prev`:
+/// the cross product of the rows where m = 2, else the solution of the bordered system
+/// [jac; prevᵀ] t = e_{m+1}.
 pub(crate) fn null_vector(jac: &DMatrix<f64>, prev: &DVector<f64>) -> Option<DVector<f64>> {
-    let n = jac.nrows();
-    let t = if n == 2 {
+    let m = jac.nrows();
+    let t = if m == 2 {
         let r0 = Vector3::new(jac[(0, 0)], jac[(0, 1)], jac[(0, 2)]);
         let r1 = Vector3::new(jac[(1, 0)], jac[(1, 1)], jac[(1, 2)]);
         let t = r0.cross(&r1).normalize();
         DVector::from_column_slice(t.as_slice())
     } else {
-        let mut e = DVector::zeros(n + 1);
-        e[n] = 1.0;
-        bordered(jac, prev).lu().solve(&e)?.normalize()
+        let mut e = DVector::zeros(m + 1);
+        e[m] = 1.0;
+        let t = bordered(jac, prev).lu().solve(&e)?;
+        &t / norm(&t)
     };
     t.iter()
         .all(|v| v.is_finite())
-        .then(|| if t.dot(prev) < 0.0 { -t } else { t })
+        .then(|| if dot(&t, prev) < 0.0 { -t } else { t })
 }
 
 /// `jac` (n × (n + 1)) with `t` as its last row.
@@ -375,10 +393,30 @@ struct Solved {
     iterations: usize,
 }
 
-/// Why a corrector failed.
-enum Failure {
+/// Why a corrector failed: the orbit collides, or Newton gets nowhere (any other failure
+/// of the flow included).
+pub(crate) enum Failure {
     Collision(Collision),
     Diverged,
+}
+
+impl From<ShootingError> for Failure {
+    fn from(e: ShootingError) -> Failure {
+        match e {
+            ShootingError::Collision(c) => Failure::Collision(c),
+            _ => Failure::Diverged,
+        }
+    }
+}
+
+impl Failure {
+    /// The failure as a seed's.
+    pub(crate) fn into_shooting(self) -> ShootingError {
+        match self {
+            Failure::Collision(c) => ShootingError::Collision(c),
+            Failure::Diverged => ShootingError::Singular,
+        }
+    }
 }
 
 /// The continuation problem for period `k` about the model `base`.
@@ -418,10 +456,7 @@ impl<'a, M: Continuable> Problem<'a, M> {
         let p = self.params_at(mu).ok_or(Failure::Diverged)?;
         let x = &y.as_slice()[..n];
         let tol = self.spec.shooting.tol;
-        let flow = p.period_flow(x, self.k, tol).map_err(|e| match e {
-            ShootingError::Collision(c) => Failure::Collision(c),
-            _ => Failure::Diverged,
-        })?;
+        let flow = p.period_flow(x, self.k, tol)?;
         let d = 1e-6 * mu.abs().max(1.0);
         let side = |mu: f64| {
             let q = self.params_at(mu)?;

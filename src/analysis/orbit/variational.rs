@@ -410,7 +410,11 @@ impl<S: System> Flow<S> {
             out.lambda_max = out.lambda_max.max(out_new);
             let crossed = flipped != 0;
             let reached_end = !crossed && last;
-            t = if reached_end { t_end } else { t + h_taken };
+            let stepped_to = t + h_taken;
+            t = if reached_end { t_end } else { stepped_to };
+            // the last stage of a whole step is the next step's first, and the output's rate
+            // at its end the next start's, where the time and the piece are the same
+            let fsal = !crossed && t == stepped_to;
             if crossed {
                 let new = mode ^ flipped;
                 let bit = flipped.trailing_zeros() as usize;
@@ -428,8 +432,11 @@ impl<S: System> Flow<S> {
                     lambda_i: x[0],
                 }));
             }
-            k1 = self.deriv(t, &y, mode);
-            rate = self.sys.output(t, &x, mode).1;
+            (k1, rate) = if fsal {
+                (k7, rate_new)
+            } else {
+                (self.deriv(t, &y, mode), self.sys.output(t, &x, mode).1)
+            };
             if reached_end {
                 let end = StateVec::from_slice(&y[..n]);
                 if j_period == k {
