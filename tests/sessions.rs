@@ -248,7 +248,7 @@ fn export_selects_rows() {
             "--analysis",
             "b",
             "--where",
-            "ratio=1:2",
+            "response_type=1:2 subharmonic",
             "--where",
             "dx_stretch>=0",
             "--csv",
@@ -262,7 +262,7 @@ fn export_selects_rows() {
     assert!(!rows.is_empty());
     for r in rows {
         let cells: Vec<&str> = r.split(',').collect();
-        assert_eq!(cells[3], "1:2");
+        assert_eq!(cells[3], "1:2 subharmonic");
         assert!(cells[0].parse::<f64>().unwrap() >= 0.0);
     }
 }
@@ -486,7 +486,7 @@ v = { min = -1.0, max = 1.0, points = 11 }
     for (rb, rw) in b.0.iter().zip(&w.0) {
         assert_eq!(key(rb), key(rw));
         // the written model's columns carry its names
-        assert!(rw.contains_key("poincare_lambda_I") && rw.contains_key("lambda_I_min"));
+        assert!(rw.contains_key("start_lambda_I") && rw.contains_key("lambda_I_min"));
         if let (Ok(x), Ok(y)) = (
             rb["amplitude_stretch"].parse::<f64>(),
             rw["amplitude"].parse::<f64>(),
@@ -496,13 +496,13 @@ v = { min = -1.0, max = 1.0, points = 11 }
     }
     let labels = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
         rows.iter()
-            .map(|r| format!("{} {}", r["attractor"], r["ratio"]))
+            .map(|r| format!("{} {}", r["attractor"], r["response_type"]))
             .collect()
     };
     assert_eq!(labels(&b.1), labels(&w.1));
     let counts = |rows: &[std::collections::HashMap<String, String>]| -> Vec<String> {
         rows.iter()
-            .map(|r| format!("{} {}", r["ratio"], r["cells"]))
+            .map(|r| format!("{} {}", r["response_type"], r["cells"]))
             .collect()
     };
     assert_eq!(counts(&b.2), counts(&w.2));
@@ -626,4 +626,271 @@ fn a_written_model_gets_clear_errors() {
             && e.contains("model.let.a = NaN"),
         "{e}"
     );
+}
+
+/// A session with every kind of analysis, each tiny, and a written model's time history.
+const EVERY_KIND: &str = r#"schema = 1
+[model]
+adr = 0.6
+
+[[analysis]]
+name = "force"
+kind = "force_curve"
+[analysis.settings]
+lambda_p = [1.02]
+phi_i = [0.0, 0.2]
+
+[[analysis]]
+name = "orbit"
+kind = "time_history"
+[analysis.settings]
+dx0 = 0.3
+
+[[analysis]]
+name = "chirp"
+kind = "chirp_sweep"
+[analysis.settings]
+omega_start = 3.0
+omega_end = 3.5
+span = 200.0
+
+[[analysis]]
+name = "stepped"
+kind = "stepped_sweep"
+[analysis.settings]
+omega = { min = 3.0, max = 4.0, points = 3 }
+
+[[analysis]]
+name = "response"
+kind = "frequency_response"
+[analysis.settings]
+omega = { min = 3.6, max = 3.8, points = 3 }
+dx = { min = -0.8, max = 0.8, points = 4 }
+v = { min = -1.0, max = 1.0, points = 4 }
+
+[[analysis]]
+name = "basin"
+kind = "basin"
+model = { omega = 3.7 }
+[analysis.settings]
+dx = { min = -0.8, max = 0.8, points = 9 }
+v = { min = -1.0, max = 1.0, points = 9 }
+
+[[analysis]]
+name = "family"
+kind = "family"
+[analysis.settings]
+parameter = "adr"
+values = [0.6, 0.7]
+[analysis.settings.response]
+omega = { min = 3.6, max = 3.8, points = 3 }
+dx = { min = -0.8, max = 0.8, points = 3 }
+v = { min = -1.0, max = 1.0, points = 3 }
+
+[[analysis]]
+name = "map"
+kind = "map"
+[analysis.settings]
+parameter = "adr"
+values = { min = 0.5, max = 0.6, points = 2 }
+curves = false
+[analysis.settings.response]
+omega = { min = 3.6, max = 3.8, points = 3 }
+dx = { min = -0.8, max = 0.8, points = 3 }
+v = { min = -1.0, max = 1.0, points = 3 }
+
+[[analysis]]
+name = "continued"
+kind = "continuation"
+model = { omega = 4.6 }
+[analysis.settings]
+dx0 = 0.3
+[analysis.settings.continuation]
+parameter = "adr"
+min = 0.4
+max = 0.8
+
+[[analysis]]
+name = "hunt"
+kind = "hunt"
+[analysis.settings.response]
+omega = { min = 3.6, max = 3.8, points = 3 }
+dx = { min = -0.8, max = 0.8, points = 4 }
+v = { min = -1.0, max = 1.0, points = 4 }
+[analysis.settings.continuation]
+min = 3.0
+max = 5.0
+"#;
+
+/// Every result is tidy data: one value per cell (no `;`-joined lists), no text a
+/// spreadsheet turns into a time (`1:2`), the responses of a frequency response periodic
+/// only, with their stroboscopic points one per row and the other outcomes per ω_e in
+/// tables of their own; the manifest records what the result was computed from, and that
+/// record hashes to the fingerprint. Where Python with pandas is found (`ISOLA_PYTHON`, else
+/// `python3`), `python/isola_results.py` loads every table with numbers as numbers, integers
+/// as integers and flags as booleans.
+#[test]
+fn results_are_tidy_tables_that_pandas_reads_with_their_types() {
+    use std::collections::HashMap;
+    let guard = scratch("tidy");
+    let path = guard.path().join("every.toml");
+    std::fs::write(&path, EVERY_KIND).unwrap();
+    let session = Session::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    for entry in &session.analyses {
+        run_analysis(&session, entry, Shard::ALL, &Progress::new(0))
+            .unwrap_or_else(|e| panic!("{}: {e:#}", entry.name));
+    }
+    let results = session.results_dir();
+    type Rows = Vec<HashMap<String, String>>;
+    let read = |file: &str| -> Rows {
+        let mut r = csv::Reader::from_path(results.join(file)).unwrap();
+        r.deserialize().map(|row| row.unwrap()).collect()
+    };
+    let time_like = |cell: &str| {
+        cell.split_once(':').is_some_and(|(a, b)| {
+            [a, b]
+                .iter()
+                .all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()))
+        })
+    };
+    let mut tables = 0;
+    for entry in &session.analyses {
+        let manifest: serde_json::Value = serde_json::from_slice(
+            &std::fs::read(results.join(format!("{}.manifest.json", entry.name))).unwrap(),
+        )
+        .unwrap();
+        use sha2::Digest;
+        let digest = sha2::Sha256::digest(manifest["computed_from"].to_string().as_bytes());
+        let hex: String = digest[..16].iter().map(|b| format!("{b:02x}")).collect();
+        assert_eq!(manifest["fingerprint"], hex.as_str(), "{}", entry.name);
+        assert_eq!(hex, session.fingerprint(entry));
+        for file in manifest["files"].as_array().unwrap() {
+            let name = file["name"].as_str().unwrap();
+            for row in read(name) {
+                for (column, cell) in &row {
+                    assert!(
+                        !cell.contains(';') && !time_like(cell),
+                        "{name}: {column} = {cell}"
+                    );
+                }
+            }
+            tables += 1;
+        }
+    }
+    assert!(tables >= 20, "{tables} tables");
+
+    // a frequency response: periodic responses, their points, the outcomes per ω_e
+    let (responses, points, outcomes) = (
+        read("response.csv"),
+        read("response.points.csv"),
+        read("response.outcomes.csv"),
+    );
+    let number = |r: &HashMap<String, String>, c: &str| -> f64 { r[c].parse().unwrap() };
+    for (id, r) in responses.iter().enumerate() {
+        assert_eq!(r["class"], "periodic");
+        assert_eq!(r["response"], id.to_string());
+        let period = number(r, "period_forcing_periods") as usize;
+        let mine: Vec<&HashMap<String, String>> = points
+            .iter()
+            .filter(|p| p["response"] == r["response"])
+            .collect();
+        assert_eq!(mine.len(), period, "one row per stroboscopic point");
+        for (k, p) in mine.iter().enumerate() {
+            assert_eq!(p["point"], k.to_string());
+            assert_eq!(p["omega"], r["omega"]);
+        }
+        assert_eq!(mine[0]["poincare_lambda"], r["start_lambda"]);
+        assert!(r["branch"].parse::<usize>().is_ok() && r["hidden"].parse::<bool>().is_ok());
+        let ratio = (number(r, "ratio_response"), number(r, "ratio_excitation"));
+        assert!(r["response_type"].starts_with(&format!("{}:{}", ratio.0, ratio.1)) || period > 1);
+    }
+    assert_eq!(outcomes.len(), 3, "one row per ω_e");
+    let mut collisions = 0.0;
+    for o in &outcomes {
+        let shares =
+            ["periodic_share", "non_periodic_share", "collision_share"].map(|c| number(o, c));
+        assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{o:?}");
+        let periodic: f64 = responses
+            .iter()
+            .filter(|r| r["omega"] == o["omega"])
+            .map(|r| number(r, "share"))
+            .sum();
+        assert!((periodic - shares[0]).abs() < 1e-12);
+        collisions += shares[2];
+    }
+    assert!(collisions > 0.0, "starts near the frames hit them");
+
+    // the workbench reads the tables back: the collisions counted at their ω_e
+    let entry = session.analysis("response").unwrap();
+    let mut reader = isola::session::results::ResultReader::new(entry);
+    reader.poll(&session, entry);
+    assert_eq!(reader.error, None);
+    let Some(isola::session::results::ResultView::Response(view)) = &reader.view else {
+        panic!("no response view");
+    };
+    assert_eq!(
+        view.iter().filter(|p| p.amplitude.is_some()).count(),
+        responses.len()
+    );
+    assert!(view.iter().any(|p| p.response_type == "collision"));
+    assert!(
+        view.iter()
+            .all(|p| p.amplitude.is_none() || p.start.is_some())
+    );
+
+    pandas_reads(&results);
+}
+
+/// Checks, where Python with pandas is found, that `python/isola_results.py` loads every
+/// table of `results` with numbers as numbers, integers as integers and flags as booleans.
+fn pandas_reads(results: &Path) {
+    let python = std::env::var("ISOLA_PYTHON").unwrap_or_else(|_| "python3".into());
+    let has_pandas = Command::new(&python)
+        .args(["-c", "import pandas"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_pandas {
+        eprintln!("skipped the pandas check: no pandas for '{python}' (set ISOLA_PYTHON)");
+        return;
+    }
+    let reader = Path::new(env!("CARGO_MANIFEST_DIR")).join("python");
+    let script = r#"
+import sys
+sys.path.insert(0, sys.argv[1])
+import isola_results
+found = isola_results.load_all(sys.argv[2])
+bad = []
+columns = 0
+for analysis, tables in found.items():
+    for name, frame in tables.items():
+        for column, dtype in frame.dtypes.items():
+            columns += 1
+            kind = str(dtype)
+            if kind == "object":
+                bad.append((analysis, name, column, kind))
+            if column in isola_results.INTEGER and kind != "Int64":
+                bad.append((analysis, name, column, kind))
+            if column in isola_results.BOOLEAN and kind != "boolean":
+                bad.append((analysis, name, column, kind))
+        if "stable" in frame and name == analysis and analysis == "continued":
+            assert str(frame["stable"].dtype) == "boolean"
+assert not bad, bad
+response = found["response"]
+assert str(response["response"]["response_type"].dtype) == "string"
+assert response["points"]["point"].max() >= 0
+print(len(found), "analyses", columns, "columns")
+"#;
+    let out = Command::new(&python)
+        .args(["-c", script])
+        .arg(&reader)
+        .arg(results)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("pandas: {}", String::from_utf8_lossy(&out.stdout).trim());
 }

@@ -107,7 +107,7 @@ fn reference(text: &str, names: &[&str]) -> Vec<Vec<u8>> {
     result_files(&session, names)
 }
 
-const BASIN_FILES: [&str; 2] = ["basin.csv", "basin.attractors.csv"];
+const BASIN_FILES: [&str; 3] = ["basin.csv", "basin.attractors.csv", "basin.points.csv"];
 
 fn work_dir(session: &Path, analysis: &str) -> PathBuf {
     let s = Session::load(session).unwrap();

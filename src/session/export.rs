@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::SteadyState;
 use crate::analysis::global::basin::Basin;
 use crate::analysis::global::frequency_response::FrequencyResponse;
+use crate::analysis::{Class, SteadyState};
 use crate::model::Device;
 
 /// Writes a CSV file whole (see [`super::output`]: a regular file is replaced atomically, a
@@ -96,18 +96,29 @@ impl ModelColumns {
 
     /// The columns describing one steady state.
     pub fn steady(&self) -> Vec<String> {
-        let mut c: Vec<String> = ["class", "period_forcing_periods", "ratio", "response_type"]
-            .map(String::from)
-            .to_vec();
+        let mut c: Vec<String> = [
+            "class",
+            "period_forcing_periods",
+            "ratio_response",
+            "ratio_excitation",
+            "response_type",
+        ]
+        .map(String::from)
+        .to_vec();
         c.push(self.amplitude.clone());
         c.push(format!("{}_min", self.output));
         c.push(format!("{}_max", self.output));
         c
     }
 
-    /// The stroboscopic points' columns.
+    /// The stroboscopic points' columns (a points table).
     fn poincare(&self) -> [String; 2] {
         self.grid.clone().map(|s| format!("poincare_{s}"))
+    }
+
+    /// The first stroboscopic point's columns (beside a response).
+    fn start(&self) -> [String; 2] {
+        self.grid.clone().map(|s| format!("start_{s}"))
     }
 
     /// `omega` in Hz on the device, empty without one.
@@ -116,12 +127,16 @@ impl ModelColumns {
     }
 }
 
-pub fn steady_fields(s: &SteadyState) -> [String; 7] {
+/// A steady state's fields under [`ModelColumns::steady`]: the ratio ω_r:ω_e as two integer
+/// columns (a spreadsheet reads the text `1:2` as a time), empty where there is none.
+pub fn steady_fields(s: &SteadyState) -> [String; 8] {
     let opt = |x: Option<f64>| x.map_or(String::new(), num);
+    let int = |n: Option<u32>| n.map_or(String::new(), |n| n.to_string());
     [
         s.class.as_str().into(),
         s.period.map_or(String::new(), |k| k.to_string()),
-        s.ratio.map_or(String::new(), |r| r.to_string()),
+        int(s.ratio.map(|r| r.response)),
+        int(s.ratio.map(|r| r.excitation)),
         s.response_type(),
         opt(s.amplitude),
         opt(s.lambda_min),
@@ -129,59 +144,76 @@ pub fn steady_fields(s: &SteadyState) -> [String; 7] {
     ]
 }
 
-/// The stroboscopic points as two columns, λ_I values and v values, each `;`-separated.
-fn poincare_fields(s: &SteadyState) -> [String; 2] {
-    [0, 1].map(|i| {
-        s.poincare
-            .iter()
-            .map(|p| num(p[i]))
-            .collect::<Vec<_>>()
-            .join(";")
-    })
+/// The first stroboscopic point (at τ = 0 on the orbit: where to start to see it again),
+/// empty without one; all of them are in the points table.
+fn start_fields(s: &SteadyState) -> [String; 2] {
+    [0, 1].map(|i| s.poincare.first().map_or(String::new(), |p| num(p[i])))
 }
 
-/// One row per cell (`dx_stretch, v_per_tau, attractor`, the offsets named after a written
-/// model's grid states) and, beside it, the attractor table.
+/// Where a table beside a result's main file `A.csv` lives: `A.TABLE.csv`.
+pub fn beside(main: &Path, table: &str) -> PathBuf {
+    main.with_extension(format!("{table}.csv"))
+}
+
+/// One row per cell (`dx_stretch, v_per_tau, attractor, response_type`, the offsets named
+/// after a written model's grid states), and beside it the attractor table
+/// (`A.attractors.csv`) and the attractors' stroboscopic points (`A.points.csv`: one row per
+/// point, numbered from 0 along the orbit).
 pub fn basin_csv(b: &Basin, omega: f64, columns: &ModelColumns, path: &Path) -> anyhow::Result<()> {
     write_atomic(path, |w| {
         let [x, y] = &columns.offsets;
-        w.write_record([x.as_str(), y, "attractor", "ratio"])?;
+        w.write_record([x.as_str(), y, "attractor", "response_type"])?;
         let nv = b.v.len();
+        let types: Vec<String> = b
+            .table
+            .attractors
+            .iter()
+            .map(|a| a.response.response_type())
+            .collect();
         for (c, &label) in b.labels.iter().enumerate() {
-            let r = &b.table.attractors[label].response;
             w.write_record([
-                num(b.dx[c / nv]),
-                num(b.v[c % nv]),
-                label.to_string(),
-                r.ratio.map_or(r.class.as_str().into(), |r| r.to_string()),
+                &num(b.dx[c / nv]),
+                &num(b.v[c % nv]),
+                &label.to_string(),
+                &types[label],
             ])?;
         }
         Ok(())
     })?;
-    let table: PathBuf = path.with_extension("attractors.csv");
-    write_atomic(&table, |w| {
+    write_atomic(&beside(path, "attractors"), |w| {
         let mut header: Vec<String> = ["attractor", "omega", "cells", "fraction"]
             .map(String::from)
             .to_vec();
         header.extend(columns.steady());
-        header.extend(columns.poincare());
+        header.extend(columns.start());
         w.write_record(&header)?;
         for a in &b.table.attractors {
             let mut row = vec![
                 a.id.to_string(),
-                omega.to_string(),
+                num(omega),
                 a.count.to_string(),
                 num(b.fraction(a.id)),
             ];
             row.extend(steady_fields(&a.response));
-            row.extend(poincare_fields(&a.response));
+            row.extend(start_fields(&a.response));
             w.write_record(&row)?;
+        }
+        Ok(())
+    })?;
+    write_atomic(&beside(path, "points"), |w| {
+        let mut header = vec!["attractor".to_string(), "point".into()];
+        header.extend(columns.poincare());
+        w.write_record(&header)?;
+        for a in &b.table.attractors {
+            for (k, p) in a.response.poincare.iter().enumerate() {
+                w.write_record([a.id.to_string(), k.to_string(), num(p[0]), num(p[1])])?;
+            }
         }
         Ok(())
     })
 }
 
-/// The columns of one response at one ω_e.
+/// The columns of one periodic response at one ω_e, after its number.
 const RESPONSE_COLUMNS: [&str; 6] = [
     "omega",
     "frequency_hz",
@@ -191,71 +223,179 @@ const RESPONSE_COLUMNS: [&str; 6] = [
     "share",
 ];
 
-fn response_fields(
-    r: &crate::analysis::global::frequency_response::Response,
-    columns: &ModelColumns,
-) -> Vec<String> {
-    let mut row = vec![
-        num(r.omega),
-        columns.hz(r.omega),
-        r.branch.map_or(String::new(), |b| b.to_string()),
-        r.hidden.map_or(String::new(), |h| h.to_string()),
-        r.seeded.to_string(),
-        num(r.share),
-    ];
-    row.extend(steady_fields(&r.steady));
-    row.extend(poincare_fields(&r.steady));
-    row
+/// Frequency responses written as three tidy tables: the periodic responses (numbered, one
+/// row each), their stroboscopic points (one row per point), and the outcomes per ω_e (the
+/// shares of the starts that settled on a periodic response, on no periodic one, or hit a
+/// frame), each led by `lead` (a family member's parameter value) where given.
+struct ResponseTables<'a> {
+    lead: Option<&'a str>,
+    columns: &'a ModelColumns,
 }
 
-/// The header of a response table (after any leading columns).
-fn response_header(columns: &ModelColumns) -> Vec<String> {
-    let mut header: Vec<String> = RESPONSE_COLUMNS.map(String::from).to_vec();
-    header.extend(columns.steady());
-    header.extend(columns.poincare());
-    header
+impl ResponseTables<'_> {
+    fn header(&self, rest: &[String]) -> Vec<String> {
+        self.lead
+            .map(String::from)
+            .into_iter()
+            .chain(rest.iter().cloned())
+            .collect()
+    }
+
+    fn row(&self, value: Option<f64>, rest: Vec<String>) -> Vec<String> {
+        value
+            .map(|v| v.to_string())
+            .into_iter()
+            .chain(rest)
+            .collect()
+    }
+
+    /// Writes `main`, `points` and `outcomes` for the responses of each member.
+    fn write(
+        &self,
+        members: &[(Option<f64>, &FrequencyResponse)],
+        main: &Path,
+        points: &Path,
+        outcomes: &Path,
+    ) -> anyhow::Result<()> {
+        let columns = self.columns;
+        write_atomic(main, |w| {
+            let mut rest = vec!["response".to_string()];
+            rest.extend(RESPONSE_COLUMNS.map(String::from));
+            rest.extend(columns.steady());
+            rest.extend(columns.start());
+            w.write_record(self.header(&rest))?;
+            let mut id = 0usize;
+            for &(value, fr) in members {
+                for r in periodic(fr) {
+                    let mut rest = vec![
+                        id.to_string(),
+                        num(r.omega),
+                        columns.hz(r.omega),
+                        r.branch.map_or(String::new(), |b| b.to_string()),
+                        r.hidden.map_or(String::new(), |h| h.to_string()),
+                        r.seeded.to_string(),
+                        num(r.share),
+                    ];
+                    rest.extend(steady_fields(&r.steady));
+                    rest.extend(start_fields(&r.steady));
+                    w.write_record(self.row(value, rest))?;
+                    id += 1;
+                }
+            }
+            Ok(())
+        })?;
+        write_atomic(points, |w| {
+            let mut rest = vec!["response".to_string(), "omega".into(), "point".into()];
+            rest.extend(columns.poincare());
+            w.write_record(self.header(&rest))?;
+            let mut id = 0usize;
+            for &(value, fr) in members {
+                for r in periodic(fr) {
+                    for (k, p) in r.steady.poincare.iter().enumerate() {
+                        let rest = vec![
+                            id.to_string(),
+                            num(r.omega),
+                            k.to_string(),
+                            num(p[0]),
+                            num(p[1]),
+                        ];
+                        w.write_record(self.row(value, rest))?;
+                    }
+                    id += 1;
+                }
+            }
+            Ok(())
+        })?;
+        write_atomic(outcomes, |w| {
+            let rest = OUTCOME_COLUMNS.map(String::from);
+            w.write_record(self.header(&rest))?;
+            for &(value, fr) in members {
+                for (i, &omega) in fr.omegas.iter().enumerate() {
+                    let mut shares = [0.0; 3];
+                    for r in fr.responses.iter().filter(|r| r.omega_index == i) {
+                        let k = match r.steady.class {
+                            Class::Periodic => 0,
+                            Class::NonPeriodic => 1,
+                            Class::Collision => 2,
+                        };
+                        shares[k] += r.share;
+                    }
+                    let mut rest = vec![num(omega), columns.hz(omega)];
+                    rest.extend(shares.map(num));
+                    w.write_record(self.row(value, rest))?;
+                }
+            }
+            Ok(())
+        })
+    }
 }
 
-/// One row per response per ω_e (`frequency_hz` for the columns' device).
+/// The periodic responses of `fr`, in order.
+fn periodic(
+    fr: &FrequencyResponse,
+) -> impl Iterator<Item = &crate::analysis::global::frequency_response::Response> {
+    fr.responses
+        .iter()
+        .filter(|r| r.steady.class == Class::Periodic)
+}
+
+/// The columns of the outcomes per ω_e of a frequency response (see [`ResponseTables`]).
+const OUTCOME_COLUMNS: [&str; 5] = [
+    "omega",
+    "frequency_hz",
+    "periodic_share",
+    "non_periodic_share",
+    "collision_share",
+];
+
+/// One row per periodic response per ω_e (`frequency_hz` for the columns' device), with its
+/// stroboscopic points in `A.points.csv` and the shares of the starts per outcome in
+/// `A.outcomes.csv`.
 pub fn response_csv(
     fr: &FrequencyResponse,
     columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
-    write_atomic(path, |w| {
-        w.write_record(response_header(columns))?;
-        for r in &fr.responses {
-            w.write_record(response_fields(r, columns))?;
-        }
-        Ok(())
-    })
+    ResponseTables {
+        lead: None,
+        columns,
+    }
+    .write(
+        &[(None, fr)],
+        path,
+        &beside(path, "points"),
+        &beside(path, "outcomes"),
+    )
 }
 
 /// Where a family's per-response file lives beside its branch table: `A.responses.csv`.
 pub fn family_responses_path(family_csv: &Path) -> PathBuf {
-    family_csv.with_extension("responses.csv")
+    beside(family_csv, "responses")
 }
 
-/// One row per response per ω_e per member of a family, the parameter's value first.
+/// One row per periodic response per ω_e per member of a family, the parameter's value
+/// first; their points and the outcomes per ω_e beside the family's branch table
+/// (`A.points.csv`, `A.outcomes.csv`).
 pub fn family_responses_csv(
     parameter: &str,
     members: &[crate::analysis::global::family::FamilyMember],
     columns: &ModelColumns,
-    path: &Path,
+    family_csv: &Path,
 ) -> anyhow::Result<()> {
-    write_atomic(path, |w| {
-        let mut header = vec![parameter.to_string()];
-        header.extend(response_header(columns));
-        w.write_record(&header)?;
-        for m in members {
-            for r in &m.response.responses {
-                let mut row = vec![m.value.to_string()];
-                row.extend(response_fields(r, columns));
-                w.write_record(&row)?;
-            }
-        }
-        Ok(())
-    })
+    let members: Vec<(Option<f64>, &FrequencyResponse)> = members
+        .iter()
+        .map(|m| (Some(m.value), &m.response))
+        .collect();
+    ResponseTables {
+        lead: Some(parameter),
+        columns,
+    }
+    .write(
+        &members,
+        &family_responses_path(family_csv),
+        &beside(family_csv, "points"),
+        &beside(family_csv, "outcomes"),
+    )
 }
 
 /// One row per point of each force curve.
@@ -413,7 +553,8 @@ pub fn family_csv(
             parameter,
             "branch",
             "period_forcing_periods",
-            "ratio",
+            "ratio_response",
+            "ratio_excitation",
             "response_type",
             "omega_min",
             "omega_max",
@@ -429,7 +570,8 @@ pub fn family_csv(
                     m.value.to_string(),
                     b.id.to_string(),
                     b.period.to_string(),
-                    b.ratio.to_string(),
+                    b.ratio.response.to_string(),
+                    b.ratio.excitation.to_string(),
                     b.response_type.clone(),
                     num(b.omega_min),
                     num(b.omega_max),
@@ -528,18 +670,19 @@ pub fn continued_csv(
     })
 }
 
-/// One row per hunted branch per value of a hunt family: `PARAMETER, period, verdict,
-/// hidden, omega_min, omega_max, peak_amplitude_stretch, peak_omega, folds,
-/// period_doublings` (the located ω_e of each kind, `;`-separated).
+/// One row per hunted branch per value of a hunt family: `PARAMETER, branch, period,
+/// verdict, hidden, omega_min, omega_max, peak_amplitude_stretch, peak_omega` (the branch
+/// numbered within its member), and beside it one row per located bifurcation
+/// (`A.bifurcations.csv`: `PARAMETER, branch, kind, omega, amplitude_stretch, precision`).
 pub fn hunt_family_csv(
     parameter: &str,
     members: &[crate::analysis::continuation::hunt_family::HuntMember],
     path: &Path,
 ) -> anyhow::Result<()> {
-    use crate::analysis::continuation::branch::BifurcationKind;
     write_atomic(path, |w| {
         w.write_record([
             parameter,
+            "branch",
             "period",
             "verdict",
             "hidden",
@@ -547,22 +690,12 @@ pub fn hunt_family_csv(
             "omega_max",
             "peak_amplitude_stretch",
             "peak_omega",
-            "folds",
-            "period_doublings",
         ])?;
         for m in members {
-            for b in &m.branches {
-                let located = |kinds: &[BifurcationKind]| {
-                    b.branch
-                        .bifurcations
-                        .iter()
-                        .filter(|f| kinds.contains(&f.kind))
-                        .map(|f| num(f.omega))
-                        .collect::<Vec<_>>()
-                        .join(";")
-                };
+            for (id, b) in m.branches.iter().enumerate() {
                 w.write_record([
                     m.value.to_string(),
+                    id.to_string(),
                     b.branch.period.to_string(),
                     b.verdict.as_str().to_string(),
                     b.hidden.to_string(),
@@ -570,12 +703,32 @@ pub fn hunt_family_csv(
                     num(b.omega_max),
                     num(b.peak_amplitude),
                     num(b.peak_omega),
-                    located(&[BifurcationKind::Fold]),
-                    located(&[
-                        BifurcationKind::PeriodDoubling,
-                        BifurcationKind::ParentPeriodDoubling,
-                    ]),
                 ])?;
+            }
+        }
+        Ok(())
+    })?;
+    write_atomic(&beside(path, "bifurcations"), |w| {
+        w.write_record([
+            parameter,
+            "branch",
+            "kind",
+            "omega",
+            "amplitude_stretch",
+            "precision",
+        ])?;
+        for m in members {
+            for (id, b) in m.branches.iter().enumerate() {
+                for f in &b.branch.bifurcations {
+                    w.write_record([
+                        m.value.to_string(),
+                        id.to_string(),
+                        f.kind.as_str().to_string(),
+                        num(f.omega),
+                        num(f.amplitude),
+                        num(f.precision),
+                    ])?;
+                }
             }
         }
         Ok(())
@@ -584,8 +737,9 @@ pub fn hunt_family_csv(
 
 /// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e, for `device`; empty
 /// otherwise)`,
-/// stable, largest_amplitude_stretch, largest_type, hidden, subharmonic, collision_share,
-/// non_periodic_share`, the parameters named in the header.
+/// stable, largest_amplitude_stretch, largest_type, largest_ratio_response,
+/// largest_ratio_excitation, hidden, subharmonic, collision_share, non_periodic_share`, the
+/// parameters named in the header.
 pub fn map_csv(
     (x, parameter): (&str, &str),
     xs: &[f64],
@@ -603,6 +757,8 @@ pub fn map_csv(
             "stable",
             &largest,
             "largest_type",
+            "largest_ratio_response",
+            "largest_ratio_excitation",
             "hidden",
             "subharmonic",
             "collision_share",
@@ -610,6 +766,8 @@ pub fn map_csv(
         ])?;
         for row in rows {
             for (cell, at) in row.cells.iter().zip(xs) {
+                let short = cell.largest_type.as_deref().unwrap_or("");
+                let (largest_type, ratio) = full_type(short);
                 w.write_record([
                     row.value.to_string(),
                     num(*at),
@@ -620,7 +778,9 @@ pub fn map_csv(
                     },
                     cell.stable.to_string(),
                     cell.largest_amplitude.map_or(String::new(), num),
-                    cell.largest_type.clone().unwrap_or_default(),
+                    largest_type.clone(),
+                    ratio.map_or(String::new(), |r| r.response.to_string()),
+                    ratio.map_or(String::new(), |r| r.excitation.to_string()),
                     cell.hidden.to_string(),
                     cell.subharmonic.to_string(),
                     num(cell.collision_share),
@@ -693,4 +853,15 @@ pub fn curves_csv(
         }
         Ok(())
     })
+}
+
+/// A map cell's response type in full (`1:2 subharmonic`; the cell keeps `1:2`, which a
+/// spreadsheet would read as a time) and its ratio.
+fn full_type(short: &str) -> (String, Option<crate::analysis::Ratio>) {
+    match short.parse::<crate::analysis::Ratio>() {
+        Ok(r) if r.excitation > 1 => (format!("{short} subharmonic"), Some(r)),
+        Ok(r) if r.response > 1 => (format!("{short} super-harmonic"), Some(r)),
+        Ok(r) => (format!("{short} harmonic"), Some(r)),
+        Err(_) => (short.to_string(), None),
+    }
 }

@@ -14,13 +14,13 @@ use super::store::chunk::{self, ChunkId};
 use super::store::manifest::{Manifest, Unverified};
 use super::store::{self, ResultPaths};
 use crate::analysis::Ratio;
-use crate::analysis::SteadyState;
 use crate::analysis::continuation::hunt::HuntSpec;
 use crate::analysis::continuation::map::{MapCell, MapRow};
 use crate::analysis::global::family::FamilyMember;
 use crate::analysis::global::frequency_response::{Branch, Response};
 use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::orbit::time_history::{SteadySummary, steady_summary};
+use crate::analysis::{Class, SteadyState};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
 #[derive(Debug, Clone, PartialEq)]
@@ -655,9 +655,9 @@ impl Columns {
                 .map(|(i, _)| *i)
                 .collect()
         };
-        if let [a, b, ..] = starting("poincare_")[..] {
-            add("poincare_lambda", a, map);
-            add("poincare_v", b, map);
+        if let [a, b, ..] = starting("start_")[..] {
+            add("start_lambda", a, map);
+            add("start_v", b, map);
         }
         let offsets: Vec<usize> = by_index
             .iter()
@@ -698,17 +698,41 @@ impl Columns {
         self.str(row, name).ok().and_then(|s| s.parse().ok())
     }
 
-    /// The first stroboscopic point of the `;`-separated columns.
+    /// The first stroboscopic point, if the row has one.
     fn start(&self, row: &csv::StringRecord) -> Option<[f64; 2]> {
-        let first = |name: &str| {
-            self.str(row, name)
-                .ok()?
-                .split(';')
-                .next()?
-                .parse::<f64>()
-                .ok()
-        };
-        Some([first("poincare_lambda")?, first("poincare_v")?])
+        Some([self.opt(row, "start_lambda")?, self.opt(row, "start_v")?])
+    }
+
+    /// The ratio ω_r:ω_e of its two integer columns.
+    fn ratio(&self, row: &csv::StringRecord, prefix: &str) -> Option<Ratio> {
+        let response = self.opt(row, &format!("{prefix}ratio_response"))?;
+        let excitation: u32 = self.opt(row, &format!("{prefix}ratio_excitation"))?;
+        (excitation > 0).then(|| Ratio::new(response, excitation))
+    }
+
+    /// The starts that reached no periodic response at one ω_e of an outcomes table
+    /// (`export::ResponseTables`), as responses without an amplitude: one per outcome
+    /// that any start had.
+    fn outcome_points(&self, row: &csv::StringRecord) -> anyhow::Result<Vec<ResponsePoint>> {
+        let omega = self.f64(row, "omega")?;
+        let mut points = Vec::new();
+        for class in [Class::NonPeriodic, Class::Collision] {
+            let share = self.f64(row, &format!("{}_share", class.as_str().replace('-', "_")))?;
+            if share > 0.0 {
+                points.push(ResponsePoint {
+                    omega,
+                    amplitude: None,
+                    response_type: class.as_str().into(),
+                    period: None,
+                    ratio: None,
+                    hidden: None,
+                    branch: None,
+                    share,
+                    start: None,
+                });
+            }
+        }
+        Ok(points)
     }
 
     fn response_point(&self, row: &csv::StringRecord) -> anyhow::Result<ResponsePoint> {
@@ -717,7 +741,7 @@ impl Columns {
             amplitude: self.opt(row, "amplitude_stretch"),
             response_type: self.str(row, "response_type")?.to_string(),
             period: self.opt(row, "period_forcing_periods"),
-            ratio: self.opt(row, "ratio"),
+            ratio: self.ratio(row, ""),
             hidden: self.opt(row, "hidden"),
             branch: self.opt(row, "branch"),
             share: self.opt(row, "share").unwrap_or(0.0),
@@ -791,16 +815,11 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 .map(|r| c.response_point(r))
                 .collect::<anyhow::Result<_>>()?,
         ),
-        Settings::FrequencyResponse(_) => ResultView::Response(
-            rows.iter()
-                .map(|r| c.response_point(r))
-                .collect::<anyhow::Result<_>>()?,
-        ),
+        Settings::FrequencyResponse(_) => {
+            ResultView::Response(response_points(&c, &rows, &paths.csv)?)
+        }
         Settings::Hunt(_) => {
-            let responses = rows
-                .iter()
-                .map(|r| c.response_point(r))
-                .collect::<anyhow::Result<_>>()?;
+            let responses = response_points(&c, &rows, &paths.csv)?;
             let continued = read_continued(&super::export::branches_path(&paths.csv))?;
             ResultView::Hunt(HuntView {
                 responses,
@@ -817,8 +836,12 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 let cell = MapCell {
                     stable: c.f64(r, "stable")? as usize,
                     largest_amplitude: c.opt(r, "largest_amplitude_stretch"),
-                    largest_type: Some(c.str(r, "largest_type")?.to_string())
-                        .filter(|t| !t.is_empty()),
+                    // the short form, `1:2` of `1:2 subharmonic`
+                    largest_type: c
+                        .str(r, "largest_type")?
+                        .split_whitespace()
+                        .next()
+                        .map(String::from),
                     hidden: c.str(r, "hidden")? == "true",
                     subharmonic: c.str(r, "subharmonic")? == "true",
                     collision_share: c.f64(r, "collision_share")?,
@@ -868,13 +891,19 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
             let (rc, response_rows) =
                 self::rows(&super::export::family_responses_path(&paths.csv))?;
             let mut members: Vec<(f64, Vec<ResponsePoint>)> = Vec::new();
+            let mut add = |value: f64, points: Vec<ResponsePoint>| match members
+                .iter_mut()
+                .find(|m| m.0 == value)
+            {
+                Some(member) => member.1.extend(points),
+                None => members.push((value, points)),
+            };
             for r in &response_rows {
-                let value = rc.f64(r, parameter)?;
-                let point = rc.response_point(r)?;
-                match members.last_mut() {
-                    Some(last) if last.0 == value => last.1.push(point),
-                    _ => members.push((value, vec![point])),
-                }
+                add(rc.f64(r, parameter)?, vec![rc.response_point(r)?]);
+            }
+            let (oc, outcome_rows) = self::rows(&super::export::beside(&paths.csv, "outcomes"))?;
+            for r in &outcome_rows {
+                add(oc.f64(r, parameter)?, oc.outcome_points(r)?);
             }
             ResultView::Family(FamilyView {
                 parameter: parameter.into(),
@@ -882,6 +911,24 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
             })
         }
     })
+}
+
+/// A frequency response's periodic responses (`rows` of `csv`) and, from its outcomes table,
+/// the starts that reached none.
+fn response_points(
+    c: &Columns,
+    rows: &[csv::StringRecord],
+    csv: &Path,
+) -> anyhow::Result<Vec<ResponsePoint>> {
+    let mut points = rows
+        .iter()
+        .map(|r| c.response_point(r))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let (oc, outcome_rows) = self::rows(&super::export::beside(csv, "outcomes"))?;
+    for r in &outcome_rows {
+        points.extend(oc.outcome_points(r)?);
+    }
+    Ok(points)
 }
 
 /// Reads a continued-branch file (see [`super::export::continued_csv`]).

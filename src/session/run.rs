@@ -100,13 +100,15 @@ pub fn chunk_count(settings: &Settings) -> usize {
 /// The files of a result whose main file is `csv`, in the order they are recorded.
 pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
     let mut files = vec![csv.to_path_buf()];
-    match settings {
-        Settings::Basin(_) => files.push(csv.with_extension("attractors.csv")),
-        Settings::Hunt(_) => files.push(export::branches_path(csv)),
-        Settings::Map(_) => files.push(export::curves_path(csv)),
-        Settings::Family(_) => files.push(export::family_responses_path(csv)),
-        _ => {}
-    }
+    let tables: &[&str] = match settings {
+        Settings::Basin(_) => &["attractors", "points"],
+        Settings::FrequencyResponse(_) => &["points", "outcomes"],
+        Settings::Hunt(_) => &["branches", "points", "outcomes"],
+        Settings::Map(_) => &["curves"],
+        Settings::Family(_) => &["responses", "points", "outcomes"],
+        _ => &[],
+    };
+    files.extend(tables.iter().map(|t| export::beside(csv, t)));
     files
 }
 
@@ -413,8 +415,7 @@ impl Run<'_> {
                         let members: Vec<FamilyMember> = chunks.collect::<anyhow::Result<_>>()?;
                         let name = spec.parameter.name();
                         export::family_csv(name, &members, columns, csv)?;
-                        let responses = export::family_responses_path(csv);
-                        export::family_responses_csv(name, &members, columns, &responses)
+                        export::family_responses_csv(name, &members, columns, csv)
                     },
                 )
             }
@@ -786,6 +787,9 @@ impl Run<'_> {
             analysis: entry.name.clone(),
             kind: entry.settings.kind().into(),
             fingerprint: self.work.fingerprint.clone(),
+            computed_from: self
+                .session
+                .fingerprint_input(entry, crate::analysis::NUMERICS_VERSION),
             numerics: crate::analysis::NUMERICS_VERSION,
             isola_version: crate::BUILD.into(),
             chunks_total: self.chunks,

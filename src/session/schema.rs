@@ -544,22 +544,29 @@ impl Session {
         self.fingerprint_with(entry, crate::analysis::NUMERICS_VERSION)
     }
 
-    /// The fingerprint `entry` has under numerics version `numerics`.
+    /// The fingerprint `entry` has under numerics version `numerics`: the first 16 bytes of
+    /// the SHA-256 of [`Self::fingerprint_input`] as compact JSON, in hex.
     pub fn fingerprint_with(&self, entry: &AnalysisEntry, numerics: u32) -> String {
         use sha2::Digest;
+        let what = self.fingerprint_input(entry, numerics);
+        let digest = sha2::Sha256::digest(what.to_string().as_bytes());
+        super::store::chunk::hex(&digest[..16])
+    }
+
+    /// What `entry` computes from, under numerics version `numerics`: the model's values it
+    /// uses, the device, its settings (with its kind) and the numerics version.
+    pub fn fingerprint_input(&self, entry: &AnalysisEntry, numerics: u32) -> serde_json::Value {
         let used = entry.settings.model_use();
         let model = match &self.written {
             Some(w) => w.fingerprint_model(&entry.values, &used),
             None => self.built_in_fingerprint_model(entry, &used),
         };
-        let what = serde_json::json!({
+        serde_json::json!({
             "numerics": numerics,
             "device": self.device(),
             "model": model,
             "settings": &entry.settings,
-        });
-        let digest = sha2::Sha256::digest(what.to_string().as_bytes());
-        super::store::chunk::hex(&digest[..16])
+        })
     }
 
     /// What of the built-in model `entry` uses, for its fingerprint: its parameters without

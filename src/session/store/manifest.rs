@@ -10,8 +10,9 @@ use sha2::{Digest, Sha256};
 use super::chunk::hex;
 
 /// The manifest format this build writes and reads (1 was an unchecked record of earlier
-/// builds, never trusted now).
-pub const MANIFEST_FORMAT: u32 = 2;
+/// builds, never trusted now; 2 had the responses' stroboscopic points `;`-joined in their
+/// rows and no record of the values computed from).
+pub const MANIFEST_FORMAT: u32 = 3;
 
 /// `A.manifest.json`: exists only for a complete result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -22,6 +23,10 @@ pub struct Manifest {
     pub kind: String,
     /// Fingerprint of model, device, settings, kind and numerics (see `Session::fingerprint`).
     pub fingerprint: String,
+    /// What the fingerprint is the hash of: the model's values the analysis uses, the device,
+    /// the settings and the numerics version (see `Session::fingerprint_input`), so a reader
+    /// sees, and can check, what the result was computed from.
+    pub computed_from: serde_json::Value,
     /// The numerics version of the build that computed it.
     pub numerics: u32,
     /// The build: package version and commit.

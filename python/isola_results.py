@@ -1,0 +1,126 @@
+"""Load isola's results into pandas with proper dtypes.
+
+A session's results live in ``SESSION.results/``; each complete analysis ``A`` has its
+main table ``A.csv``, the tables beside it (``A.points.csv``, ``A.outcomes.csv``,
+``A.attractors.csv``, ...) and ``A.manifest.json``, which lists every file with its
+SHA-256 and records what the result was computed from.
+
+    import isola_results
+    tables = isola_results.load("sessions/fig04_response_adr06.results", "response")
+    tables["response"]          # the periodic responses, one row each
+    tables["points"]            # their stroboscopic points, one row per point
+    tables["outcomes"]          # per omega: shares of periodic, non-periodic, collision
+    tables.manifest["computed_from"]["model"]
+
+Integers are pandas' nullable ``Int64``, flags ``boolean``, labels ``string``, the rest
+``float64`` (empty cells are missing values). Only the standard library and pandas are
+needed: copy this file next to a notebook, or put its folder on ``sys.path``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import pandas as pd
+
+# Columns that hold counts, numbers of things or ids.
+INTEGER = {
+    "attractor",
+    "branch",
+    "cells",
+    "curve",
+    "largest_ratio_excitation",
+    "largest_ratio_response",
+    "period",
+    "period_forcing_periods",
+    "point",
+    "points",
+    "ratio_excitation",
+    "ratio_response",
+    "response",
+    "step",
+}
+# Columns that hold true/false.
+BOOLEAN = {"hidden", "partly_hidden", "restarted", "seeded", "steady", "subharmonic"}
+# Columns that hold labels.
+TEXT = {"at", "class", "kind", "largest_type", "of", "response_type", "verdict"}
+
+
+class Tables(dict):
+    """The tables of one result by name (the main one under the analysis' name), with its
+    manifest as ``.manifest``."""
+
+    manifest: dict
+
+
+def dtype_of(column: str, cells: pd.Series) -> str:
+    """The dtype of a column, by its name (and, for ``stable``, by what it holds: a count of
+    stable responses in a map, a flag on a continued branch)."""
+    if column in TEXT:
+        return "string"
+    if column in BOOLEAN:
+        return "boolean"
+    if column in INTEGER:
+        return "Int64"
+    if column == "stable":
+        values = set(cells[cells != ""])
+        return "boolean" if values <= {"true", "false"} else "Int64"
+    return "float64"
+
+
+def read_table(path: str | Path) -> pd.DataFrame:
+    """One of isola's CSV files as a frame with the dtypes of :func:`dtype_of`."""
+    raw = pd.read_csv(path, dtype=str, keep_default_na=False)
+    frame = pd.DataFrame(index=raw.index)
+    for column in raw.columns:
+        cells = raw[column]
+        dtype = dtype_of(column, cells)
+        missing = cells == ""
+        if dtype == "boolean":
+            unknown = set(cells[~missing]) - {"true", "false"}
+            if unknown:
+                raise ValueError(f"{path}: column {column!r} holds {sorted(unknown)[:3]}")
+            values = cells.map({"true": True, "false": False}).where(~missing, None)
+            frame[column] = pd.array(values, dtype="boolean")
+        elif dtype == "string":
+            frame[column] = pd.array(cells.where(~missing, None), dtype="string")
+        else:
+            numbers = pd.to_numeric(cells.where(~missing, None), errors="raise")
+            frame[column] = numbers.astype(dtype)
+    return frame
+
+
+def load(results: str | Path, analysis: str, verify: bool = True) -> Tables:
+    """The tables of analysis ``analysis`` in the results folder ``results`` (as its
+    manifest lists them), each checked against the manifest's SHA-256 unless ``verify`` is
+    false. A result without a manifest is not complete and is refused."""
+    folder = Path(results)
+    manifest_path = folder / f"{analysis}.manifest.json"
+    if not manifest_path.exists():
+        raise FileNotFoundError(f"{manifest_path}: no complete result of {analysis!r}")
+    manifest = json.loads(manifest_path.read_text())
+    tables = Tables()
+    tables.manifest = manifest
+    for stored in manifest["files"]:
+        path = folder / stored["name"]
+        if verify:
+            digest = hashlib.sha256(path.read_bytes()).hexdigest()
+            if digest != stored["sha256"]:
+                raise ValueError(f"{path}: checksum differs from the manifest's")
+        name = stored["name"].removesuffix(".csv")
+        key = analysis if name == analysis else name.removeprefix(analysis + ".")
+        tables[key] = read_table(path)
+    return tables
+
+
+def load_all(results: str | Path, verify: bool = True) -> dict[str, Tables]:
+    """Every complete analysis of a results folder, by name."""
+    folder = Path(results)
+    return {
+        m.name.removesuffix(".manifest.json"): load(
+            folder, m.name.removesuffix(".manifest.json"), verify
+        )
+        for m in sorted(folder.glob("*.manifest.json"))
+    }
