@@ -4,7 +4,7 @@
 //! screen, quits, and the terminal is given back (main screen, cursor shown); the work of a
 //! session made in the workbench survives it; closing the terminal ends it.
 
-mod common;
+use crate::common;
 
 use std::fs::File;
 use std::io::{Read, Write};

@@ -2,7 +2,7 @@
 //! no abort, no hang (each ends within seconds), no NaN or infinity in any output, and every
 //! error names the field the user wrote.
 
-mod corpus;
+use crate::corpus;
 
 use std::path::Path;
 use std::process::{Command, Stdio};

@@ -2,7 +2,7 @@
 //! SIGHUP each end it with the conventional status (128 + the signal's number), the terminal
 //! back in cooked mode with echo, off the alternate screen and with the cursor shown.
 
-mod common;
+use crate::common;
 
 use std::fs::File;
 use std::io::Read;

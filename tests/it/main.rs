@@ -1,0 +1,19 @@
+//! Every integration test in one binary: one link, and the library's generic analyses
+//! compiled once for all of them. `cargo test --test it MODULE::` runs one file's tests.
+
+mod common;
+mod corpus;
+
+mod bifurcation_curves;
+mod cli;
+mod continuation;
+mod global_analyses;
+mod hostile_sessions;
+mod hunt;
+mod map;
+mod paper_claims;
+mod reference;
+mod sessions;
+mod signals;
+mod store;
+mod tui_pty;
