@@ -54,8 +54,9 @@ struct ContinueSummary<'a> {
     x0: f64,
     v0: f64,
     parameter: &'a str,
-    parameter_min: f64,
-    parameter_max: f64,
+    /// The range --range allowed it.
+    range_min: f64,
+    range_max: f64,
     /// The seed's branch first, then the branches switched to, in the order of `switches`.
     branches: Vec<BranchSummary<'a>>,
     switches: Vec<Switch>,
@@ -198,8 +199,8 @@ pub fn run(args: &ContinueArgs, out: Output) -> anyhow::Result<()> {
         x0: args.start.x0,
         v0: args.start.v0,
         parameter: args.vary.name(),
-        parameter_min: args.range.0,
-        parameter_max: args.range.1,
+        range_min: args.range.0,
+        range_max: args.range.1,
         points: all.iter().map(|b| b.points.len()).sum(),
         branches: all.into_iter().map(BranchSummary::of).collect(),
         switches,

@@ -54,7 +54,8 @@ enum Stored {
     /// Computed for other settings, device or numerics.
     Stale,
     /// No usable result, and why.
-    None { reason: String },
+    #[serde(rename = "none")]
+    Missing { reason: String },
 }
 
 /// The chunks of an unfinished analysis, by host, with the rates they are done at.
@@ -67,8 +68,9 @@ struct Chunks {
     /// Chunk files that fail their checks (they will be recomputed).
     damaged: usize,
     hosts: Vec<Host>,
-    /// All hosts together, and the seconds to go at that rate (while chunks are missing).
-    chunks_per_minute: f64,
+    /// All hosts together (none before any host has worked), and the seconds to go at that
+    /// rate (while chunks are missing).
+    chunks_per_minute: Option<f64>,
     seconds_left: Option<f64>,
 }
 
@@ -92,7 +94,7 @@ impl Chunks {
             claimed: s.claimed.len(),
             missing: s.missing(),
             damaged: s.bad.len(),
-            chunks_per_minute: HostWork::total_per_minute(&hosts),
+            chunks_per_minute: (!hosts.is_empty()).then(|| HostWork::total_per_minute(&hosts)),
             seconds_left: s.seconds_left(&hosts).filter(|_| s.missing() > 0),
             hosts: hosts
                 .into_iter()
@@ -137,11 +139,8 @@ impl Chunks {
                 h.host, h.done, h.claimed, h.chunks_per_minute
             );
         }
-        if let Some(left) = self.seconds_left {
-            println!(
-                "  at {:.1} chunks/min: about {left:.0} s to go",
-                self.chunks_per_minute
-            );
+        if let (Some(left), Some(rate)) = (self.seconds_left, self.chunks_per_minute) {
+            println!("  at {rate:.1} chunks/min: about {left:.0} s to go");
         }
     }
 }
@@ -159,7 +158,7 @@ pub fn run(args: &StatusArgs, out: Output) -> anyhow::Result<()> {
                 assembled_by: host_of(&m.assembled_by).to_string(),
             },
             Ok(_) => Stored::Stale,
-            Err(why) => Stored::None {
+            Err(why) => Stored::Missing {
                 reason: why.to_string(),
             },
         };
@@ -208,7 +207,7 @@ impl Summary for StatusSummary<'_> {
                 Stored::Stale => {
                     "stale (computed for other settings, device or numerics)".to_string()
                 }
-                Stored::None { reason } => format!("none ({reason})"),
+                Stored::Missing { reason } => format!("none ({reason})"),
             };
             println!("{} ({}): result {result}", a.name, a.kind);
             if let Some(chunks) = &a.chunks {
