@@ -4,11 +4,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use isola::analysis::Progress;
 use isola::analysis::global::basin::{BasinSpec, basin};
+use isola::analysis::grid::Axis;
+use isola::analysis::{Progress, SteadyState};
 use isola::jobs::JobContext;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 use super::parse;
 use super::start_ranges::StartRanges;
 
@@ -32,7 +35,35 @@ pub struct BasinArgs {
     csv: Option<PathBuf>,
 }
 
-pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
+/// A basin: its grid and the attractors the cells reach, with their shares.
+#[derive(Serialize)]
+struct BasinSummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    omega: f64,
+    /// Initial Δλ and v of the grid's cells.
+    dx: Axis,
+    v: Axis,
+    cells: usize,
+    threads: usize,
+    attractors: Vec<AttractorSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One attractor: a representative steady state (fields as `orbit`'s), the cells that reach
+/// it and their share of the grid.
+#[derive(Serialize)]
+struct AttractorSummary<'a> {
+    id: usize,
+    response_type: String,
+    cells: usize,
+    fraction: f64,
+    #[serde(flatten)]
+    steady: &'a SteadyState,
+}
+
+pub fn run(args: &BasinArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let (dx, v) = args.starts.axes(args.grid);
@@ -48,31 +79,10 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let result = ctx.run(|| basin(&params, &spec, &progress, &|_| {}))??;
-    let elapsed = started.elapsed();
-    println!(
-        "basin {}x{} at ADR {}, ω_e {}: {} cells in {:.2} s ({} threads)",
-        args.grid.0,
-        args.grid.1,
-        params
-            .drive_i()
-            .adr()
-            .map_or("-".into(), |a| format!("{a}")),
-        params.omega(),
-        result.labels.len(),
-        elapsed.as_secs_f64(),
-        ctx.pool.current_num_threads()
-    );
-    for a in &result.table.attractors {
-        let r = &a.response;
-        println!(
-            "  #{}  {:<18} period {:<4} amplitude {:<10} fraction {:.4}",
-            a.id,
-            r.response_type(),
-            r.period.map_or("-".into(), |k| k.to_string()),
-            r.amplitude.map_or("-".into(), |x| format!("{x:.6}")),
-            result.fraction(a.id)
-        );
-    }
+    let mut done = Done {
+        elapsed_seconds: started.elapsed().as_secs_f64(),
+        ..Done::default()
+    };
     if let Some(path) = &args.csv {
         isola::session::export::basin_csv(
             &result,
@@ -80,7 +90,58 @@ pub fn run(args: &BasinArgs) -> anyhow::Result<()> {
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
-        println!("wrote {} and its .attractors.csv", path.display());
+        // the attractor table beside it, named as basin_csv names it
+        done.wrote
+            .extend([path.clone(), path.with_extension("attractors.csv")]);
     }
-    Ok(())
+    let attractors = result
+        .table
+        .attractors
+        .iter()
+        .map(|a| AttractorSummary {
+            id: a.id,
+            response_type: a.response.response_type(),
+            cells: a.count,
+            fraction: result.fraction(a.id),
+            steady: &a.response,
+        })
+        .collect();
+    out.report(&BasinSummary {
+        model: Model::of(&params),
+        omega: params.omega(),
+        dx: spec.dx,
+        v: spec.v,
+        cells: result.labels.len(),
+        threads: ctx.pool.current_num_threads(),
+        attractors,
+        done,
+    })
+}
+
+impl Summary for BasinSummary<'_> {
+    fn print_text(&self) {
+        println!(
+            "basin {}x{} at ADR {}, ω_e {}: {} cells in {:.2} s ({} threads)",
+            self.dx.points,
+            self.v.points,
+            self.model.adr.map_or("-".into(), |a| format!("{a}")),
+            self.omega,
+            self.cells,
+            self.done.elapsed_seconds,
+            self.threads
+        );
+        for a in &self.attractors {
+            println!(
+                "  #{}  {:<18} period {:<4} amplitude {:<10} fraction {:.4}",
+                a.id,
+                a.response_type,
+                a.steady.period.map_or("-".into(), |k| k.to_string()),
+                a.steady.amplitude.map_or("-".into(), |x| format!("{x:.6}")),
+                a.fraction
+            );
+        }
+        if let Some(path) = self.done.wrote.first() {
+            println!("wrote {} and its .attractors.csv", path.display());
+        }
+    }
 }

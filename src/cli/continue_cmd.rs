@@ -7,12 +7,15 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::continuation::branch::{
-    BifurcationKind, ContinuationSpec, ContinuedBranch, switch_at_period_doubling,
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch,
+    switch_at_period_doubling,
 };
 use isola::analysis::continuation::branch_from_state::{BranchFromState, branch_from_state};
 use isola::analysis::parameter::ContinuationParameter;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 use super::parse;
 
 #[derive(Debug, Args)]
@@ -40,7 +43,96 @@ pub struct ContinueArgs {
     csv: Option<PathBuf>,
 }
 
-pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
+/// A continuation: the branch through the seed, and with --switch the branches born at its
+/// period doublings.
+#[derive(Serialize)]
+struct ContinueSummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    /// ω_e of the seed.
+    omega: f64,
+    x0: f64,
+    v0: f64,
+    parameter: &'a str,
+    /// The range --range allowed it.
+    range_min: f64,
+    range_max: f64,
+    /// The seed's branch first, then the branches switched to, in the order of `switches`.
+    branches: Vec<BranchSummary<'a>>,
+    switches: Vec<Switch>,
+    /// Points on all the branches.
+    points: usize,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// What became of a switch at a period doubling of the seed's branch, at `at`.
+#[derive(Serialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+enum Switch {
+    /// The branch born there is one switched to already (it ends there).
+    Known { at: f64 },
+    /// Continued: `branches[branch]`.
+    Continued { at: f64, branch: usize },
+    /// No branch could be continued from there.
+    Failed { at: f64, reason: String },
+}
+
+/// One continued branch: its range, ends, stable and unstable arcs and located
+/// bifurcations.
+#[derive(Serialize)]
+pub struct BranchSummary<'a> {
+    period: usize,
+    parameter: &'a str,
+    parameter_min: f64,
+    parameter_max: f64,
+    pub ends: &'a [BranchEnd; 2],
+    closed: bool,
+    pub points: usize,
+    arcs: Vec<Arc>,
+    pub bifurcations: &'a [Bifurcation],
+}
+
+/// A maximal run of points of equal stability, from its first point to its last.
+#[derive(Serialize)]
+struct Arc {
+    stable: bool,
+    parameter_start: f64,
+    parameter_end: f64,
+    amplitude_start: f64,
+    amplitude_end: f64,
+}
+
+impl<'a> BranchSummary<'a> {
+    /// The summary of `b`.
+    pub fn of(b: &'a ContinuedBranch) -> Self {
+        let (parameter_min, parameter_max) = b.parameter_range();
+        let arcs = b
+            .arcs()
+            .into_iter()
+            .map(|(i, j, stable)| Arc {
+                stable,
+                parameter_start: b.points[i].parameter,
+                parameter_end: b.points[j].parameter,
+                amplitude_start: b.points[i].amplitude,
+                amplitude_end: b.points[j].amplitude,
+            })
+            .collect();
+        BranchSummary {
+            period: b.period,
+            parameter: b.parameter.name(),
+            parameter_min,
+            parameter_max,
+            ends: &b.ends,
+            closed: b.closed(),
+            points: b.points.len(),
+            arcs,
+            bifurcations: &b.bifurcations,
+        }
+    }
+}
+
+pub fn run(args: &ContinueArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let started = Instant::now();
@@ -59,89 +151,125 @@ pub fn run(args: &ContinueArgs) -> anyhow::Result<()> {
     };
     let progress = Progress::new(0);
     let branch = branch_from_state(&params, &spec, &progress)?;
-    print_summary(&branch);
     let mut born = Vec::new();
+    let mut switches = Vec::new();
     if args.switch {
         for pd in branch.of_kind(BifurcationKind::PeriodDoubling) {
+            let at = pd.parameter;
             let known = born.iter().any(|b: &ContinuedBranch| {
                 b.of_kind(BifurcationKind::ParentPeriodDoubling)
-                    .any(|end| (end.parameter - pd.parameter).abs() < 1e-6)
+                    .any(|end| (end.parameter - at).abs() < 1e-6)
             });
-            if known {
-                println!(
-                    "the branch born at {} = {:.9} is the one above (it ends there)",
-                    args.vary.name(),
-                    pd.parameter
-                );
-                continue;
-            }
-            println!(
-                "switching at the period doubling at {} = {:.9}:",
-                args.vary.name(),
-                pd.parameter
-            );
-            match switch_at_period_doubling(&params, &branch, pd, &spec.continuation, &progress) {
-                Ok(b) => {
-                    print_summary(&b);
-                    born.push(b);
+            switches.push(if known {
+                Switch::Known { at }
+            } else {
+                match switch_at_period_doubling(&params, &branch, pd, &spec.continuation, &progress)
+                {
+                    Ok(b) => {
+                        born.push(b);
+                        Switch::Continued {
+                            at,
+                            branch: born.len(),
+                        }
+                    }
+                    Err(e) => Switch::Failed {
+                        at,
+                        reason: e.to_string(),
+                    },
                 }
-                Err(e) => println!("  no branch: {e}"),
-            }
+            });
         }
     }
-    let points: usize = std::iter::once(&branch)
-        .chain(&born)
-        .map(|b| b.points.len())
-        .sum();
-    println!(
-        "{points} points in {:.2} s",
-        started.elapsed().as_secs_f64()
-    );
+    let all: Vec<&ContinuedBranch> = std::iter::once(&branch).chain(&born).collect();
+    let mut done = Done {
+        elapsed_seconds: started.elapsed().as_secs_f64(),
+        ..Done::default()
+    };
     if let Some(path) = &args.csv {
-        let all: Vec<&ContinuedBranch> = std::iter::once(&branch).chain(&born).collect();
         isola::session::export::continued_csv(
             &all,
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&ContinueSummary {
+        model: Model::of(&params),
+        omega: params.omega(),
+        x0: args.start.x0,
+        v0: args.start.v0,
+        parameter: args.vary.name(),
+        range_min: args.range.0,
+        range_max: args.range.1,
+        points: all.iter().map(|b| b.points.len()).sum(),
+        branches: all.into_iter().map(BranchSummary::of).collect(),
+        switches,
+        done,
+    })
 }
 
-/// The shape of a branch, its arcs and its bifurcations, as lines of text.
-pub fn print_summary(b: &ContinuedBranch) {
-    let name = b.parameter.name();
-    let (lo, hi) = b.parameter_range();
-    println!(
-        "period-{} branch, {name} {lo:.6}–{hi:.6}, ends: {} / {}{}",
-        b.period,
-        b.ends[0],
-        b.ends[1],
-        if b.closed() { " (closed)" } else { "" }
-    );
-    for (i, j, stable) in b.arcs() {
-        let (p, q) = (&b.points[i], &b.points[j]);
+impl Summary for ContinueSummary<'_> {
+    fn print_text(&self) {
+        self.branches[0].print_text();
+        let name = self.parameter;
+        for switch in &self.switches {
+            match switch {
+                Switch::Known { at } => {
+                    println!("the branch born at {name} = {at:.9} is the one above (it ends there)")
+                }
+                Switch::Continued { at, branch } => {
+                    println!("switching at the period doubling at {name} = {at:.9}:");
+                    self.branches[*branch].print_text();
+                }
+                Switch::Failed { at, reason } => {
+                    println!("switching at the period doubling at {name} = {at:.9}:");
+                    println!("  no branch: {reason}");
+                }
+            }
+        }
         println!(
-            "  {} arc: {name} {:.4} → {:.4}, amplitude {:.4} → {:.4}",
-            if stable { "stable  " } else { "unstable" },
-            p.parameter,
-            q.parameter,
-            p.amplitude,
-            q.amplitude
+            "{} points in {:.2} s",
+            self.points, self.done.elapsed_seconds
         );
+        self.done.print_wrote();
     }
-    for f in &b.bifurcations {
-        let mu = f.multipliers.0[0];
+}
+
+impl Summary for BranchSummary<'_> {
+    /// The shape of the branch, its arcs and its bifurcations, as lines of text.
+    fn print_text(&self) {
+        let name = self.parameter;
         println!(
-            "  {:<22} {name} = {:.9} (±{:.0e}), ω {:.6}, amplitude {:.6}, μ₁ = {:.6}{:+.6}i",
-            f.kind.as_str(),
-            f.parameter,
-            f.precision.max(f64::EPSILON),
-            f.omega,
-            f.amplitude,
-            mu.re,
-            mu.im
+            "period-{} branch, {name} {:.6}–{:.6}, ends: {} / {}{}",
+            self.period,
+            self.parameter_min,
+            self.parameter_max,
+            self.ends[0],
+            self.ends[1],
+            if self.closed { " (closed)" } else { "" }
         );
+        for a in &self.arcs {
+            println!(
+                "  {} arc: {name} {:.4} → {:.4}, amplitude {:.4} → {:.4}",
+                if a.stable { "stable  " } else { "unstable" },
+                a.parameter_start,
+                a.parameter_end,
+                a.amplitude_start,
+                a.amplitude_end
+            );
+        }
+        for f in self.bifurcations {
+            let mu = f.multipliers.0[0];
+            println!(
+                "  {:<22} {name} = {:.9} (±{:.0e}), ω {:.6}, amplitude {:.6}, μ₁ = {:.6}{:+.6}i",
+                f.kind.as_str(),
+                f.parameter,
+                f.precision.max(f64::EPSILON),
+                f.omega,
+                f.amplitude,
+                mu.re,
+                mu.im
+            );
+        }
     }
 }

@@ -5,14 +5,17 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::global::family::{FamilySpec, family};
+use isola::analysis::global::family::{FamilyMember, FamilySpec, family};
 use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
 use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 use super::parse;
+use super::response::BranchSummary;
 
 #[derive(Debug, Args)]
 pub struct FamilyArgs {
@@ -40,7 +43,39 @@ pub struct FamilyArgs {
     csv: Option<PathBuf>,
 }
 
-pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
+/// A family: the parameter varied and, per value, the branches of its frequency response.
+#[derive(Serialize)]
+struct FamilySummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    omega: Axis,
+    parameter: &'a str,
+    members: Vec<MemberSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One value of the family and every branch of its frequency response (the text shows the
+/// subharmonic ones).
+#[derive(Serialize)]
+struct MemberSummary<'a> {
+    #[serde(skip)]
+    parameter: &'a str,
+    value: f64,
+    branches: Vec<BranchSummary<'a>>,
+}
+
+impl<'a> MemberSummary<'a> {
+    fn of(parameter: &'a str, m: &'a FamilyMember) -> Self {
+        MemberSummary {
+            parameter,
+            value: m.value,
+            branches: m.response.branches.iter().map(BranchSummary::of).collect(),
+        }
+    }
+}
+
+pub fn run(args: &FamilyArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let spec = FamilySpec {
@@ -61,23 +96,13 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
     let name = args.vary.name();
     let members = ctx.run(|| {
         family(&params, &spec, &progress, |m| {
-            let subs: Vec<String> = m.subharmonic_branches().map(|b| b.describe()).collect();
-            println!(
-                "{name} = {:<8} {}",
-                m.value,
-                if subs.is_empty() {
-                    "no subharmonic".into()
-                } else {
-                    subs.join("; ")
-                }
-            );
+            out.show(&MemberSummary::of(name, m))
         })
     })??;
-    println!(
-        "{} members in {:.2} s",
-        members.len(),
-        started.elapsed().as_secs_f64()
-    );
+    let mut done = Done {
+        elapsed_seconds: started.elapsed().as_secs_f64(),
+        ..Done::default()
+    };
     if let Some(path) = &args.csv {
         isola::session::export::family_csv(
             name,
@@ -85,7 +110,46 @@ pub fn run(args: &FamilyArgs) -> anyhow::Result<()> {
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&FamilySummary {
+        model: Model::of(&params),
+        omega: spec.response.omega,
+        parameter: name,
+        members: members.iter().map(|m| MemberSummary::of(name, m)).collect(),
+        done,
+    })
+}
+
+impl Summary for MemberSummary<'_> {
+    fn print_text(&self) {
+        let subs: Vec<String> = self
+            .branches
+            .iter()
+            .filter(|b| b.branch.is_subharmonic())
+            .map(|b| b.branch.describe())
+            .collect();
+        println!(
+            "{} = {:<8} {}",
+            self.parameter,
+            self.value,
+            if subs.is_empty() {
+                "no subharmonic".into()
+            } else {
+                subs.join("; ")
+            }
+        );
+    }
+}
+
+impl Summary for FamilySummary<'_> {
+    /// The members were shown as each finished.
+    fn print_text(&self) {
+        println!(
+            "{} members in {:.2} s",
+            self.members.len(),
+            self.done.elapsed_seconds
+        );
+        self.done.print_wrote();
+    }
 }

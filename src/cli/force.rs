@@ -1,10 +1,13 @@
 //! `isola force`: static force curves f_II − f_I against Δλ (Fig 2).
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::orbit::force_curve::{ForceCurveSpec, force_curves};
+use serde::Serialize;
 
+use super::output::{Done, Output, Summary};
 use super::parse;
 
 #[derive(Debug, Args)]
@@ -33,7 +36,29 @@ pub struct ForceArgs {
     csv: Option<PathBuf>,
 }
 
-pub fn run(args: &ForceArgs) -> anyhow::Result<()> {
+/// The force curves: per curve its range of force over the Δλ range.
+#[derive(Serialize)]
+struct ForceSummary {
+    j: f64,
+    dx_min: f64,
+    dx_max: f64,
+    curves: Vec<CurveSummary>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One curve: λ_p, φ_I and the smallest and largest f_II − f_I along it.
+#[derive(Serialize)]
+struct CurveSummary {
+    lambda_p: f64,
+    phi_i: f64,
+    points: usize,
+    force_min: f64,
+    force_max: f64,
+}
+
+pub fn run(args: &ForceArgs, out: Output) -> anyhow::Result<()> {
+    let started = Instant::now();
     super::check_outputs([args.csv.as_deref()])?;
     let spec = ForceCurveSpec {
         lambda_p: args.lambda_p.clone(),
@@ -44,23 +69,47 @@ pub fn run(args: &ForceArgs) -> anyhow::Result<()> {
         points: args.points,
     };
     let curves = force_curves(&spec)?;
-    for c in &curves {
-        let (lo, hi) = c
-            .points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p[1]), hi.max(p[1]))
-            });
-        println!(
-            "λ_p {:<5} φ_I {:<4}  {} points, force from {lo:.4} to {hi:.4}",
-            c.lambda_p,
-            c.phi_i,
-            c.points.len()
-        );
-    }
+    let mut done = Done::default();
     if let Some(path) = &args.csv {
         isola::session::export::force_csv(&curves, path)?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    done.elapsed_seconds = started.elapsed().as_secs_f64();
+    let curves = curves
+        .iter()
+        .map(|c| {
+            let (force_min, force_max) = c
+                .points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[1]), hi.max(p[1]))
+                });
+            CurveSummary {
+                lambda_p: c.lambda_p,
+                phi_i: c.phi_i,
+                points: c.points.len(),
+                force_min,
+                force_max,
+            }
+        })
+        .collect();
+    out.report(&ForceSummary {
+        j: spec.j,
+        dx_min: spec.dx_min,
+        dx_max: spec.dx_max,
+        curves,
+        done,
+    })
+}
+
+impl Summary for ForceSummary {
+    fn print_text(&self) {
+        for c in &self.curves {
+            println!(
+                "λ_p {:<5} φ_I {:<4}  {} points, force from {:.4} to {:.4}",
+                c.lambda_p, c.phi_i, c.points, c.force_min, c.force_max
+            );
+        }
+        self.done.print_wrote();
+    }
 }

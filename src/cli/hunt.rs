@@ -8,16 +8,21 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::continuation::branch::ContinuationSpec;
-use isola::analysis::continuation::hunt::{HuntSpec, hunt_in};
-use isola::analysis::continuation::hunt_family::{HuntFamilySpec, hunt_family};
-use isola::analysis::continuation::isola_limits::locate_limits;
+use isola::analysis::continuation::hunt::{HuntFailure, HuntSpec, HuntedBranch, Verdict, hunt_in};
+use isola::analysis::continuation::hunt_family::{
+    HuntFamilySpec, HuntMember, Transition, hunt_family,
+};
+use isola::analysis::continuation::isola_limits::{IsolaLimit, locate_limits};
 use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::global::frequency_response::frequency_response;
+use isola::analysis::grid::Axis;
 use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
-use isola::model::Device;
+use serde::Serialize;
 
+use super::continue_cmd::BranchSummary;
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary, hz};
 use super::parse;
 use super::start_ranges::StartRanges;
 
@@ -54,7 +59,116 @@ pub struct HuntArgs {
     response_csv: Option<PathBuf>,
 }
 
-pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
+/// A hunt: the frequency response's grids and each subharmonic (or hidden) branch it found,
+/// continued.
+#[derive(Serialize)]
+struct HuntSummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    omega: Axis,
+    /// Initial Δλ and v of the grid of initial states.
+    dx: Axis,
+    v: Axis,
+    initial_states: usize,
+    threads: usize,
+    /// Subharmonic branches of the brute-force frequency response.
+    subharmonic_branches: usize,
+    branches: Vec<HuntedSummary<'a>>,
+    /// Brute-force branches whose continuation could not start.
+    failures: &'a [HuntFailure],
+    brute_force_seconds: f64,
+    continuation_seconds: f64,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// A hunt per value of a parameter: the branches at each, and where the picture changes.
+#[derive(Serialize)]
+struct HuntFamilySummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    omega: Axis,
+    parameter: &'a str,
+    members: Vec<MemberSummary<'a>>,
+    transitions: Vec<TransitionSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// The hunted branches at one value.
+#[derive(Serialize)]
+struct MemberSummary<'a> {
+    #[serde(skip)]
+    parameter: &'a str,
+    value: f64,
+    branches: Vec<HuntedSummary<'a>>,
+}
+
+/// Between two adjacent values the period-k picture changes, and where exactly, when it is
+/// an isola's birth or merger that could be located.
+#[derive(Serialize)]
+struct TransitionSummary<'a> {
+    #[serde(skip)]
+    parameter: &'a str,
+    #[serde(flatten)]
+    transition: Transition,
+    limit: Option<IsolaLimit>,
+}
+
+/// One continued branch: what it is, its ω_e range (also in Hz), peak and arcs, and the
+/// branch itself as `continue` reports it.
+#[derive(Serialize)]
+struct HuntedSummary<'a> {
+    #[serde(skip)]
+    hunted: &'a HuntedBranch,
+    response_type: &'a str,
+    verdict: Verdict,
+    hidden: bool,
+    /// Ids of the brute-force branches on it (the first was the seed).
+    seeds: &'a [usize],
+    omega_min: f64,
+    omega_max: f64,
+    frequency_hz_min: f64,
+    frequency_hz_max: f64,
+    peak_amplitude: f64,
+    peak_omega: f64,
+    stable_arcs: &'a [[f64; 2]],
+    unstable_arcs: &'a [[f64; 2]],
+    branch: BranchSummary<'a>,
+}
+
+impl<'a> HuntedSummary<'a> {
+    fn of(h: &'a HuntedBranch) -> Self {
+        HuntedSummary {
+            hunted: h,
+            response_type: &h.response_type,
+            verdict: h.verdict,
+            hidden: h.hidden,
+            seeds: &h.seeds,
+            omega_min: h.omega_min,
+            omega_max: h.omega_max,
+            frequency_hz_min: hz(h.omega_min),
+            frequency_hz_max: hz(h.omega_max),
+            peak_amplitude: h.peak_amplitude,
+            peak_omega: h.peak_omega,
+            stable_arcs: &h.stable_arcs,
+            unstable_arcs: &h.unstable_arcs,
+            branch: BranchSummary::of(&h.branch),
+        }
+    }
+}
+
+impl<'a> MemberSummary<'a> {
+    fn of(parameter: &'a str, m: &'a HuntMember) -> Self {
+        MemberSummary {
+            parameter,
+            value: m.value,
+            branches: m.branches.iter().map(HuntedSummary::of).collect(),
+        }
+    }
+}
+
+pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref(), args.response_csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
@@ -86,122 +200,174 @@ pub fn run(args: &HuntArgs) -> anyhow::Result<()> {
             values: args.values.clone(),
             hunt: spec,
         };
+        let name = parameter.name();
         let members = ctx.run(|| {
             hunt_family(&params, &family, &progress, |m| {
-                let line: Vec<String> = m.branches.iter().map(|b| b.describe()).collect();
-                println!(
-                    "{} {}: {}",
-                    parameter.name(),
-                    m.value,
-                    if line.is_empty() {
-                        "no subharmonic branch".into()
-                    } else {
-                        line.join("; ")
-                    }
-                );
+                out.show(&MemberSummary::of(name, m))
             })
         })??;
-        let name = parameter.name();
-        for (t, limit) in locate_limits(&params, &family, &members, 1e-4, &progress)? {
-            match limit {
-                Some(l) => println!(
-                    "{}: at {name} = {:.9} ± {:.0e} (ω {:.6}, amplitude {:.6})",
-                    t.describe(name),
-                    l.value,
-                    l.precision,
-                    l.omega,
-                    l.amplitude
-                ),
-                None => println!("{}", t.describe(name)),
-            }
-        }
-        println!(
-            "{} values in {:.2} s",
-            members.len(),
-            started.elapsed().as_secs_f64()
-        );
+        let transitions = locate_limits(&params, &family, &members, 1e-4, &progress)?
+            .into_iter()
+            .map(|(transition, limit)| TransitionSummary {
+                parameter: name,
+                transition,
+                limit,
+            })
+            .collect();
+        let mut done = Done {
+            elapsed_seconds: started.elapsed().as_secs_f64(),
+            ..Done::default()
+        };
         if let Some(path) = &args.csv {
-            isola::session::export::hunt_family_csv(parameter.name(), &members, path)?;
-            println!("wrote {}", path.display());
+            isola::session::export::hunt_family_csv(name, &members, path)?;
+            done.wrote.push(path.clone());
         }
-        return Ok(());
+        return out.report(&HuntFamilySummary {
+            model: Model::of(&params),
+            omega,
+            parameter: name,
+            members: members.iter().map(|m| MemberSummary::of(name, m)).collect(),
+            transitions,
+            done,
+        });
     }
     spec.validate(&params)?;
     let response = ctx.run(|| frequency_response(&params, &spec.response, &progress))??;
     let brute_force = started.elapsed().as_secs_f64();
     let found = ctx.run(|| hunt_in(&params, response, &spec.continuation, &progress))??;
-    let dev = Device::silicone();
-    let subharmonic = found
-        .response
-        .branches
-        .iter()
-        .filter(|b| b.is_subharmonic())
-        .count();
-    println!(
-        "hunt: {} ω values × {} initial states, {subharmonic} subharmonic brute-force branches → {} continued, in {:.2} s ({brute_force:.2} s brute force, {:.2} s continuation; {} threads)",
-        found.response.omegas.len(),
-        args.ics.0 * args.ics.1,
-        found.branches.len(),
-        started.elapsed().as_secs_f64(),
-        started.elapsed().as_secs_f64() - brute_force,
-        ctx.pool.current_num_threads(),
-    );
-    for (i, h) in found.branches.iter().enumerate() {
-        println!(
-            "#{i} {} (brute-force branches {:?}, {} points)",
-            h.describe(),
-            h.seeds,
-            h.branch.points.len()
-        );
-        println!(
-            "   ω {:.4}–{:.4} = {:.2}–{:.2} Hz; ends: {} / {}",
-            h.omega_min,
-            h.omega_max,
-            dev.hz(h.omega_min),
-            dev.hz(h.omega_max),
-            h.branch.ends[0],
-            h.branch.ends[1]
-        );
-        let arcs = |a: &[[f64; 2]]| {
-            a.iter()
-                .map(|r| format!("{:.4}–{:.4}", r[0], r[1]))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        println!(
-            "   stable ω {}; unstable ω {}",
-            arcs(&h.stable_arcs),
-            arcs(&h.unstable_arcs)
-        );
-        for b in &h.branch.bifurcations {
-            println!(
-                "   {:<16} ω {:.9} (±{:.0e}), amplitude {:.6}",
-                b.kind.as_str(),
-                b.omega,
-                b.precision.max(f64::EPSILON),
-                b.amplitude
-            );
-        }
-    }
-    for f in &found.failures {
-        println!("brute-force branch {} not continued: {}", f.seed, f.reason);
-    }
+    let elapsed = started.elapsed().as_secs_f64();
+    let mut done = Done {
+        elapsed_seconds: elapsed,
+        ..Done::default()
+    };
+    let columns = isola::session::export::ModelColumns::built_in(&isola::model::Device::default());
     if let Some(path) = &args.csv {
         let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
-        isola::session::export::continued_csv(
-            &branches,
-            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
-            path,
-        )?;
-        println!("wrote {}", path.display());
+        isola::session::export::continued_csv(&branches, &columns, path)?;
+        done.wrote.push(path.clone());
     }
     if let Some(path) = &args.response_csv {
-        isola::session::export::response_csv(
-            &found.response,
-            &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
-            path,
-        )?;
-        println!("wrote {}", path.display());
+        isola::session::export::response_csv(&found.response, &columns, path)?;
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&HuntSummary {
+        model: Model::of(&params),
+        omega,
+        dx,
+        v,
+        initial_states: args.ics.0 * args.ics.1,
+        threads: ctx.pool.current_num_threads(),
+        subharmonic_branches: found
+            .response
+            .branches
+            .iter()
+            .filter(|b| b.is_subharmonic())
+            .count(),
+        branches: found.branches.iter().map(HuntedSummary::of).collect(),
+        failures: &found.failures,
+        brute_force_seconds: brute_force,
+        continuation_seconds: elapsed - brute_force,
+        done,
+    })
+}
+
+impl Summary for HuntSummary<'_> {
+    fn print_text(&self) {
+        println!(
+            "hunt: {} ω values × {} initial states, {} subharmonic brute-force branches → {} continued, in {:.2} s ({:.2} s brute force, {:.2} s continuation; {} threads)",
+            self.omega.points,
+            self.initial_states,
+            self.subharmonic_branches,
+            self.branches.len(),
+            self.done.elapsed_seconds,
+            self.brute_force_seconds,
+            self.continuation_seconds,
+            self.threads,
+        );
+        for (i, h) in self.branches.iter().enumerate() {
+            println!(
+                "#{i} {} (brute-force branches {:?}, {} points)",
+                h.hunted.describe(),
+                h.seeds,
+                h.branch.points
+            );
+            let ends = h.branch.ends;
+            println!(
+                "   ω {:.4}–{:.4} = {:.2}–{:.2} Hz; ends: {} / {}",
+                h.omega_min, h.omega_max, h.frequency_hz_min, h.frequency_hz_max, ends[0], ends[1]
+            );
+            let arcs = |a: &[[f64; 2]]| {
+                a.iter()
+                    .map(|r| format!("{:.4}–{:.4}", r[0], r[1]))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            println!(
+                "   stable ω {}; unstable ω {}",
+                arcs(h.stable_arcs),
+                arcs(h.unstable_arcs)
+            );
+            for b in h.branch.bifurcations {
+                println!(
+                    "   {:<16} ω {:.9} (±{:.0e}), amplitude {:.6}",
+                    b.kind.as_str(),
+                    b.omega,
+                    b.precision.max(f64::EPSILON),
+                    b.amplitude
+                );
+            }
+        }
+        for f in self.failures {
+            println!("brute-force branch {} not continued: {}", f.seed, f.reason);
+        }
+        self.done.print_wrote();
+    }
+}
+
+impl Summary for MemberSummary<'_> {
+    fn print_text(&self) {
+        let line: Vec<String> = self.branches.iter().map(|b| b.hunted.describe()).collect();
+        println!(
+            "{} {}: {}",
+            self.parameter,
+            self.value,
+            if line.is_empty() {
+                "no subharmonic branch".into()
+            } else {
+                line.join("; ")
+            }
+        );
+    }
+}
+
+impl Summary for TransitionSummary<'_> {
+    fn print_text(&self) {
+        let (t, name) = (&self.transition, self.parameter);
+        match &self.limit {
+            Some(l) => println!(
+                "{}: at {name} = {:.9} ± {:.0e} (ω {:.6}, amplitude {:.6})",
+                t.describe(name),
+                l.value,
+                l.precision,
+                l.omega,
+                l.amplitude
+            ),
+            None => println!("{}", t.describe(name)),
+        }
+    }
+}
+
+impl Summary for HuntFamilySummary<'_> {
+    /// The members were shown as each finished.
+    fn print_text(&self) {
+        for t in &self.transitions {
+            t.print_text();
+        }
+        println!(
+            "{} values in {:.2} s",
+            self.members.len(),
+            self.done.elapsed_seconds
+        );
+        self.done.print_wrote();
+    }
 }

@@ -6,14 +6,18 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::continuation::bifurcation_curve::Turning;
+use isola::analysis::continuation::bifurcation_curve::{Extremum, Turning};
+use isola::analysis::continuation::branch::{BifurcationKind, BranchEnd};
 use isola::analysis::continuation::map::{MapSpec, map};
 use isola::analysis::global::frequency_response::FrequencyResponseSpec;
+use isola::analysis::grid::Axis;
 use isola::analysis::parameter::ContinuationParameter;
 use isola::analysis::parameter::FamilyParameter;
 use isola::jobs::JobContext;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 use super::parse;
 use super::start_ranges::StartRanges;
 
@@ -53,7 +57,47 @@ pub struct MapArgs {
     curves_csv: Option<PathBuf>,
 }
 
-pub fn run(args: &MapArgs) -> anyhow::Result<()> {
+/// A map: its axes, how many cells hold coexisting stable responses, where hidden
+/// subharmonic responses are, and the fold and period-doubling curves over it.
+#[derive(Serialize)]
+struct MapSummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    /// The parameter along each row (`omega` or a model parameter) and its values.
+    x: &'a str,
+    x_values: Axis,
+    /// The parameter of the rows and its values.
+    parameter: &'a str,
+    values: Axis,
+    /// Initial Δλ and v of each cell's grid of initial states.
+    dx: Axis,
+    v: Axis,
+    initial_states: usize,
+    threads: usize,
+    cells: usize,
+    /// Cells with two or more stable responses, and the most in one cell.
+    coexisting: usize,
+    most_stable: usize,
+    /// The range of the rows' parameter with hidden subharmonic responses.
+    hidden_subharmonic_min: Option<f64>,
+    hidden_subharmonic_max: Option<f64>,
+    curves: Vec<CurveSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One fold or period-doubling curve: its points, ends and the located extrema of the rows'
+/// parameter along it.
+#[derive(Serialize)]
+struct CurveSummary<'a> {
+    period: usize,
+    kind: BifurcationKind,
+    points: usize,
+    ends: &'a [BranchEnd; 2],
+    extrema: Vec<&'a Extremum>,
+}
+
+pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref(), args.curves_csv.as_deref()])?;
     let values = parse::range(&args.values).map_err(|e| anyhow::anyhow!("--values: {e}"))?;
     let (x_axis, params) = if args.x == ContinuationParameter::Omega {
@@ -85,57 +129,19 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let (rows, curves) = ctx.run(|| map(&params, &spec, &progress))??;
+    let mut done = Done {
+        elapsed_seconds: started.elapsed().as_secs_f64(),
+        ..Done::default()
+    };
     let name = args.vary.name();
     let cells: Vec<_> = rows
         .iter()
         .flat_map(|r| r.cells.iter().map(move |c| (r.value, c)))
         .collect();
-    let coexisting = cells.iter().filter(|(_, c)| c.stable >= 2).count();
-    let most = cells.iter().map(|(_, c)| c.stable).max().unwrap_or(0);
-    println!(
-        "map: {} {name} values × {} {} values, {} initial states per cell, in {:.2} s ({} threads)",
-        rows.len(),
-        spec.response.omega.points,
-        args.x.name(),
-        args.ics.0 * args.ics.1,
-        started.elapsed().as_secs_f64(),
-        ctx.pool.current_num_threads()
-    );
-    println!(
-        "  {coexisting} of {} cells with two or more stable responses (at most {most})",
-        cells.len()
-    );
-    let hidden: Vec<f64> = cells
+    let hidden = cells
         .iter()
         .filter(|(_, c)| c.hidden && c.subharmonic)
-        .map(|(v, _)| *v)
-        .collect();
-    if let (Some(lo), Some(hi)) = (
-        hidden.iter().copied().reduce(f64::min),
-        hidden.iter().copied().reduce(f64::max),
-    ) {
-        println!("  hidden subharmonic responses from {name} {lo:.4} to {hi:.4}");
-    }
-    for c in &curves {
-        println!(
-            "  1:{} {} curve: {} points, ends {} / {}",
-            c.period,
-            c.kind.as_str(),
-            c.points.len(),
-            c.ends[0],
-            c.ends[1]
-        );
-        for e in c.extrema_of(Turning::Second) {
-            println!(
-                "    {} of {name}: {:.9} (±{:.0e}) at {} {:.6}",
-                if e.minimum { "minimum" } else { "maximum" },
-                e.point.second,
-                e.precision.max(1e-9),
-                args.x.name(),
-                e.point.first
-            );
-        }
-    }
+        .map(|(v, _)| *v);
     if let Some(path) = &args.csv {
         isola::session::export::map_csv(
             (args.x.name(), name),
@@ -144,7 +150,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::silicone()),
             path,
         )?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
     if let Some(path) = &args.curves_csv {
         isola::session::export::curves_csv(
@@ -152,7 +158,76 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&MapSummary {
+        model: Model::of(&params),
+        x: args.x.name(),
+        x_values: x_axis,
+        parameter: name,
+        values,
+        dx,
+        v,
+        initial_states: args.ics.0 * args.ics.1,
+        threads: ctx.pool.current_num_threads(),
+        cells: cells.len(),
+        coexisting: cells.iter().filter(|(_, c)| c.stable >= 2).count(),
+        most_stable: cells.iter().map(|(_, c)| c.stable).max().unwrap_or(0),
+        hidden_subharmonic_min: hidden.clone().reduce(f64::min),
+        hidden_subharmonic_max: hidden.reduce(f64::max),
+        curves: curves
+            .iter()
+            .map(|c| CurveSummary {
+                period: c.period,
+                kind: c.kind,
+                points: c.points.len(),
+                ends: &c.ends,
+                extrema: c.extrema_of(Turning::Second).collect(),
+            })
+            .collect(),
+        done,
+    })
+}
+
+impl Summary for MapSummary<'_> {
+    fn print_text(&self) {
+        let name = self.parameter;
+        println!(
+            "map: {} {name} values × {} {} values, {} initial states per cell, in {:.2} s ({} threads)",
+            self.values.points,
+            self.x_values.points,
+            self.x,
+            self.initial_states,
+            self.done.elapsed_seconds,
+            self.threads
+        );
+        println!(
+            "  {} of {} cells with two or more stable responses (at most {})",
+            self.coexisting, self.cells, self.most_stable
+        );
+        if let (Some(lo), Some(hi)) = (self.hidden_subharmonic_min, self.hidden_subharmonic_max) {
+            println!("  hidden subharmonic responses from {name} {lo:.4} to {hi:.4}");
+        }
+        for c in &self.curves {
+            println!(
+                "  1:{} {} curve: {} points, ends {} / {}",
+                c.period,
+                c.kind.as_str(),
+                c.points,
+                c.ends[0],
+                c.ends[1]
+            );
+            for e in &c.extrema {
+                println!(
+                    "    {} of {name}: {:.9} (±{:.0e}) at {} {:.6}",
+                    if e.minimum { "minimum" } else { "maximum" },
+                    e.point.second,
+                    e.precision.max(1e-9),
+                    self.x,
+                    e.point.first
+                );
+            }
+        }
+        self.done.print_wrote();
+    }
 }

@@ -9,6 +9,7 @@ mod hunt;
 mod map;
 mod model_args;
 mod orbit;
+mod output;
 mod parse;
 mod response;
 mod run;
@@ -21,10 +22,20 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use output::Output;
+
 /// isola: nonlinear dynamics of antagonistic pure-shear dielectric elastomer actuators.
 #[derive(Debug, Parser)]
 #[command(name = "isola", version = isola::BUILD, about)]
 struct Cli {
+    /// Print the command's summary as one JSON document on one line of stdout, with the
+    /// files written and the seconds taken, and nothing else there (errors stay on stderr).
+    /// Not with --quiet, nor for the workbench; completions and man ignore it.
+    #[arg(long, global = true, conflicts_with = "quiet")]
+    json: bool,
+    /// Print nothing but errors: no summary, no progress. Not with --json.
+    #[arg(long, short, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -77,38 +88,52 @@ pub fn run() -> ExitCode {
     if let Err(e) = isola::solver::isa::choose() {
         return finish(Err(e.into()));
     }
+    let out = Output::new(cli.json, cli.quiet);
     let Some(command) = cli.command else {
-        return open_workbench();
+        return open_workbench(out);
     };
     let result = match command {
-        Command::Orbit(args) => orbit::run(&args),
-        Command::Basin(args) => basin::run(&args),
-        Command::Response(args) => response::run(&args),
-        Command::Force(args) => force::run(&args),
-        Command::Sweep(args) => sweep::run(&args),
-        Command::Family(args) => family::run(&args),
-        Command::Continue(args) => continue_cmd::run(&args),
-        Command::Hunt(args) => hunt::run(&args),
-        Command::Map(args) => map::run(&args),
-        Command::Run(args) => run::run(&args),
-        Command::Export(args) => run::export(&args),
-        Command::Status(args) => status::run(&args),
-        Command::Slurm(args) => slurm::run(&args),
+        Command::Orbit(args) => orbit::run(&args, out),
+        Command::Basin(args) => basin::run(&args, out),
+        Command::Response(args) => response::run(&args, out),
+        Command::Force(args) => force::run(&args, out),
+        Command::Sweep(args) => sweep::run(&args, out),
+        Command::Family(args) => family::run(&args, out),
+        Command::Continue(args) => continue_cmd::run(&args, out),
+        Command::Hunt(args) => hunt::run(&args, out),
+        Command::Map(args) => map::run(&args, out),
+        Command::Run(args) => run::run(&args, out),
+        Command::Export(args) => run::export(&args, out),
+        Command::Status(args) => status::run(&args, out),
+        Command::Slurm(args) => slurm::run(&args, out),
         Command::Completions(args) => docs::completions(&args),
         Command::Man => docs::man(),
         #[cfg(feature = "tui")]
-        Command::Tui(args) => return finish_with(crate::tui::run(&args)),
+        Command::Tui(args) => return tui(&args, out),
     };
     finish(result)
 }
 
+/// The workbench, refused with --json or --quiet: it draws on the terminal, it prints no
+/// summary.
 #[cfg(feature = "tui")]
-fn open_workbench() -> ExitCode {
-    finish_with(crate::tui::run(&crate::tui::TuiArgs::default()))
+fn tui(args: &crate::tui::TuiArgs, out: Output) -> ExitCode {
+    if out != Output::Text {
+        return finish(Err(anyhow::anyhow!(
+            "the workbench takes neither --json nor --quiet; they are for the headless \
+             commands (isola run, orbit, ...)"
+        )));
+    }
+    finish_with(crate::tui::run(args))
+}
+
+#[cfg(feature = "tui")]
+fn open_workbench(out: Output) -> ExitCode {
+    tui(&crate::tui::TuiArgs::default(), out)
 }
 
 #[cfg(not(feature = "tui"))]
-fn open_workbench() -> ExitCode {
+fn open_workbench(_: Output) -> ExitCode {
     finish(Err(anyhow::anyhow!(
         "this isola was built without the terminal workbench (feature `tui`); see --help"
     )))

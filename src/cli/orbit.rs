@@ -1,5 +1,7 @@
 //! `isola orbit`: one trajectory to its steady state, classified.
 
+use std::time::Instant;
+
 use clap::Args;
 use isola::analysis::orbit::period_map::Rk4PeriodMap;
 use isola::analysis::orbit::time_history::{TimeHistorySpec, time_history};
@@ -9,6 +11,7 @@ use isola::solver::{Resolution, Tolerance};
 use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 
 #[derive(Debug, Args)]
 pub struct OrbitArgs {
@@ -31,35 +34,72 @@ pub struct OrbitArgs {
     /// Relative tolerance of the reference integrator.
     #[arg(long, default_value_t = 1e-10, requires = "reference", value_parser = super::parse::finite)]
     rtol: f64,
-    /// Print one JSON object instead of a summary.
-    #[arg(long)]
-    json: bool,
     /// Write the time history and phase path (transient and steady part) to this CSV file.
     #[arg(long = "history-csv")]
     history_csv: Option<std::path::PathBuf>,
 }
 
-/// The JSON record of one orbit: the inputs and the classified steady state.
+/// One orbit: the inputs, the classified steady state, and the same in the paper's device's
+/// units.
 #[derive(Serialize)]
-struct OrbitReport<'a> {
-    lambda_p: f64,
-    j: f64,
-    c_tilde: f64,
-    e_a: f64,
-    adr: Option<f64>,
-    phi_dc: f64,
-    phi_ac: f64,
+struct OrbitSummary {
+    #[serde(flatten)]
+    model: Model,
     omega: f64,
     x0: f64,
     v0: f64,
     integrator: &'static str,
+    max_period: usize,
+    max_forcing_periods: usize,
     /// The paper's name for the response ("1:3 subharmonic"...).
     response_type: String,
     #[serde(flatten)]
-    steady: &'a SteadyState,
+    steady: SteadyState,
+    /// Samples of the time history written with --history-csv.
+    history_samples: Option<usize>,
+    physical: Physical,
+    #[serde(flatten)]
+    done: Done,
 }
 
-pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
+/// The orbit's numbers in the units of the paper's silicone device (20 × 200 × 0.1 mm, 50 g,
+/// μ 400 kPa).
+#[derive(Serialize)]
+struct Physical {
+    damping_n_s_per_m: f64,
+    phi_dc_kv: f64,
+    phi_ac_kv: f64,
+    peak_field_mv_per_m: f64,
+    phi_dc_ii_kv: Option<f64>,
+    phi_ac_ii_kv: Option<f64>,
+    frequency_hz: f64,
+    amplitude_mm: Option<f64>,
+    transient_seconds: f64,
+    collision_seconds: Option<f64>,
+}
+
+impl Physical {
+    fn of(p: &Params, s: &SteadyState) -> Self {
+        let dev = Device::silicone();
+        let (d, dii) = (p.drive_i(), p.drive_ii());
+        let ii = |phi: f64| (!dii.is_off()).then(|| dev.kv(phi));
+        Physical {
+            damping_n_s_per_m: dev.damping(p.c_tilde()),
+            phi_dc_kv: dev.kv(d.phi_dc()),
+            phi_ac_kv: dev.kv(d.phi_ac()),
+            peak_field_mv_per_m: dev.mv_per_m(d.phi_peak()),
+            phi_dc_ii_kv: ii(dii.phi_dc()),
+            phi_ac_ii_kv: ii(dii.phi_ac()),
+            frequency_hz: dev.hz(p.omega()),
+            amplitude_mm: s.amplitude.map(|a| a * dev.l1 * 1e3),
+            transient_seconds: dev.seconds(s.transient_periods as f64 * p.period()),
+            collision_seconds: s.collision.map(|c| dev.seconds(c.tau)),
+        }
+    }
+}
+
+pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
+    let started = Instant::now();
     super::check_outputs([args.history_csv.as_deref()])?;
     let params = args.model.params()?;
     let spec = SteadyStateSpec {
@@ -89,6 +129,8 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
             &spec,
         )
     };
+    let mut done = Done::default();
+    let mut history_samples = None;
     if let Some(path) = &args.history_csv {
         let spec = TimeHistorySpec {
             dx0: args.start.x0,
@@ -98,112 +140,95 @@ pub fn run(args: &OrbitArgs) -> anyhow::Result<()> {
         };
         let history = time_history(&params, &spec)?;
         isola::session::export::history_csv(&history, &Device::silicone(), path)?;
-        if !args.json {
-            println!(
-                "wrote {} ({} samples)",
-                path.display(),
-                history.samples.len()
-            );
-        }
+        history_samples = Some(history.samples.len());
+        done.wrote.push(path.clone());
     }
-    if args.json {
-        let d = params.drive_i();
-        let report = OrbitReport {
-            lambda_p: params.lambda_p(),
-            j: params.j(),
-            c_tilde: params.c_tilde(),
-            e_a: d.e_a(),
-            adr: d.adr(),
-            phi_dc: d.phi_dc(),
-            phi_ac: d.phi_ac(),
-            omega: params.omega(),
-            x0: args.start.x0,
-            v0: args.start.v0,
-            integrator: if args.reference { "dopri5" } else { "rk4" },
-            response_type: steady.response_type(),
-            steady: &steady,
-        };
-        println!("{}", serde_json::to_string(&report)?);
-    } else {
-        print_summary(&params, args, &steady);
-    }
-    Ok(())
+    done.elapsed_seconds = started.elapsed().as_secs_f64();
+    out.report(&OrbitSummary {
+        model: Model::of(&params),
+        omega: params.omega(),
+        x0: args.start.x0,
+        v0: args.start.v0,
+        integrator: if args.reference { "dopri5" } else { "rk4" },
+        max_period: args.max_period,
+        max_forcing_periods: args.max_periods,
+        response_type: steady.response_type(),
+        physical: Physical::of(&params, &steady),
+        steady,
+        history_samples,
+        done,
+    })
 }
 
-fn print_summary(p: &Params, args: &OrbitArgs, s: &SteadyState) {
-    let dev = Device::silicone();
-    let d = p.drive_i();
-    println!(
-        "model      λ_p {}  J {}  c̃ {} ({:.3} N·s/m)",
-        p.lambda_p(),
-        p.j(),
-        p.c_tilde(),
-        dev.damping(p.c_tilde())
-    );
-    println!(
-        "drive I    E_a {:.5}  ADR {}  φ_DC {:.4} ({:.2} kV)  φ_AC {:.4} ({:.2} kV)  peak {:.1} MV/m",
-        d.e_a(),
-        d.adr().map_or("-".into(), |a| format!("{a:.4}")),
-        d.phi_dc(),
-        dev.kv(d.phi_dc()),
-        d.phi_ac(),
-        dev.kv(d.phi_ac()),
-        dev.mv_per_m(d.phi_peak()),
-    );
-    let dii = p.drive_ii();
-    if !dii.is_off() {
+impl Summary for OrbitSummary {
+    fn print_text(&self) {
+        let (m, s, ph) = (&self.model, &self.steady, &self.physical);
+        if let (Some(path), Some(n)) = (self.done.wrote.first(), self.history_samples) {
+            println!("wrote {} ({n} samples)", path.display());
+        }
         println!(
-            "drive II   φ_DC {:.4} ({:.2} kV)  φ_AC {:.4} ({:.2} kV)  phase {:.3} rad",
-            dii.phi_dc(),
-            dev.kv(dii.phi_dc()),
-            dii.phi_ac(),
-            dev.kv(dii.phi_ac()),
-            p.phase_ii()
+            "model      λ_p {}  J {}  c̃ {} ({:.3} N·s/m)",
+            m.lambda_p, m.j, m.c_tilde, ph.damping_n_s_per_m
         );
-    }
-    println!("forcing    ω_e {} ({:.2} Hz)", p.omega(), dev.hz(p.omega()));
-    println!(
-        "start      Δλ {}  v {}  at τ = 0",
-        args.start.x0, args.start.v0
-    );
-    println!(
-        "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"
-    );
-    println!();
-    if let Some(c) = s.collision {
         println!(
-            "collision  the mass reached a frame at τ ≈ {:.3} ({:.4} s), λ_I = {:.4}, after {} forcing periods",
-            c.tau,
-            dev.seconds(c.tau),
-            c.lambda_i,
-            s.transient_periods
+            "drive I    E_a {:.5}  ADR {}  φ_DC {:.4} ({:.2} kV)  φ_AC {:.4} ({:.2} kV)  peak {:.1} MV/m",
+            m.e_a,
+            m.adr.map_or("-".into(), |a| format!("{a:.4}")),
+            m.phi_dc,
+            ph.phi_dc_kv,
+            m.phi_ac,
+            ph.phi_ac_kv,
+            ph.peak_field_mv_per_m,
         );
-        return;
-    }
-    match (s.period, s.ratio) {
-        (Some(k), Some(r)) => println!(
-            "response   periodic, period {k}: {} (strongest line ω_r:ω_e = {r})",
-            s.response_type()
-        ),
-        _ => println!(
-            "response   non-periodic (no period up to {} found in {} forcing periods)",
-            args.max_period, args.max_periods
-        ),
-    }
-    if let (Some(a), Some(lo), Some(hi), Some(mean)) =
-        (s.amplitude, s.lambda_min, s.lambda_max, s.lambda_mean)
-    {
+        if let (Some(dc), Some(ac), Some(phase), Some(dc_kv), Some(ac_kv)) = (
+            m.phi_dc_ii,
+            m.phi_ac_ii,
+            m.phase_ii,
+            ph.phi_dc_ii_kv,
+            ph.phi_ac_ii_kv,
+        ) {
+            println!(
+                "drive II   φ_DC {dc:.4} ({dc_kv:.2} kV)  φ_AC {ac:.4} ({ac_kv:.2} kV)  phase {phase:.3} rad"
+            );
+        }
+        println!("forcing    ω_e {} ({:.2} Hz)", self.omega, ph.frequency_hz);
+        println!("start      Δλ {}  v {}  at τ = 0", self.x0, self.v0);
         println!(
-            "amplitude  {a:.6} ({:.3} mm)   λ_I in [{lo:.6}, {hi:.6}], mean {mean:.6}",
-            a * dev.l1 * 1e3
+            "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"
         );
-    }
-    println!(
-        "transient  {} forcing periods ({:.2} s)",
-        s.transient_periods,
-        dev.seconds(s.transient_periods as f64 * p.period())
-    );
-    for (i, pt) in s.poincare.iter().enumerate() {
-        println!("poincaré   #{i}  λ_I {:.8}  v {:.8}", pt[0], pt[1]);
+        println!();
+        if let (Some(c), Some(seconds)) = (s.collision, ph.collision_seconds) {
+            println!(
+                "collision  the mass reached a frame at τ ≈ {:.3} ({seconds:.4} s), λ_I = {:.4}, after {} forcing periods",
+                c.tau, c.lambda_i, s.transient_periods
+            );
+            return;
+        }
+        match (s.period, s.ratio) {
+            (Some(k), Some(r)) => println!(
+                "response   periodic, period {k}: {} (strongest line ω_r:ω_e = {r})",
+                self.response_type
+            ),
+            _ => println!(
+                "response   non-periodic (no period up to {} found in {} forcing periods)",
+                self.max_period, self.max_forcing_periods
+            ),
+        }
+        if let (Some(a), Some(mm), Some(lo), Some(hi), Some(mean)) = (
+            s.amplitude,
+            ph.amplitude_mm,
+            s.lambda_min,
+            s.lambda_max,
+            s.lambda_mean,
+        ) {
+            println!("amplitude  {a:.6} ({mm:.3} mm)   λ_I in [{lo:.6}, {hi:.6}], mean {mean:.6}");
+        }
+        println!(
+            "transient  {} forcing periods ({:.2} s)",
+            s.transient_periods, ph.transient_seconds
+        );
+        for (i, pt) in s.poincare.iter().enumerate() {
+            println!("poincaré   #{i}  λ_I {:.8}  v {:.8}", pt[0], pt[1]);
+        }
     }
 }

@@ -5,11 +5,15 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::Progress;
-use isola::analysis::global::frequency_response::{FrequencyResponseSpec, frequency_response};
+use isola::analysis::global::frequency_response::{
+    Branch, FrequencyResponseSpec, frequency_response,
+};
+use isola::analysis::grid::Axis;
 use isola::jobs::JobContext;
-use isola::model::Device;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary, hz};
 use super::parse;
 use super::start_ranges::StartRanges;
 
@@ -39,7 +43,45 @@ pub struct ResponseArgs {
     csv: Option<PathBuf>,
 }
 
-pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
+/// A frequency response: its grids, how many responses it found, and its branches.
+#[derive(Serialize)]
+struct ResponseSummary<'a> {
+    #[serde(flatten)]
+    model: Model,
+    omega: Axis,
+    /// Initial Δλ and v of the grid of initial states.
+    dx: Axis,
+    v: Axis,
+    initial_states: usize,
+    threads: usize,
+    /// Distinct responses over all ω_e (one CSV row each).
+    responses: usize,
+    branches: Vec<BranchSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One branch of a frequency response, its ω_e range also in Hz.
+#[derive(Serialize)]
+pub struct BranchSummary<'a> {
+    #[serde(flatten)]
+    pub branch: &'a Branch,
+    frequency_hz_min: f64,
+    frequency_hz_max: f64,
+}
+
+impl<'a> BranchSummary<'a> {
+    /// The branch with its ω_e range in Hz.
+    pub fn of(branch: &'a Branch) -> Self {
+        BranchSummary {
+            branch,
+            frequency_hz_min: hz(branch.omega_min),
+            frequency_hz_max: hz(branch.omega_max),
+        }
+    }
+}
+
+pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
@@ -58,47 +100,67 @@ pub fn run(args: &ResponseArgs) -> anyhow::Result<()> {
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let fr = ctx.run(|| frequency_response(&params, &spec, &progress))??;
-    let dev = Device::silicone();
-    println!(
-        "frequency response: {} ω values × {} initial states in {:.2} s ({} threads): {} responses, {} branches",
-        fr.omegas.len(),
-        args.ics.0 * args.ics.1,
-        started.elapsed().as_secs_f64(),
-        ctx.pool.current_num_threads(),
-        fr.responses.len(),
-        fr.branches.len()
-    );
-    println!(
-        "  branch  type                 ω_e range (Hz)                    peak amplitude at ω_e   hidden"
-    );
-    for b in &fr.branches {
-        println!(
-            "  #{:<5}  {:<19}  {:.2}–{:.2} ({:.1}–{:.1} Hz){:>8}  {:.4} at {:.2}{:>10}",
-            b.id,
-            b.response_type,
-            b.omega_min,
-            b.omega_max,
-            dev.hz(b.omega_min),
-            dev.hz(b.omega_max),
-            format!("{} pts", b.points),
-            b.peak_amplitude,
-            b.peak_omega,
-            if b.hidden {
-                "hidden"
-            } else if b.partly_hidden {
-                "partly"
-            } else {
-                "no"
-            }
-        );
-    }
+    let mut done = Done {
+        elapsed_seconds: started.elapsed().as_secs_f64(),
+        ..Done::default()
+    };
     if let Some(path) = &args.csv {
         isola::session::export::response_csv(
             &fr,
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&ResponseSummary {
+        model: Model::of(&params),
+        omega: spec.omega,
+        dx: spec.dx,
+        v: spec.v,
+        initial_states: args.ics.0 * args.ics.1,
+        threads: ctx.pool.current_num_threads(),
+        responses: fr.responses.len(),
+        branches: fr.branches.iter().map(BranchSummary::of).collect(),
+        done,
+    })
+}
+
+impl Summary for ResponseSummary<'_> {
+    fn print_text(&self) {
+        println!(
+            "frequency response: {} ω values × {} initial states in {:.2} s ({} threads): {} responses, {} branches",
+            self.omega.points,
+            self.initial_states,
+            self.done.elapsed_seconds,
+            self.threads,
+            self.responses,
+            self.branches.len()
+        );
+        println!(
+            "  branch  type                 ω_e range (Hz)                    peak amplitude at ω_e   hidden"
+        );
+        for s in &self.branches {
+            let b = s.branch;
+            println!(
+                "  #{:<5}  {:<19}  {:.2}–{:.2} ({:.1}–{:.1} Hz){:>8}  {:.4} at {:.2}{:>10}",
+                b.id,
+                b.response_type,
+                b.omega_min,
+                b.omega_max,
+                s.frequency_hz_min,
+                s.frequency_hz_max,
+                format!("{} pts", b.points),
+                b.peak_amplitude,
+                b.peak_omega,
+                if b.hidden {
+                    "hidden"
+                } else if b.partly_hidden {
+                    "partly"
+                } else {
+                    "no"
+                }
+            );
+        }
+        self.done.print_wrote();
+    }
 }

@@ -2,7 +2,7 @@
 //! selection of a result to CSV.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -15,6 +15,9 @@ use isola::session::budget::{self, Budget};
 use isola::session::run::{Outcome, Role, Shard, run_analysis_as};
 use isola::session::select::{Filter, SelectionError, export_selection, parse_filter};
 use isola::session::store::ResultPaths;
+use serde::Serialize;
+
+use super::output::{Done, Output, Summary};
 
 #[derive(Debug, Args)]
 pub struct RunArgs {
@@ -87,7 +90,82 @@ fn log_to_file(session: &Session) -> anyhow::Result<()> {
     isola::logging::log_to(&session.results_dir().join("run.log"))
 }
 
-pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+/// A headless run: what became of each analysis.
+#[derive(Serialize)]
+struct RunSummary {
+    session: PathBuf,
+    /// This run's shard `index` of `count`, when it was given one.
+    shard: Option<ShardSummary>,
+    analyses: Vec<AnalysisRun>,
+    /// The results this run assembled (their CSV files).
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// `--shard I/N`.
+#[derive(Serialize)]
+struct ShardSummary {
+    index: usize,
+    count: usize,
+}
+
+/// One analysis of the run: its outcome, the seconds it took here and its result's CSV file.
+#[derive(Serialize)]
+struct AnalysisRun {
+    name: String,
+    kind: &'static str,
+    #[serde(flatten)]
+    outcome: RunOutcome,
+    seconds: f64,
+    csv: PathBuf,
+    #[serde(skip)]
+    shard: Shard,
+}
+
+/// [`Outcome`] as the summary reports it.
+#[derive(Serialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+enum RunOutcome {
+    /// Its result was already complete, verified and current.
+    UpToDate,
+    /// Complete now; `compute_seconds` on every host, assembly included.
+    Completed {
+        chunks_computed: usize,
+        compute_seconds: f64,
+        assembled_here: bool,
+    },
+    /// This shard's chunks are done; others are still missing.
+    ShardDone {
+        chunks_computed: usize,
+        missing: usize,
+    },
+}
+
+impl From<Outcome> for RunOutcome {
+    fn from(outcome: Outcome) -> Self {
+        match outcome {
+            Outcome::UpToDate => RunOutcome::UpToDate,
+            Outcome::Completed {
+                chunks_computed,
+                seconds,
+                assembled_here,
+            } => RunOutcome::Completed {
+                chunks_computed,
+                compute_seconds: seconds,
+                assembled_here,
+            },
+            Outcome::ShardDone {
+                chunks_computed,
+                missing,
+            } => RunOutcome::ShardDone {
+                chunks_computed,
+                missing,
+            },
+        }
+    }
+}
+
+pub fn run(args: &RunArgs, out: Output) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
     log_to_file(&session)?;
     tracing::info!(session = %args.session.display(), "run started");
@@ -97,61 +175,97 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let budget = Budget::on_this_machine(threads, args.budget, args.force);
     budget::check_all(&session, entries.iter().copied(), &budget)?;
     let total_started = Instant::now();
+    let mut analyses = Vec::new();
+    let mut done = Done::default();
     for entry in entries {
         let progress = Arc::new(Progress::new(0));
         let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
-        let done = Arc::new(AtomicBool::new(false));
-        let reporter = spawn_reporter(entry.name.clone(), progress.clone(), done.clone());
+        let finished = Arc::new(AtomicBool::new(false));
+        let reporter = out
+            .shows_progress()
+            .then(|| spawn_reporter(entry.name.clone(), progress.clone(), finished.clone()));
         let started = Instant::now();
         let role = Role {
             shard,
             worker: args.worker,
         };
         let outcome = ctx.run(|| run_analysis_as(&session, entry, role, &progress));
-        done.store(true, Ordering::Relaxed);
-        let _ = reporter.join();
-        let outcome = outcome??;
+        finished.store(true, Ordering::Relaxed);
+        if let Some(reporter) = reporter {
+            let _ = reporter.join();
+        }
+        let outcome = RunOutcome::from(outcome??);
         let csv = ResultPaths::new(&session, &entry.name).csv;
-        match outcome {
-            Outcome::UpToDate => println!("{}: up to date ({})", entry.name, csv.display()),
-            Outcome::Completed {
+        if let RunOutcome::Completed {
+            assembled_here: true,
+            ..
+        } = outcome
+        {
+            done.wrote.push(csv.clone());
+        }
+        let analysis = AnalysisRun {
+            name: entry.name.clone(),
+            kind: entry.settings.kind(),
+            outcome,
+            seconds: started.elapsed().as_secs_f64(),
+            csv,
+            shard,
+        };
+        out.show(&analysis);
+        analyses.push(analysis);
+    }
+    done.elapsed_seconds = total_started.elapsed().as_secs_f64();
+    out.report(&RunSummary {
+        session: args.session.clone(),
+        shard: args.shard.map(|s| ShardSummary {
+            index: s.index,
+            count: s.count,
+        }),
+        analyses,
+        done,
+    })
+}
+
+impl Summary for AnalysisRun {
+    fn print_text(&self) {
+        let (name, csv) = (&self.name, self.csv.display());
+        match self.outcome {
+            RunOutcome::UpToDate => println!("{name}: up to date ({csv})"),
+            RunOutcome::Completed {
                 chunks_computed,
-                seconds,
+                compute_seconds,
                 assembled_here,
             } => println!(
-                "{}: done in {:.2} s ({} chunks computed now, {:.2} s in all; {}) → {}",
-                entry.name,
-                started.elapsed().as_secs_f64(),
-                chunks_computed,
-                seconds,
+                "{name}: done in {:.2} s ({chunks_computed} chunks computed now, {compute_seconds:.2} s in all; {}) → {csv}",
+                self.seconds,
                 if assembled_here {
                     "assembled here"
                 } else {
                     "assembled by another run"
                 },
-                csv.display()
             ),
-            Outcome::ShardDone {
+            RunOutcome::ShardDone {
                 chunks_computed,
                 missing,
-            } if shard == Shard::ALL => println!(
-                "{}: this run computed {} chunks; {} chunks still missing (other runs have them)",
-                entry.name, chunks_computed, missing
+            } if self.shard == Shard::ALL => println!(
+                "{name}: this run computed {chunks_computed} chunks; {missing} chunks still missing (other runs have them)"
             ),
-            Outcome::ShardDone {
+            RunOutcome::ShardDone {
                 chunks_computed,
                 missing,
             } => println!(
-                "{}: shard {}/{} computed {} chunks; {} chunks still missing",
-                entry.name, shard.index, shard.count, chunks_computed, missing
+                "{name}: shard {}/{} computed {chunks_computed} chunks; {missing} chunks still missing",
+                self.shard.index, self.shard.count
             ),
         }
     }
-    println!(
-        "session done in {:.2} s",
-        total_started.elapsed().as_secs_f64()
-    );
-    Ok(())
+}
+
+impl Summary for RunSummary {
+    /// The analyses were shown as each finished.
+    fn print_text(&self) {
+        println!("session done in {:.2} s", self.done.elapsed_seconds);
+    }
 }
 
 /// A progress bar on a terminal; a plain line every 10 s otherwise (nohup, batch jobs).
@@ -226,7 +340,20 @@ pub struct ExportArgs {
     csv: PathBuf,
 }
 
-pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
+/// An export: the rows of a result kept by the filters, and where they went.
+#[derive(Serialize)]
+struct ExportSummary<'a> {
+    session: &'a Path,
+    analysis: &'a str,
+    table: Option<&'a str>,
+    filters: &'a [String],
+    rows: usize,
+    #[serde(flatten)]
+    done: Done,
+}
+
+pub fn export(args: &ExportArgs, out: Output) -> anyhow::Result<()> {
+    let started = Instant::now();
     let session = Session::load(&args.session)?;
     let entry = session.analysis(&args.analysis).ok_or_else(|| {
         let names: Vec<&str> = session.analyses.iter().map(|a| a.name.as_str()).collect();
@@ -242,7 +369,7 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
         .iter()
         .map(|f| parse_filter(f))
         .collect::<anyhow::Result<_>>()?;
-    let kept = export_selection(&session, entry, args.table.as_deref(), &filters, &args.csv)
+    let rows = export_selection(&session, entry, args.table.as_deref(), &filters, &args.csv)
         .map_err(|e| match e {
             SelectionError::NotCurrent(_) => anyhow::anyhow!(
                 "{e}; run `isola run {} --only {}` first",
@@ -251,11 +378,26 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<()> {
             ),
             other => anyhow::Error::from(other),
         })?;
-    println!(
-        "wrote {} rows of {} to {}",
-        kept,
-        entry.name,
-        args.csv.display()
-    );
-    Ok(())
+    out.report(&ExportSummary {
+        session: &args.session,
+        analysis: &entry.name,
+        table: args.table.as_deref(),
+        filters: &args.filters,
+        rows,
+        done: Done {
+            wrote: vec![args.csv.clone()],
+            elapsed_seconds: started.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+impl Summary for ExportSummary<'_> {
+    fn print_text(&self) {
+        println!(
+            "wrote {} rows of {} to {}",
+            self.rows,
+            self.analysis,
+            self.done.wrote[0].display()
+        );
+    }
 }

@@ -6,10 +6,14 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Instant;
 
 use clap::Args;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
+use serde::Serialize;
+
+use super::output::{Done, Output, Summary};
 
 #[derive(Debug, Args)]
 pub struct SlurmArgs {
@@ -170,7 +174,8 @@ set -e
     ))
 }
 
-pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
+pub fn run(args: &SlurmArgs, output: Output) -> anyhow::Result<()> {
+    let started = Instant::now();
     let session = Session::load(&args.session)?;
     let entries = super::run::selected(&session, args.only.as_deref())?;
     // the time budget of the whole array (each task then runs with --force); memory and disk
@@ -215,31 +220,76 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
             assemble_script(&name, &out, &isola, &run_args, args)?,
         ),
     ];
+    let mut done = Done::default();
     for (file, text) in &scripts {
         let path = out.join(file);
         isola::session::atomic::write_atomic(&path, text.as_bytes())
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path);
     }
     let (work, assemble) = (out.join("work.sh"), out.join("assemble.sh"));
-    if !args.submit {
-        println!(
-            "submit with:\n  jobid=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$jobid {}\nwatch with:\n  isola status {}",
-            shell_word(&work),
-            shell_word(&assemble),
-            shell_word(&session_path)
-        );
-        return Ok(());
+    let submitted = if args.submit {
+        let array = sbatch(&[work.as_os_str()])?;
+        let dependency = format!("--dependency=afterany:{array}");
+        let after = sbatch(&[std::ffi::OsStr::new(&dependency), assemble.as_os_str()])?;
+        Some(Submitted {
+            array_job: array,
+            assembly_job: after,
+        })
+    } else {
+        None
+    };
+    done.elapsed_seconds = started.elapsed().as_secs_f64();
+    output.report(&SlurmSummary {
+        session: session_path,
+        tasks: args.tasks,
+        cpus_per_task: args.cpus_per_task,
+        work_script: work,
+        assemble_script: assemble,
+        submitted,
+        done,
+    })
+}
+
+/// The scripts written and, with --submit, the jobs submitted.
+#[derive(Serialize)]
+struct SlurmSummary {
+    session: PathBuf,
+    tasks: u32,
+    cpus_per_task: u32,
+    work_script: PathBuf,
+    assemble_script: PathBuf,
+    submitted: Option<Submitted>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// The ids Slurm gave the job array and the assembly job.
+#[derive(Serialize)]
+struct Submitted {
+    array_job: String,
+    assembly_job: String,
+}
+
+impl Summary for SlurmSummary {
+    fn print_text(&self) {
+        self.done.print_wrote();
+        match &self.submitted {
+            None => println!(
+                "submit with:\n  jobid=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$jobid {}\nwatch with:\n  isola status {}",
+                shell_word(&self.work_script),
+                shell_word(&self.assemble_script),
+                shell_word(&self.session)
+            ),
+            Some(jobs) => {
+                println!(
+                    "submitted job array {} ({} tasks) and assembly job {}",
+                    jobs.array_job, self.tasks, jobs.assembly_job
+                );
+                println!("watch with: isola status {}", shell_word(&self.session));
+            }
+        }
     }
-    let array = sbatch(&[work.as_os_str()])?;
-    let dependency = format!("--dependency=afterany:{array}");
-    let after = sbatch(&[std::ffi::OsStr::new(&dependency), assemble.as_os_str()])?;
-    println!(
-        "submitted job array {array} ({} tasks) and assembly job {after}",
-        args.tasks
-    );
-    println!("watch with: isola status {}", shell_word(&session_path));
-    Ok(())
 }
 
 /// Runs `sbatch --parsable ARGS` and returns the job id it prints.

@@ -5,14 +5,16 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use clap::Args;
-use isola::analysis::SteadyStateSpec;
 use isola::analysis::global::stepped_sweep::stepped_sweep;
 use isola::analysis::grid::Axis;
 use isola::analysis::orbit::chirp_sweep::{ChirpSpec, chirp_sweep};
 use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
+use isola::analysis::{SteadyState, SteadyStateSpec};
 use isola::model::Device;
+use serde::Serialize;
 
 use super::model_args::ModelArgs;
+use super::output::{Done, Model, Output, Summary};
 use super::parse;
 
 #[derive(Debug, Args)]
@@ -36,7 +38,52 @@ pub struct SweepArgs {
     scalogram_csv: Option<PathBuf>,
 }
 
-pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
+/// A stepped sweep: each step's steady state.
+#[derive(Serialize)]
+struct SteppedSummary<'a> {
+    stepped: bool,
+    #[serde(flatten)]
+    model: Model,
+    steps: Vec<StepSummary<'a>>,
+    #[serde(flatten)]
+    done: Done,
+}
+
+/// One step: ω_e and the steady state it settled to (its fields as `orbit`'s).
+#[derive(Serialize)]
+struct StepSummary<'a> {
+    omega: f64,
+    frequency_hz: f64,
+    /// The step began from rest because the previous one ended on a frame.
+    restarted: bool,
+    response_type: String,
+    #[serde(flatten)]
+    steady: &'a SteadyState,
+}
+
+/// A chirp: its span, samples, where it met a frame and its largest envelope.
+#[derive(Serialize)]
+struct ChirpSummary {
+    stepped: bool,
+    #[serde(flatten)]
+    model: Model,
+    omega_start: f64,
+    omega_end: f64,
+    span: f64,
+    span_seconds: f64,
+    window: f64,
+    samples: usize,
+    /// Where the mass met a frame, if it did (the record stops there).
+    collision_tau: Option<f64>,
+    /// The largest envelope (max − min of λ_I over a window) and the window's ω_e and τ.
+    largest_envelope: f64,
+    largest_envelope_omega: f64,
+    largest_envelope_tau: f64,
+    #[serde(flatten)]
+    done: Done,
+}
+
+pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref(), args.scalogram_csv.as_deref()])?;
     let omega_text = args
         .model
@@ -53,6 +100,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let never = AtomicBool::new(false);
     let dev = Device::silicone();
     let started = Instant::now();
+    let mut done = Done::default();
     if args.stepped {
         let axis: Axis = parse::range(omega_text).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
         let omegas: Vec<f64> = axis.values();
@@ -65,29 +113,31 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             &never,
             |_| {},
         )?;
-        println!(
-            "stepped sweep, {} steps in {:.2} s",
-            steps.len(),
-            started.elapsed().as_secs_f64()
-        );
-        for s in &steps {
-            println!(
-                "  ω_e {:.3} ({:.2} Hz)  {:<18} amplitude {}",
-                s.omega,
-                dev.hz(s.omega),
-                s.steady.response_type(),
-                s.steady.amplitude.map_or("-".into(), |a| format!("{a:.5}"))
-            );
-        }
+        done.elapsed_seconds = started.elapsed().as_secs_f64();
         if let Some(path) = &args.csv {
             isola::session::export::stepped_csv(
                 &steps,
                 &isola::session::export::ModelColumns::built_in(&dev),
                 path,
             )?;
-            println!("wrote {}", path.display());
+            done.wrote.push(path.clone());
         }
-        return Ok(());
+        let steps = steps
+            .iter()
+            .map(|s| StepSummary {
+                omega: s.omega,
+                frequency_hz: dev.hz(s.omega),
+                restarted: s.restarted,
+                response_type: s.steady.response_type(),
+                steady: &s.steady,
+            })
+            .collect();
+        return out.report(&SteppedSummary {
+            stepped: true,
+            model: Model::of(&params),
+            steps,
+            done,
+        });
     }
     let (a, b) = parse::interval_any(omega_text)
         .map_err(|e| anyhow::anyhow!("--omega: {e} (a chirp takes START:END)"))?;
@@ -99,24 +149,14 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         ..ChirpSpec::default()
     };
     let sweep = chirp_sweep(&params, &spec, &never, |_| {})?;
-    println!(
-        "chirp ω_e {a} → {b} over τ = {} ({:.1} s): {} samples in {:.2} s{}",
-        args.span,
-        dev.seconds(args.span),
-        sweep.lambda.len(),
-        started.elapsed().as_secs_f64(),
-        sweep
-            .collision_tau
-            .map_or(String::new(), |t| format!(", hit a frame at τ = {t:.1}"))
-    );
+    done.elapsed_seconds = started.elapsed().as_secs_f64();
     let peak = sweep
         .envelope
         .iter()
         .fold([0.0; 3], |m, e| if e[2] > m[2] { *e } else { m });
-    println!("  largest envelope {:.4} at ω_e {:.3}", peak[2], peak[1]);
     if let Some(path) = &args.csv {
         isola::session::export::chirp_csv(&sweep, &dev, path)?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
     if let Some(path) = &args.scalogram_csv {
         let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
@@ -142,7 +182,62 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             }
             Ok(())
         })?;
-        println!("wrote {}", path.display());
+        done.wrote.push(path.clone());
     }
-    Ok(())
+    out.report(&ChirpSummary {
+        stepped: false,
+        model: Model::of(&params),
+        omega_start: a,
+        omega_end: b,
+        span: args.span,
+        span_seconds: dev.seconds(args.span),
+        window: args.window,
+        samples: sweep.lambda.len(),
+        collision_tau: sweep.collision_tau,
+        largest_envelope: peak[2],
+        largest_envelope_omega: peak[1],
+        largest_envelope_tau: peak[0],
+        done,
+    })
+}
+
+impl Summary for SteppedSummary<'_> {
+    fn print_text(&self) {
+        println!(
+            "stepped sweep, {} steps in {:.2} s",
+            self.steps.len(),
+            self.done.elapsed_seconds
+        );
+        for s in &self.steps {
+            println!(
+                "  ω_e {:.3} ({:.2} Hz)  {:<18} amplitude {}",
+                s.omega,
+                s.frequency_hz,
+                s.response_type,
+                s.steady.amplitude.map_or("-".into(), |a| format!("{a:.5}"))
+            );
+        }
+        self.done.print_wrote();
+    }
+}
+
+impl Summary for ChirpSummary {
+    fn print_text(&self) {
+        println!(
+            "chirp ω_e {} → {} over τ = {} ({:.1} s): {} samples in {:.2} s{}",
+            self.omega_start,
+            self.omega_end,
+            self.span,
+            self.span_seconds,
+            self.samples,
+            self.done.elapsed_seconds,
+            self.collision_tau
+                .map_or(String::new(), |t| format!(", hit a frame at τ = {t:.1}"))
+        );
+        println!(
+            "  largest envelope {:.4} at ω_e {:.3}",
+            self.largest_envelope, self.largest_envelope_omega
+        );
+        self.done.print_wrote();
+    }
 }

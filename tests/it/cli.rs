@@ -227,3 +227,266 @@ fn completions_and_the_man_page_list_the_commands() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("bash"));
 }
+
+/// `isola ARGS` that must succeed: its stdout, as text.
+fn stdout_of(args: &[&str]) -> String {
+    let out = isola(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// `isola ARGS` with `--json` and without: the document and the text summary.
+fn json_and_text(args: &[&str]) -> (serde_json::Value, String) {
+    let with_json: Vec<&str> = args.iter().copied().chain(["--json"]).collect();
+    (json(&with_json), stdout_of(args))
+}
+
+/// `--json` prints one document with the basin's attractors as the text lists them, their
+/// shares summing to 1, and the files written; `--json` also works before the command.
+#[test]
+fn basin_json_agrees_with_the_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("b.csv");
+    let args = [
+        "basin",
+        "--grid",
+        "5x5",
+        "--omega",
+        "3.7",
+        "--csv",
+        csv.to_str().unwrap(),
+    ];
+    let (v, text) = json_and_text(&args);
+    let attractors = v["attractors"].as_array().unwrap();
+    let listed = text.lines().filter(|l| l.starts_with("  #")).count();
+    assert_eq!(attractors.len(), listed, "{text}");
+    let total: f64 = attractors
+        .iter()
+        .map(|a| a["fraction"].as_f64().unwrap())
+        .sum();
+    assert!((total - 1.0).abs() < 1e-12, "{total}");
+    let cells: u64 = attractors
+        .iter()
+        .map(|a| a["cells"].as_u64().unwrap())
+        .sum();
+    assert_eq!((v["cells"].as_u64(), cells), (Some(25), 25));
+    for a in attractors {
+        let line = format!("#{}  {}", a["id"], a["response_type"].as_str().unwrap());
+        assert!(text.contains(&line), "{line} in\n{text}");
+    }
+    assert_eq!(
+        (v["adr"].as_f64(), v["omega"].as_f64()),
+        (Some(0.6), Some(3.7))
+    );
+    assert_eq!(v["dx"]["points"], 5);
+    let wrote: Vec<&str> = v["wrote"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p.as_str().unwrap())
+        .collect();
+    let table = dir.path().join("b.attractors.csv");
+    assert_eq!(wrote, [csv.to_str().unwrap(), table.to_str().unwrap()]);
+    assert!(table.exists());
+    assert!(v["elapsed_seconds"].as_f64().unwrap() >= 0.0);
+    let before = json(&["--json", "basin", "--grid", "3x3"]);
+    assert_eq!(before["cells"], 9);
+}
+
+/// A frequency response's branches and responses, as many in the document as in the text.
+#[test]
+fn response_json_agrees_with_the_text() {
+    let (v, text) = json_and_text(&["response", "--omega", "3.6:3.8:0.1", "--ics", "3x3"]);
+    let branches = v["branches"].as_array().unwrap();
+    let head = text.lines().next().unwrap();
+    assert!(
+        head.contains(&format!(
+            "{} responses, {} branches",
+            v["responses"],
+            branches.len()
+        )),
+        "{head}"
+    );
+    assert_eq!(v["omega"]["points"], 3);
+    assert_eq!(v["initial_states"], 9);
+    for b in branches {
+        let (lo, hi) = (
+            b["omega_min"].as_f64().unwrap(),
+            b["omega_max"].as_f64().unwrap(),
+        );
+        assert!((3.6..=3.8 + 1e-12).contains(&lo) && lo <= hi, "{b}");
+        assert!(b["hidden"].is_boolean() && b["response_type"].is_string());
+        assert!(b["frequency_hz_min"].as_f64().unwrap() > 0.0);
+        let line = format!(
+            "#{:<5}  {}",
+            b["id"].as_u64().unwrap(),
+            b["response_type"].as_str().unwrap()
+        );
+        assert!(text.contains(&line), "{line} in\n{text}");
+    }
+}
+
+/// A stepped sweep: one entry per step, with the steady state's fields as `orbit`'s.
+#[test]
+fn stepped_sweep_json_lists_the_steps() {
+    let (v, text) = json_and_text(&["sweep", "--stepped", "--omega", "3.6:3.8:0.1"]);
+    assert_eq!(v["stepped"], true);
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 3);
+    assert_eq!(text.lines().filter(|l| l.starts_with("  ω_e")).count(), 3);
+    for (s, omega) in steps.iter().zip([3.6, 3.7, 3.8]) {
+        assert!((s["omega"].as_f64().unwrap() - omega).abs() < 1e-12, "{s}");
+        assert!(s["class"].is_string() && s["poincare"].is_array());
+        let amplitude = s["amplitude"].as_f64().unwrap();
+        assert!(
+            text.contains(&format!("amplitude {amplitude:.5}")),
+            "{text}"
+        );
+    }
+}
+
+/// A continuation: the branch, its arcs and bifurcations, as the text has them.
+#[test]
+fn continue_json_has_the_branch() {
+    let (v, text) = json_and_text(&[
+        "continue", "--omega", "3.7", "--x0", "0.3", "--range", "3.5:3.9",
+    ]);
+    let b = &v["branches"][0];
+    assert_eq!(v["parameter"], "omega");
+    assert!(
+        text.starts_with(&format!("period-{} branch, omega", b["period"])),
+        "{text}"
+    );
+    let arcs = b["arcs"].as_array().unwrap();
+    assert_eq!(text.matches(" arc: omega").count(), arcs.len());
+    let bifurcations = b["bifurcations"].as_array().unwrap();
+    for f in bifurcations {
+        assert!(text.contains(f["kind"].as_str().unwrap()), "{f}");
+    }
+    assert_eq!(v["points"], b["points"]);
+    assert!(
+        text.contains(&format!("{} points in", v["points"])),
+        "{text}"
+    );
+    assert!(v["switches"].as_array().unwrap().is_empty());
+}
+
+/// A hunt: each continued branch with its verdict, arcs and located bifurcations.
+#[test]
+fn hunt_json_agrees_with_the_text() {
+    let (v, text) = json_and_text(&["hunt", "--omega", "3.5:3.9:0.2", "--ics", "3x3"]);
+    let branches = v["branches"].as_array().unwrap();
+    assert!(!branches.is_empty(), "{text}");
+    assert_eq!(
+        text.lines().filter(|l| l.starts_with('#')).count(),
+        branches.len()
+    );
+    assert!(text.starts_with(&format!(
+        "hunt: 3 ω values × 9 initial states, {} subharmonic brute-force branches → {} continued",
+        v["subharmonic_branches"],
+        branches.len()
+    )));
+    for h in branches {
+        let head = format!(
+            "{} {}",
+            h["response_type"].as_str().unwrap(),
+            h["verdict"].as_str().unwrap()
+        );
+        assert!(text.contains(&head), "{head} in\n{text}");
+        for f in h["branch"]["bifurcations"].as_array().unwrap() {
+            let omega = f["omega"].as_f64().unwrap();
+            assert!(
+                text.contains(&format!("ω {omega:.9}")),
+                "{omega} in\n{text}"
+            );
+        }
+    }
+    let (total, parts) = (
+        v["elapsed_seconds"].as_f64().unwrap(),
+        v["brute_force_seconds"].as_f64().unwrap() + v["continuation_seconds"].as_f64().unwrap(),
+    );
+    assert!((total - parts).abs() < 1e-9);
+}
+
+/// `run`, `status` and `export` on a tiny session: what each did, as JSON; a second run is up
+/// to date, and `--quiet` prints nothing at all.
+#[test]
+fn session_commands_report_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.toml");
+    std::fs::write(
+        &session,
+        "schema = 1\n[model]\nomega = 3.7\n[[analysis]]\nname = \"b\"\nkind = \"basin\"\n\
+         [analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 4 }\n\
+         v = { min = -1.0, max = 1.0, points = 4 }\n",
+    )
+    .unwrap();
+    let s = session.to_str().unwrap();
+    let run = json(&["run", s, "--json"]);
+    let analysis = &run["analyses"][0];
+    assert_eq!(analysis["name"], "b");
+    assert_eq!(analysis["kind"], "basin");
+    assert_eq!(analysis["outcome"], "completed");
+    assert_eq!(analysis["assembled_here"], true);
+    assert_eq!(run["wrote"][0], analysis["csv"]);
+    let csv = analysis["csv"].as_str().unwrap();
+    assert!(std::path::Path::new(csv).exists());
+    let status = json(&["status", s, "--verify", "--json"]);
+    assert_eq!(status["analyses"][0]["result"], "complete");
+    assert!(status["analyses"][0]["chunks"].is_null());
+    let selection = dir.path().join("sel.csv");
+    let export = json(&[
+        "export",
+        s,
+        "--analysis",
+        "b",
+        "--csv",
+        selection.to_str().unwrap(),
+        "--json",
+    ]);
+    let rows = std::fs::read_to_string(&selection).unwrap().lines().count() - 1;
+    assert_eq!(export["rows"], rows);
+    assert_eq!(export["wrote"][0], selection.to_str().unwrap());
+    let quiet = isola(&["run", s, "--quiet"]);
+    assert!(quiet.status.success());
+    assert!(
+        quiet.stdout.is_empty() && quiet.stderr.is_empty(),
+        "{quiet:?}"
+    );
+    let again = json(&["run", s, "--json"]);
+    assert_eq!(again["analyses"][0]["outcome"], "up_to_date");
+    assert!(again["wrote"].as_array().unwrap().is_empty());
+}
+
+/// `--quiet` (or `-q`) prints nothing on success; errors still reach stderr; `--json` with
+/// `--quiet` is refused, and so is either for the workbench.
+#[test]
+fn quiet_prints_nothing_and_json_refuses_quiet() {
+    for args in [
+        &["orbit", "--quiet"][..],
+        &["-q", "basin", "--grid", "3x3"],
+        &["force", "--points", "5", "-q"],
+    ] {
+        let out = isola(args);
+        assert!(out.status.success(), "{args:?}");
+        assert!(
+            out.stdout.is_empty() && out.stderr.is_empty(),
+            "{args:?}: {out:?}"
+        );
+    }
+    let bad = isola(&["orbit", "--omega", "0", "--quiet"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("error: "));
+    let both = isola(&["orbit", "--json", "--quiet"]);
+    assert!(!both.status.success() && both.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&both.stderr).contains("cannot be used with"));
+    let workbench = isola(&["tui", "--json"]);
+    assert_eq!(workbench.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&workbench.stderr).contains("neither --json nor --quiet"));
+    let force = json(&["force", "--points", "5", "--json"]);
+    assert_eq!(force["curves"].as_array().unwrap().len(), 3);
+}
