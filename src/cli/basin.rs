@@ -84,15 +84,12 @@ pub fn run(args: &BasinArgs, out: Output) -> anyhow::Result<()> {
         ..Done::default()
     };
     if let Some(path) = &args.csv {
-        isola::session::export::basin_csv(
+        done.wrote.extend(isola::session::export::basin_csv(
             &result,
             params.omega(),
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
-        )?;
-        // the attractor table beside it, named as basin_csv names it
-        done.wrote
-            .extend([path.clone(), path.with_extension("attractors.csv")]);
+        )?);
     }
     let attractors = result
         .table
@@ -140,8 +137,6 @@ impl Summary for BasinSummary<'_> {
                 a.fraction
             );
         }
-        if let Some(path) = self.done.wrote.first() {
-            println!("wrote {} and its .attractors.csv", path.display());
-        }
+        self.done.print_wrote();
     }
 }

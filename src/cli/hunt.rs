@@ -219,8 +219,9 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
             ..Done::default()
         };
         if let Some(path) = &args.csv {
-            isola::session::export::hunt_family_csv(name, &members, path)?;
-            done.wrote.push(path.clone());
+            done.wrote.extend(isola::session::export::hunt_family_csv(
+                name, &members, path,
+            )?);
         }
         return out.report(&HuntFamilySummary {
             model: Model::of(&params),
@@ -247,8 +248,11 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
         done.wrote.push(path.clone());
     }
     if let Some(path) = &args.response_csv {
-        isola::session::export::response_csv(&found.response, &columns, path)?;
-        done.wrote.push(path.clone());
+        done.wrote.extend(isola::session::export::response_csv(
+            &found.response,
+            &columns,
+            path,
+        )?);
     }
     out.report(&HuntSummary {
         model: Model::of(&params),

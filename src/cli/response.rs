@@ -105,12 +105,11 @@ pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
         ..Done::default()
     };
     if let Some(path) = &args.csv {
-        isola::session::export::response_csv(
+        done.wrote.extend(isola::session::export::response_csv(
             &fr,
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
-        )?;
-        done.wrote.push(path.clone());
+        )?);
     }
     out.report(&ResponseSummary {
         model: Model::of(&params),

@@ -158,8 +158,13 @@ pub fn beside(main: &Path, table: &str) -> PathBuf {
 /// One row per cell (`dx_stretch, v_per_tau, attractor, response_type`, the offsets named
 /// after a written model's grid states), and beside it the attractor table
 /// (`A.attractors.csv`) and the attractors' stroboscopic points (`A.points.csv`: one row per
-/// point, numbered from 0 along the orbit).
-pub fn basin_csv(b: &Basin, omega: f64, columns: &ModelColumns, path: &Path) -> anyhow::Result<()> {
+/// point, numbered from 0 along the orbit). Returns the files written, `path` first.
+pub fn basin_csv(
+    b: &Basin,
+    omega: f64,
+    columns: &ModelColumns,
+    path: &Path,
+) -> anyhow::Result<Vec<PathBuf>> {
     write_atomic(path, |w| {
         let [x, y] = &columns.offsets;
         w.write_record([x.as_str(), y, "attractor", "response_type"])?;
@@ -210,7 +215,15 @@ pub fn basin_csv(b: &Basin, omega: f64, columns: &ModelColumns, path: &Path) -> 
             }
         }
         Ok(())
-    })
+    })?;
+    Ok(written(path, &["attractors", "points"]))
+}
+
+/// `main` and the tables beside it.
+fn written(main: &Path, tables: &[&str]) -> Vec<PathBuf> {
+    std::iter::once(main.to_path_buf())
+        .chain(tables.iter().map(|t| beside(main, t)))
+        .collect()
 }
 
 /// The columns of one periodic response at one ω_e, after its number.
@@ -350,12 +363,12 @@ const OUTCOME_COLUMNS: [&str; 5] = [
 
 /// One row per periodic response per ω_e (`frequency_hz` for the columns' device), with its
 /// stroboscopic points in `A.points.csv` and the shares of the starts per outcome in
-/// `A.outcomes.csv`.
+/// `A.outcomes.csv`. Returns the files written, `path` first.
 pub fn response_csv(
     fr: &FrequencyResponse,
     columns: &ModelColumns,
     path: &Path,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Vec<PathBuf>> {
     ResponseTables {
         lead: None,
         columns,
@@ -365,7 +378,8 @@ pub fn response_csv(
         path,
         &beside(path, "points"),
         &beside(path, "outcomes"),
-    )
+    )?;
+    Ok(written(path, &["points", "outcomes"]))
 }
 
 /// Where a family's per-response file lives beside its branch table: `A.responses.csv`.
@@ -674,11 +688,12 @@ pub fn continued_csv(
 /// verdict, hidden, omega_min, omega_max, peak_amplitude_stretch, peak_omega` (the branch
 /// numbered within its member), and beside it one row per located bifurcation
 /// (`A.bifurcations.csv`: `PARAMETER, branch, kind, omega, amplitude_stretch, precision`).
+/// Returns the files written, `path` first.
 pub fn hunt_family_csv(
     parameter: &str,
     members: &[crate::analysis::continuation::hunt_family::HuntMember],
     path: &Path,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Vec<PathBuf>> {
     write_atomic(path, |w| {
         w.write_record([
             parameter,
@@ -732,7 +747,8 @@ pub fn hunt_family_csv(
             }
         }
         Ok(())
-    })
+    })?;
+    Ok(written(path, &["bifurcations"]))
 }
 
 /// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e, for `device`; empty

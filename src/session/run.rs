@@ -459,7 +459,7 @@ impl Run<'_> {
                     return Err(e);
                 }
                 finite(&basin, "the assembled basin")?;
-                export::basin_csv(&basin, omega, columns, csv)
+                export::basin_csv(&basin, omega, columns, csv).map(drop)
             },
         )
     }
@@ -490,10 +490,10 @@ impl Run<'_> {
                     finite(&found, "the hunt")?;
                     let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
                     export::continued_csv(&branches, columns, &export::branches_path(csv))?;
-                    export::response_csv(&found.response, columns, csv)
+                    export::response_csv(&found.response, columns, csv).map(drop)
                 } else {
                     finite(&fr, "the frequency response")?;
-                    export::response_csv(&fr, columns, csv)
+                    export::response_csv(&fr, columns, csv).map(drop)
                 }
             },
         )

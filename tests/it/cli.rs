@@ -290,8 +290,12 @@ fn basin_json_agrees_with_the_text() {
         .map(|p| p.as_str().unwrap())
         .collect();
     let table = dir.path().join("b.attractors.csv");
-    assert_eq!(wrote, [csv.to_str().unwrap(), table.to_str().unwrap()]);
-    assert!(table.exists());
+    let points = dir.path().join("b.points.csv");
+    assert_eq!(
+        wrote,
+        [csv.as_path(), &table, &points].map(|p| p.to_str().unwrap())
+    );
+    assert!(table.exists() && points.exists());
     assert!(v["elapsed_seconds"].as_f64().unwrap() >= 0.0);
     let before = json(&["--json", "basin", "--grid", "3x3"]);
     assert_eq!(before["cells"], 9);
