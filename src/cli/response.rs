@@ -54,7 +54,7 @@ struct ResponseSummary<'a> {
     v: Axis,
     initial_states: usize,
     threads: usize,
-    /// Distinct responses over all ω_e (one CSV row each).
+    /// Distinct responses over all ω_e (collisions and non-periodic ones included).
     responses: usize,
     branches: Vec<BranchSummary<'a>>,
     #[serde(flatten)]
