@@ -240,8 +240,29 @@ impl App {
 
     /// After a session is opened or replaced: readers, rows and cursor from scratch.
     fn reload_session_state(&mut self) {
-        self.snapshot = Arc::new(self.session.clone());
-        self.stored = vec![Stored::default(); self.session.analyses.len()];
+        let before = std::mem::replace(&mut self.snapshot, Arc::new(self.session.clone()));
+        let read = std::mem::take(&mut self.stored);
+        // an analysis unchanged (its name, fingerprint and results folder) keeps what was read
+        // of its result until the readers read it again: a save or an edit of another
+        // analysis does not flash "not run"
+        let now = &self.snapshot;
+        let same_folder = before.results_dir() == now.results_dir();
+        self.stored = now
+            .analyses
+            .iter()
+            .map(|entry| {
+                before
+                    .analyses
+                    .iter()
+                    .position(|e| e.name == entry.name)
+                    .filter(|&i| {
+                        same_folder
+                            && before.fingerprint(&before.analyses[i]) == now.fingerprint(entry)
+                    })
+                    .and_then(|i| read.get(i).cloned())
+                    .unwrap_or_default()
+            })
+            .collect();
         self.selected = self
             .selected
             .min(self.session.analyses.len().saturating_sub(1));
