@@ -37,6 +37,9 @@ pub struct OrbitArgs {
     /// Write the time history and phase path (transient and steady part) to this CSV file.
     #[arg(long = "history-csv")]
     history_csv: Option<std::path::PathBuf>,
+    /// Samples of the time history per forcing period (4 to 4096).
+    #[arg(long = "samples-per-period", default_value_t = TimeHistorySpec::default().samples_per_period, requires = "history_csv")]
+    samples_per_period: usize,
 }
 
 /// One orbit: the inputs, the classified steady state, and the same in the paper's device's
@@ -112,6 +115,14 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
         ..SteadyStateSpec::default()
     };
     spec.validate()?;
+    let history_spec = TimeHistorySpec {
+        dx0: args.start.x0,
+        v0: args.start.v0,
+        samples_per_period: args.samples_per_period,
+        steady: spec,
+        ..TimeHistorySpec::default()
+    };
+    history_spec.validate()?;
     let x0 = params.lambda_p() + args.start.x0;
     let steady = if args.reference {
         let tol = Tolerance {
@@ -132,13 +143,7 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
     let mut done = Done::default();
     let mut history_samples = None;
     if let Some(path) = &args.history_csv {
-        let spec = TimeHistorySpec {
-            dx0: args.start.x0,
-            v0: args.start.v0,
-            steady: spec,
-            ..TimeHistorySpec::default()
-        };
-        let history = time_history(&params, &spec)?;
+        let history = time_history(&params, &history_spec)?;
         isola::session::export::history_csv(&history, &Device::silicone(), path)?;
         history_samples = Some(history.samples.len());
         done.wrote.push(path.clone());

@@ -38,11 +38,20 @@ pub fn membrane_force(lambda: f64, phi_sq: f64, lambda_dot: f64, c_tilde: f64, j
     tension(lambda, phi_sq, lambda_dot, c_tilde, j).max(0.0)
 }
 
+/// Forces (f_I, f_II) the two membranes carry at λ_I = `x`, dλ_I/dτ = `v` under the squared
+/// voltages φ_I², φ_II² (membrane II at λ_II = 2λ_p − λ_I, stretching at −v).
+pub fn membrane_forces(p: &Params, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
+    let (c, j) = (p.c_tilde(), p.j());
+    (
+        membrane_force(x, phi_sq_i, v, c, j),
+        membrane_force(2.0 * p.lambda_p() - x, phi_sq_ii, -v, c, j),
+    )
+}
+
 /// Net force f_II − f_I on the mass (= d²λ_I/dτ²) for membrane stretches set by λ_I = `x`.
 pub fn net_force(p: &Params, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> f64 {
-    let (c, j) = (p.c_tilde(), p.j());
-    membrane_force(2.0 * p.lambda_p() - x, phi_sq_ii, -v, c, j)
-        - membrane_force(x, phi_sq_i, v, c, j)
+    let (f_i, f_ii) = membrane_forces(p, x, v, phi_sq_i, phi_sq_ii);
+    f_ii - f_i
 }
 
 /// True when λ_I = `x` puts the mass on a frame (λ_I ≤ 0 or λ_II ≤ 0) or stretches a
