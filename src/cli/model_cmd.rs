@@ -25,7 +25,7 @@ struct ModelSummary {
     /// λ_I* under the mean drive; none when the mean drive pulls the mass onto a frame.
     lambda_i_equilibrium: Option<f64>,
     /// Linear natural frequency ω₀ about λ_I*, and 2ω₀ where the principal parametric
-    /// resonance lies.
+    /// resonance lies; none without a linear restoring force there.
     omega_0: Option<f64>,
     omega_parametric: Option<f64>,
     physical: Physical,
@@ -43,7 +43,7 @@ struct Physical {
 pub fn run(args: &ModelCmdArgs, out: Output) -> anyhow::Result<()> {
     let params = args.model.params()?;
     let d = derived(&params);
-    let omega_0 = d.equilibrium.map(|e| e.omega_0);
+    let omega_0 = d.equilibrium.and_then(|e| e.omega_0);
     let omega_parametric = omega_0.map(|w| 2.0 * w);
     let dev = Device::silicone();
     out.report(&ModelSummary {
@@ -77,24 +77,32 @@ impl Summary for ModelSummary {
             "           φ_DC {:.6} ({:.3} kV)  φ_AC {:.6} ({:.3} kV)",
             m.phi_dc, ph.phi_dc_kv, m.phi_ac, ph.phi_ac_kv
         );
+        match self.lambda_i_equilibrium {
+            Some(lambda) => println!(
+                "statics    λ_I* {lambda:.10} (Δλ {:+.3e}) under the mean drive",
+                lambda - m.lambda_p
+            ),
+            None => {
+                println!("statics    no equilibrium: the mean drive pulls the mass onto a frame")
+            }
+        }
         match (
-            self.lambda_i_equilibrium,
             self.omega_0,
             self.omega_parametric,
             ph.omega_0_hz,
             ph.omega_parametric_hz,
         ) {
-            (Some(lambda), Some(w0), Some(w2), Some(hz0), Some(hz2)) => {
-                println!(
-                    "statics    λ_I* {lambda:.10} (Δλ {:+.3e}) under the mean drive",
-                    lambda - m.lambda_p
-                );
+            (Some(w0), Some(w2), Some(hz0), Some(hz2)) => {
                 println!("natural    ω₀ {w0:.8} ({hz0:.3} Hz)");
                 println!(
                     "parametric 2ω₀ {w2:.8} ({hz2:.3} Hz), the principal parametric resonance"
                 );
             }
-            _ => println!("statics    no equilibrium: the mean drive pulls the mass onto a frame"),
+            _ if self.lambda_i_equilibrium.is_some() => println!(
+                "natural    none: no linear restoring force there (a membrane exactly at loss of \
+                 tension, or both slack)"
+            ),
+            _ => {}
         }
         println!(
             "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"

@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::orbit::period_map::Rk4PeriodMap;
-use isola::analysis::orbit::time_history::{TimeHistorySpec, time_history};
+use isola::analysis::orbit::time_history::{SAMPLES_PER_PERIOD, TimeHistorySpec, time_history};
 use isola::analysis::{DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state_with};
 use isola::model::{Device, Params};
 use isola::solver::{Resolution, Tolerance};
@@ -38,8 +38,19 @@ pub struct OrbitArgs {
     #[arg(long = "history-csv")]
     history_csv: Option<std::path::PathBuf>,
     /// Samples of the time history per forcing period (4 to 4096).
-    #[arg(long = "samples-per-period", default_value_t = TimeHistorySpec::default().samples_per_period, requires = "history_csv")]
+    #[arg(long = "samples-per-period", value_name = "N", value_parser = samples_per_period,
+          default_value_t = TimeHistorySpec::default().samples_per_period, requires = "history_csv")]
     samples_per_period: usize,
+}
+
+/// A whole number of samples per forcing period in [`SAMPLES_PER_PERIOD`].
+fn samples_per_period(s: &str) -> Result<usize, String> {
+    let (lo, hi) = SAMPLES_PER_PERIOD;
+    s.trim()
+        .parse()
+        .ok()
+        .filter(|n| (lo..=hi).contains(n))
+        .ok_or_else(|| format!("'{s}' is not a whole number in [{lo}, {hi}]"))
 }
 
 /// One orbit: the inputs, the classified steady state, and the same in the paper's device's

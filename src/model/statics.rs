@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::Params;
-use super::forces::{gent_poles, gent_slope, membrane_forces, net_force};
+use super::forces::{gent_poles, gent_slope, membrane_force, net_force, tension};
 use crate::solver::illinois::illinois;
 
 /// The static equilibrium λ_I* under the mean drive and the small oscillations about it.
@@ -12,8 +12,10 @@ use crate::solver::illinois::illinois;
 pub struct Equilibrium {
     /// λ_I* where f_II = f_I with φ² at its mean (E_a on each membrane), v = 0.
     pub lambda_i: f64,
-    /// Linear natural frequency ω₀, ω₀² = d(f_I − f_II)/dλ_I at λ_I*.
-    pub omega_0: f64,
+    /// Linear natural frequency ω₀, ω₀² = d(f_I − f_II)/dλ_I at λ_I*; none where that slope
+    /// is not defined (a membrane exactly at loss of tension, where the force has a kink) or
+    /// not positive (both membranes slack: the mass rests anywhere near, no restoring force).
+    pub omega_0: Option<f64>,
 }
 
 /// The derived quantities of a parameter set (non-dimensional).
@@ -67,36 +69,44 @@ pub fn equilibrium(p: &Params) -> Option<Equilibrium> {
         } else {
             (2.0 * x0 - upper).max(0.0)
         };
-        // distances from λ_p along the push, and the force there, positive while it still
-        // pushes the same way
+        // distances from λ_p along the push, and the force there: positive while it still
+        // pushes the same way, negative (a zero counted as negative) once it stops, also at
+        // the edge of a stretch where both membranes are slack and nothing pushes
         let (sign, step) = (push.signum(), (end - x0).abs() / SEARCH_POINTS as f64);
-        let ahead = |s: f64| sign * net(x0 + sign * s);
-        let k = (1..SEARCH_POINTS).find(|&k| ahead(k as f64 * step) <= 0.0)?;
-        let (near, far) = ((k - 1) as f64 * step, k as f64 * step);
-        let at_far = ahead(far);
-        let distance = if at_far == 0.0 {
-            far
-        } else {
-            illinois(x0, (near, far), (ahead(near), at_far), ahead)
+        let ahead = |s: f64| match sign * net(x0 + sign * s) {
+            a if a > 0.0 => a,
+            a => a.min(-f64::MIN_POSITIVE),
         };
+        let k = (1..SEARCH_POINTS).find(|&k| ahead(k as f64 * step) < 0.0)?;
+        let (near, far) = ((k - 1) as f64 * step, k as f64 * step);
+        let distance = illinois(x0, (near, far), (ahead(near), ahead(far)), ahead);
         x0 + sign * distance
     };
     Some(Equilibrium {
         lambda_i,
-        omega_0: stiffness(p, lambda_i, mean_phi_sq).max(0.0).sqrt(),
+        omega_0: stiffness(p, lambda_i, mean_phi_sq).map(f64::sqrt),
     })
 }
 
+/// A tension this close to 0 at the equilibrium is its kink: λ_I* is located to a few ulps,
+/// so a membrane that goes slack there has a tension of ~1e-15; one clear of it, ~1e-2.
+const AT_LOSS: f64 = 1e-9;
+
 /// d(f_I − f_II)/dλ_I at λ_I = `x`, v = 0 under (φ_I², φ_II²): each taut membrane adds its
 /// slope g′(λ) − φ² (λ_II = 2λ_p − λ_I moves the other way, so its force's slope adds too);
-/// a slack one adds nothing.
-fn stiffness(p: &Params, x: f64, (phi_sq_i, phi_sq_ii): (f64, f64)) -> f64 {
-    let (f_i, f_ii) = membrane_forces(p, x, 0.0, phi_sq_i, phi_sq_ii);
-    let slope = |force: f64, lambda: f64, phi_sq: f64| match force > 0.0 {
-        true => gent_slope(lambda, p.j()) - phi_sq,
-        false => 0.0,
-    };
-    slope(f_i, x, phi_sq_i) + slope(f_ii, 2.0 * p.lambda_p() - x, phi_sq_ii)
+/// a slack one adds nothing. None at a membrane's kink (tension exactly 0) or if not positive.
+fn stiffness(p: &Params, x: f64, (phi_sq_i, phi_sq_ii): (f64, f64)) -> Option<f64> {
+    let (c, j) = (p.c_tilde(), p.j());
+    let mut slope = 0.0;
+    for (lambda, phi_sq) in [(x, phi_sq_i), (2.0 * p.lambda_p() - x, phi_sq_ii)] {
+        if membrane_force(lambda, phi_sq, 0.0, c, j) > 0.0 {
+            slope += gent_slope(lambda, j) - phi_sq;
+        }
+        if lambda > gent_poles(j).0 && tension(lambda, phi_sq, 0.0, c, j).abs() <= AT_LOSS {
+            return None;
+        }
+    }
+    (slope > 0.0).then_some(slope)
 }
 
 #[cfg(test)]
@@ -104,6 +114,7 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
+    use crate::model::forces::membrane_forces;
     use crate::model::{DriveSpec, ParamSpec};
     use crate::solver::{Dopri5, Tolerance};
 
@@ -137,6 +148,25 @@ mod tests {
         assert_eq!(equilibrium(&model(1.02, 0.0)).unwrap().lambda_i, 1.02);
     }
 
+    /// Without a linear restoring force there is no ω₀: at λ_p = 1 undriven both membranes
+    /// rest exactly at loss of tension (a kink), and membrane II still does when E_a = 1
+    /// slackens membrane I; below λ_p = 1 both are slack (no force near the rest point);
+    /// a mean drive that slackens membrane I leaves the mass where membrane II goes slack.
+    #[test]
+    fn no_natural_frequency_without_a_linear_restoring_force() {
+        for (lambda_p, e_a) in [(1.0, 0.0), (0.9, 0.0), (1.0, 1.0)] {
+            let eq = equilibrium(&model(lambda_p, e_a)).unwrap();
+            assert_eq!(eq.lambda_i, lambda_p, "λ_p {lambda_p}, E_a {e_a}");
+            assert_eq!(eq.omega_0, None, "λ_p {lambda_p}, E_a {e_a}");
+        }
+        // E_a 0.2 slackens membrane I at λ_p 1.02: membrane II pushes the mass until it goes
+        // slack itself at λ_II = 1, the edge of a stretch where neither pulls
+        let eq = equilibrium(&model(1.02, 0.2)).unwrap();
+        assert!((eq.lambda_i - 1.04).abs() < 1e-12, "{eq:?}");
+        assert_eq!(eq.omega_0, None);
+        assert!(equilibrium(&model(1.02, 0.04)).unwrap().omega_0.is_some());
+    }
+
     /// ω₀ is the frequency of small free vibrations about λ_I*: no AC voltage, no damping,
     /// released 1e-4 from it, the period counted between upward crossings of λ_I* over
     /// 200 periods with the reference integrator.
@@ -154,6 +184,7 @@ mod tests {
         .build()
         .unwrap();
         let eq = equilibrium(&free).unwrap();
+        let omega_0 = eq.omega_0.unwrap();
         let dopri = Dopri5::new(
             &free,
             Tolerance {
@@ -165,7 +196,7 @@ mod tests {
         let periods = 200.0;
         let mut crossings = Vec::new();
         dopri
-            .integrate(&mut state, periods * 2.0 * PI / eq.omega_0, |d| {
+            .integrate(&mut state, periods * 2.0 * PI / omega_0, |d| {
                 let below = |t: f64| d.at(t)[0] - eq.lambda_i;
                 if below(d.t0) < 0.0 && below(d.t1) >= 0.0 {
                     let t = illinois(
@@ -183,9 +214,8 @@ mod tests {
         let omega = 2.0 * PI / period;
         // measured 1e-8: what is left is the amplitude's own (nonlinear) frequency shift
         assert!(
-            (omega / eq.omega_0 - 1.0).abs() < 1e-6,
-            "{omega} against {}",
-            eq.omega_0
+            (omega / omega_0 - 1.0).abs() < 1e-6,
+            "{omega} against {omega_0}"
         );
     }
 
@@ -202,6 +232,6 @@ mod tests {
         );
         let eq = d.equilibrium.unwrap();
         assert!((eq.lambda_i - 1.0254357280757076).abs() < 1e-13, "{eq:?}");
-        assert!((eq.omega_0 - 2.7398979598).abs() < 1e-9, "{eq:?}");
+        assert!((eq.omega_0.unwrap() - 2.7398979598).abs() < 1e-9, "{eq:?}");
     }
 }
