@@ -8,6 +8,7 @@ mod force;
 mod hunt;
 mod map;
 mod model_args;
+mod model_cmd;
 mod orbit;
 mod output;
 mod parse;
@@ -46,6 +47,9 @@ enum Command {
     Orbit(orbit::OrbitArgs),
     /// Static force curves f_II − f_I against Δλ (Fig 2).
     Force(force::ForceArgs),
+    /// The model's derived quantities: the drive's E_a, E_b, E_c, the static equilibrium
+    /// under the mean drive and the natural frequency ω₀ about it.
+    Model(model_cmd::ModelCmdArgs),
     /// Frequency sweep: a chirp with its envelope and scalogram, or stepped (Fig 3).
     Sweep(sweep::SweepArgs),
     /// Basin of attraction on a grid of initial states (Fig 6).
@@ -97,6 +101,7 @@ pub fn run() -> ExitCode {
         Command::Basin(args) => basin::run(&args, out),
         Command::Response(args) => response::run(&args, out),
         Command::Force(args) => force::run(&args, out),
+        Command::Model(args) => model_cmd::run(&args, out),
         Command::Sweep(args) => sweep::run(&args, out),
         Command::Family(args) => family::run(&args, out),
         Command::Continue(args) => continue_cmd::run(&args, out),

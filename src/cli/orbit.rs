@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::orbit::period_map::Rk4PeriodMap;
-use isola::analysis::orbit::time_history::{TimeHistorySpec, time_history};
+use isola::analysis::orbit::time_history::{SAMPLES_PER_PERIOD, TimeHistorySpec, time_history};
 use isola::analysis::{DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state_with};
 use isola::model::{Device, Params};
 use isola::solver::{Resolution, Tolerance};
@@ -37,6 +37,20 @@ pub struct OrbitArgs {
     /// Write the time history and phase path (transient and steady part) to this CSV file.
     #[arg(long = "history-csv")]
     history_csv: Option<std::path::PathBuf>,
+    /// Samples of the time history per forcing period (4 to 4096).
+    #[arg(long = "samples-per-period", value_name = "N", value_parser = samples_per_period,
+          default_value_t = TimeHistorySpec::default().samples_per_period, requires = "history_csv")]
+    samples_per_period: usize,
+}
+
+/// A whole number of samples per forcing period in [`SAMPLES_PER_PERIOD`].
+fn samples_per_period(s: &str) -> Result<usize, String> {
+    let (lo, hi) = SAMPLES_PER_PERIOD;
+    s.trim()
+        .parse()
+        .ok()
+        .filter(|n| (lo..=hi).contains(n))
+        .ok_or_else(|| format!("'{s}' is not a whole number in [{lo}, {hi}]"))
 }
 
 /// One orbit: the inputs, the classified steady state, and the same in the paper's device's
@@ -112,6 +126,14 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
         ..SteadyStateSpec::default()
     };
     spec.validate()?;
+    let history_spec = TimeHistorySpec {
+        dx0: args.start.x0,
+        v0: args.start.v0,
+        samples_per_period: args.samples_per_period,
+        steady: spec,
+        ..TimeHistorySpec::default()
+    };
+    history_spec.validate()?;
     let x0 = params.lambda_p() + args.start.x0;
     let steady = if args.reference {
         let tol = Tolerance {
@@ -132,13 +154,7 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
     let mut done = Done::default();
     let mut history_samples = None;
     if let Some(path) = &args.history_csv {
-        let spec = TimeHistorySpec {
-            dx0: args.start.x0,
-            v0: args.start.v0,
-            steady: spec,
-            ..TimeHistorySpec::default()
-        };
-        let history = time_history(&params, &spec)?;
+        let history = time_history(&params, &history_spec)?;
         isola::session::export::history_csv(&history, &Device::silicone(), path)?;
         history_samples = Some(history.samples.len());
         done.wrote.push(path.clone());

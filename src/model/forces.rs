@@ -18,6 +18,15 @@ pub fn gent(lambda: f64, j: f64) -> f64 {
     (lambda - 1.0 / (l2 * lambda)) / (1.0 - (l2 + 1.0 / l2 - 2.0) / j)
 }
 
+/// Slope g′(λ) of the Gent tension, from g = N/D with N = λ − λ⁻³, D = 1 − (λ² + λ⁻² − 2)/J:
+/// g′ = (N′D − N D′)/D², N′ = 1 + 3λ⁻⁴, D′ = −2(λ − λ⁻³)/J.
+pub fn gent_slope(lambda: f64, j: f64) -> f64 {
+    let (l2, n) = (lambda * lambda, lambda - lambda.powi(-3));
+    let d = 1.0 - (l2 + 1.0 / l2 - 2.0) / j;
+    let (dn, dd) = (1.0 + 3.0 / (l2 * l2), -2.0 * n / j);
+    (dn * d - n * dd) / (d * d)
+}
+
 /// Gent strain energy W(λ) = −(J/2)·ln(1 − (λ² + λ⁻² − 2)/J), with dW/dλ = g(λ).
 pub fn gent_energy(lambda: f64, j: f64) -> f64 {
     let l2 = lambda * lambda;
@@ -38,11 +47,20 @@ pub fn membrane_force(lambda: f64, phi_sq: f64, lambda_dot: f64, c_tilde: f64, j
     tension(lambda, phi_sq, lambda_dot, c_tilde, j).max(0.0)
 }
 
+/// Forces (f_I, f_II) the two membranes carry at λ_I = `x`, dλ_I/dτ = `v` under the squared
+/// voltages φ_I², φ_II² (membrane II at λ_II = 2λ_p − λ_I, stretching at −v).
+pub fn membrane_forces(p: &Params, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> (f64, f64) {
+    let (c, j) = (p.c_tilde(), p.j());
+    (
+        membrane_force(x, phi_sq_i, v, c, j),
+        membrane_force(2.0 * p.lambda_p() - x, phi_sq_ii, -v, c, j),
+    )
+}
+
 /// Net force f_II − f_I on the mass (= d²λ_I/dτ²) for membrane stretches set by λ_I = `x`.
 pub fn net_force(p: &Params, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> f64 {
-    let (c, j) = (p.c_tilde(), p.j());
-    membrane_force(2.0 * p.lambda_p() - x, phi_sq_ii, -v, c, j)
-        - membrane_force(x, phi_sq_i, v, c, j)
+    let (f_i, f_ii) = membrane_forces(p, x, v, phi_sq_i, phi_sq_ii);
+    f_ii - f_i
 }
 
 /// True when λ_I = `x` puts the mass on a frame (λ_I ≤ 0 or λ_II ≤ 0) or stretches a
@@ -77,6 +95,17 @@ mod tests {
         }
         // near λ = 1 the Gent law is linear with slope 4 (neo-Hookean limit)
         assert!((gent(1.0 + 1e-7, 16.0) / 1e-7 - 4.0).abs() < 1e-5);
+    }
+
+    /// The analytic slope against central differences, and 4 at λ = 1 (neo-Hookean limit).
+    #[test]
+    fn gent_slope_is_the_derivative_of_gent() {
+        assert_eq!(gent_slope(1.0, 16.0), 4.0);
+        for &l in &[0.4, 0.8, 1.02, 1.3, 2.0, 3.5] {
+            let h = 1e-6;
+            let fd = (gent(l + h, 16.0) - gent(l - h, 16.0)) / (2.0 * h);
+            assert!((fd / gent_slope(l, 16.0) - 1.0).abs() < 1e-7, "{l}");
+        }
     }
 
     /// Below the lower pole the Gent formula turns positive; the membrane is slack instead.

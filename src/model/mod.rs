@@ -8,6 +8,7 @@ pub mod forces;
 pub mod forcing;
 pub mod limits;
 pub mod params;
+pub mod statics;
 pub mod system;
 pub mod units;
 

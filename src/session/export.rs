@@ -433,7 +433,7 @@ pub fn force_csv(
     })
 }
 
-/// One row per sample of a time history.
+/// One row per sample of a time history, with each membrane's tension and whether it is slack.
 pub fn history_csv(
     h: &crate::analysis::orbit::time_history::TimeHistory,
     device: &Device,
@@ -457,8 +457,13 @@ pub fn history_bytes(
             "v_per_tau",
             "phi_i",
             "steady",
+            "tension_i_nondim",
+            "tension_ii_nondim",
+            "slack_i",
+            "slack_ii",
         ])?;
         for s in &h.samples {
+            let (slack_i, slack_ii) = s.slack();
             w.write_record([
                 num(s.tau),
                 num(device.seconds(s.tau)),
@@ -466,6 +471,10 @@ pub fn history_bytes(
                 num(s.v),
                 num(s.phi_i),
                 s.steady.to_string(),
+                num(s.tension_i),
+                num(s.tension_ii),
+                slack_i.to_string(),
+                slack_ii.to_string(),
             ])?;
         }
         Ok(())

@@ -145,7 +145,9 @@ fn a_frequency_response_runs_and_draws_with_its_isola() {
     let orbit = path.with_file_name("orbit.csv");
     command(&mut app, &format!("export {}", orbit.display()));
     let text = std::fs::read_to_string(&orbit).unwrap();
-    assert!(text.starts_with("tau,time_s,lambda_stretch,v_per_tau,phi_i,steady\n"));
+    assert!(text.starts_with(
+        "tau,time_s,lambda_stretch,v_per_tau,phi_i,steady,tension_i_nondim,tension_ii_nondim,slack_i,slack_ii\n"
+    ));
     assert!(
         text.lines().count() > 100 && text.contains(",true"),
         "{:?}",

@@ -494,3 +494,64 @@ fn quiet_prints_nothing_and_json_refuses_quiet() {
     let force = json(&["force", "--points", "5", "--json"]);
     assert_eq!(force["curves"].as_array().unwrap().len(), 3);
 }
+
+/// `isola model` gives the baseline's derived quantities (the README's figures), in units of
+/// the paper's device too.
+#[test]
+fn model_prints_the_equilibrium_and_natural_frequency() {
+    let m = json(&["model", "--json"]);
+    let num = |key: &str| m[key].as_f64().unwrap_or_else(|| panic!("{key}: {m}"));
+    assert!((num("lambda_i_equilibrium") - 1.0254357280757076).abs() < 1e-13);
+    assert!((num("omega_0") - 2.7398979598).abs() < 1e-9);
+    assert_eq!(num("omega_parametric"), 2.0 * num("omega_0"));
+    assert!((num("e_b") - 0.041).abs() < 5e-4 && (num("e_c") - 0.006).abs() < 5e-4);
+    assert!((m["physical"]["omega_0_hz"].as_f64().unwrap() - 39.003).abs() < 1e-3);
+    let quiet = isola(&["model", "-q"]);
+    assert!(quiet.status.success() && quiet.stdout.is_empty());
+}
+
+/// `orbit --samples-per-period` sets the written history's sampling (4 to 4096) and needs
+/// `--history-csv`; a bad value is refused naming the flag, the value and the range.
+#[test]
+fn orbit_history_sampling_is_the_users() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("h.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let v = json(&[
+        "orbit",
+        "--x0",
+        "0.3",
+        "--history-csv",
+        csv_arg,
+        "--samples-per-period",
+        "16",
+        "--json",
+    ]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with(
+        "tau,time_s,lambda_stretch,v_per_tau,phi_i,steady,tension_i_nondim,tension_ii_nondim,slack_i,slack_ii\n"
+    ));
+    let samples = v["history_samples"].as_u64().unwrap() as usize;
+    assert_eq!(text.lines().count(), samples + 1);
+    // the start, then 16 samples per forcing period integrated
+    assert_eq!((samples - 1) % 16, 0, "{samples}");
+    for bad in ["0", "3", "5000", "1.5"] {
+        let out = isola(&[
+            "orbit",
+            "--history-csv",
+            csv_arg,
+            "--samples-per-period",
+            bad,
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {err}");
+        assert!(
+            err.contains(&format!("'{bad}' is not a whole number in [4, 4096]"))
+                && err.contains("--samples-per-period"),
+            "{bad}: {err}"
+        );
+    }
+    let alone = isola(&["orbit", "--samples-per-period", "16"]);
+    assert!(!alone.status.success());
+    assert!(String::from_utf8_lossy(&alone.stderr).contains("--history-csv"));
+}

@@ -6,8 +6,8 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec, steady_state};
 use crate::model::Params;
-use crate::model::error::check;
-use crate::model::forces::membrane_force;
+use crate::model::error::{check, check_in};
+use crate::model::forces::membrane_forces;
 use crate::solver::{Dopri5, Tolerance};
 
 /// One orbit to record.
@@ -17,7 +17,7 @@ pub struct TimeHistorySpec {
     /// Initial state (Δλ, v) at τ = 0.
     pub dx0: f64,
     pub v0: f64,
-    /// Samples per forcing period.
+    /// Samples per forcing period, in [`SAMPLES_PER_PERIOD`].
     pub samples_per_period: usize,
     /// Response periods recorded after the transient.
     pub steady_periods: usize,
@@ -41,6 +41,9 @@ impl Default for TimeHistorySpec {
     }
 }
 
+/// The allowed samples per forcing period, [lo, hi].
+pub const SAMPLES_PER_PERIOD: (usize, usize) = (4, 4096);
+
 /// One sample of the orbit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Sample {
@@ -49,8 +52,18 @@ pub struct Sample {
     pub v: f64,
     /// φ_I at this time.
     pub phi_i: f64,
+    /// The forces f_I, f_II the membranes carry (MODEL.md §1): 0 where a membrane is slack.
+    pub tension_i: f64,
+    pub tension_ii: f64,
     /// On the steady response (after the transient).
     pub steady: bool,
+}
+
+impl Sample {
+    /// Whether membrane I, membrane II is slack (carries no force).
+    pub fn slack(&self) -> (bool, bool) {
+        (self.tension_i == 0.0, self.tension_ii == 0.0)
+    }
 }
 
 /// The recorded orbit and its classification.
@@ -65,11 +78,12 @@ pub struct TimeHistory {
 impl TimeHistorySpec {
     /// Checks every setting; the error names the first bad one.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
-        check(
+        let (lo, hi) = SAMPLES_PER_PERIOD;
+        check_in(
             "samples_per_period",
             self.samples_per_period as f64,
-            |n| (4.0..=10_000.0).contains(&n),
-            "[4, 10000]",
+            lo as f64,
+            hi as f64,
         )?;
         check(
             "steady_periods",
@@ -102,12 +116,18 @@ pub fn time_history(params: &Params, spec: &TimeHistorySpec) -> Result<TimeHisto
     let n = total_periods * spec.samples_per_period;
     let mut samples = Vec::with_capacity(n + 1);
     let phi_i = |tau: f64| params.drive_i().phi(params.omega() * tau);
-    let sample = |tau: f64, y: [f64; 2]| Sample {
-        tau,
-        lambda: y[0],
-        v: y[1],
-        phi_i: phi_i(tau),
-        steady: tau >= steady_from - 1e-9,
+    let sample = |tau: f64, [lambda, v]: [f64; 2]| {
+        let (phi_sq_i, phi_sq_ii) = params.phi_sq_at(tau);
+        let (tension_i, tension_ii) = membrane_forces(params, lambda, v, phi_sq_i, phi_sq_ii);
+        Sample {
+            tau,
+            lambda,
+            v,
+            phi_i: phi_i(tau),
+            tension_i,
+            tension_ii,
+            steady: tau >= steady_from - 1e-9,
+        }
     };
     samples.push(sample(0.0, [x0, spec.v0]));
     let _ = dopri.integrate(&mut state, total_periods as f64 * period, |d| {
@@ -173,13 +193,12 @@ pub fn steady_summary(
             && (0..idx.len() - shift)
                 .all(|i| (lambda[idx[i + shift]] - lambda[idx[i]]).abs() < tolerance)
     });
-    let (c, j) = (p.c_tilde(), p.j());
     let (mut slack_i, mut slack_ii) = (0usize, 0usize);
     for &k in &idx {
         let (phi_sq_i, phi_sq_ii) = p.phi_sq_at(tau[k]);
-        let lambda_ii = 2.0 * p.lambda_p() - lambda[k];
-        slack_i += usize::from(membrane_force(lambda[k], phi_sq_i, v[k], c, j) <= 0.0);
-        slack_ii += usize::from(membrane_force(lambda_ii, phi_sq_ii, -v[k], c, j) <= 0.0);
+        let (f_i, f_ii) = membrane_forces(p, lambda[k], v[k], phi_sq_i, phi_sq_ii);
+        slack_i += usize::from(f_i <= 0.0);
+        slack_ii += usize::from(f_ii <= 0.0);
     }
     let n = idx.len() as f64;
     Some(SteadySummary {
@@ -229,6 +248,155 @@ mod tests {
         let (isola, small) = (slack[0], slack[1]);
         assert!(isola.0 > small.0 && small.0 > 0.0, "{slack:?}");
         assert_eq!(small.1, 0.0);
+    }
+
+    /// The 1:2 isola orbit at the baseline (ADR 0.6, ω_e 3.7, from Δλ = 0.3, v = 0), sampled
+    /// `samples_per_period` times per forcing period.
+    fn isola_history(samples_per_period: usize) -> (Params, TimeHistory) {
+        let p = Params::paper(0.6, 3.7).unwrap();
+        let spec = TimeHistorySpec {
+            dx0: 0.3,
+            samples_per_period,
+            ..TimeHistorySpec::default()
+        };
+        let h = time_history(&p, &spec).unwrap();
+        (p, h)
+    }
+
+    /// The CSV's tension columns are MODEL.md §1's force law, written out here, at each
+    /// sample's λ_I, v and φ_I (φ_II = 0); a membrane is flagged slack exactly where its
+    /// tension is 0, and on the isola orbit each membrane is slack part of the time and taut
+    /// the rest.
+    #[test]
+    fn history_csv_tensions_are_the_force_law() {
+        let (p, h) = isola_history(64);
+        assert_eq!(h.steady_state.period, Some(2));
+        let bytes =
+            crate::session::export::history_bytes(&h, &crate::model::Device::silicone()).unwrap();
+        let mut reader = csv::Reader::from_reader(bytes.as_slice());
+        let header = reader.headers().unwrap().clone();
+        assert_eq!(
+            header.iter().collect::<Vec<_>>(),
+            [
+                "tau",
+                "time_s",
+                "lambda_stretch",
+                "v_per_tau",
+                "phi_i",
+                "steady",
+                "tension_i_nondim",
+                "tension_ii_nondim",
+                "slack_i",
+                "slack_ii"
+            ]
+        );
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        // MODEL.md §1 at the baseline: J = 16, c̃ = 0.04, λ_p = 1.02, φ_DC = 0.2/√1.18,
+        // φ_AC = 0.6 φ_DC (E_a = φ_DC² + φ_AC²/2 = 0.04)
+        let (j, c, lambda_p, omega) = (16.0, 0.04, 1.02, 3.7);
+        let phi_dc = (0.04f64 / (1.0 + 0.6 * 0.6 / 2.0)).sqrt();
+        let phi_ac = 0.6 * phi_dc;
+        assert_eq!((p.j(), p.c_tilde(), p.lambda_p()), (j, c, lambda_p));
+        let lower_pole = 5f64.sqrt() - 2.0;
+        let g = |l: f64| (l - l.powi(-3)) / (1.0 - (l * l + l.powi(-2) - 2.0) / j);
+        // the force and the size of its terms (what "relative" is relative to)
+        let force = |l: f64, phi_sq: f64, rate: f64| {
+            let scale = g(l).abs().max(phi_sq * l).max((c * rate).abs());
+            match l <= lower_pole {
+                true => (0.0, scale),
+                false => ((g(l) - phi_sq * l + c * rate).max(0.0), scale),
+            }
+        };
+        let (mut slack_i, mut slack_ii) = ([false; 2], [false; 2]);
+        let mut rows = 0;
+        for row in reader.records() {
+            let row = row.unwrap();
+            let num = |name: &str| row[col(name)].parse::<f64>().unwrap();
+            let flag = |name: &str| match &row[col(name)] {
+                "true" => true,
+                "false" => false,
+                other => panic!("{name} = {other}"),
+            };
+            let (tau, lambda, v) = (num("tau"), num("lambda_stretch"), num("v_per_tau"));
+            let phi_i = phi_dc + phi_ac * (omega * tau).cos();
+            assert!((num("phi_i") - phi_i).abs() < 1e-15, "τ {tau}");
+            let expected = [
+                force(lambda, phi_i * phi_i, v),
+                force(2.0 * lambda_p - lambda, 0.0, -v),
+            ];
+            for (m, (tension, slack)) in [
+                ("tension_i_nondim", "slack_i"),
+                ("tension_ii_nondim", "slack_ii"),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let (f, scale) = expected[m];
+                let written = num(tension);
+                assert!(
+                    (written - f).abs() <= 1e-12 * scale,
+                    "τ {tau}: {tension} {written} against {f}"
+                );
+                assert_eq!(flag(slack), written == 0.0, "τ {tau}: {slack}");
+                let seen = if m == 0 { &mut slack_i } else { &mut slack_ii };
+                seen[usize::from(flag(slack))] = true;
+            }
+            rows += 1;
+        }
+        assert_eq!(rows, h.samples.len());
+        assert_eq!(slack_i, [true, true], "membrane I both taut and slack");
+        assert_eq!(slack_ii, [true, true], "membrane II both taut and slack");
+    }
+
+    /// 16 samples per period are 2π/(16 ω_e) apart and are every fourth of the 64: the
+    /// integrator's steps do not depend on the sampling (samples are read off its dense
+    /// output), and k·(T/16) = 4k·(T/64) exactly in floating point, so the shared samples are
+    /// equal to the last bit.
+    #[test]
+    fn a_coarser_sampling_reads_the_same_trajectory() {
+        let (p, h16) = isola_history(16);
+        let (_, h64) = isola_history(64);
+        let dt = 2.0 * std::f64::consts::PI / (16.0 * p.omega());
+        assert_eq!(h16.samples.len() - 1, (h64.samples.len() - 1) / 4);
+        for (k, pair) in h16.samples.windows(2).enumerate() {
+            assert!((pair[1].tau - pair[0].tau - dt).abs() < 1e-12, "sample {k}");
+        }
+        for (k, s) in h16.samples.iter().enumerate() {
+            assert_eq!(*s, h64.samples[4 * k], "sample {k}");
+        }
+        assert_eq!(h16.steady_from, h64.steady_from);
+    }
+
+    /// The sampling is a whole number in [4, 4096]; anything else is an error naming the
+    /// setting, the value and the range.
+    #[test]
+    fn samples_per_period_outside_its_range_is_refused() {
+        for n in [4, 64, 4096] {
+            let spec = TimeHistorySpec {
+                samples_per_period: n,
+                ..TimeHistorySpec::default()
+            };
+            assert!(spec.validate().is_ok(), "{n}");
+        }
+        for n in [0, 3, 4097, 5000] {
+            let spec = TimeHistorySpec {
+                samples_per_period: n,
+                ..TimeHistorySpec::default()
+            };
+            let e = spec.validate().unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("samples_per_period = {n} is out of range: allowed [4, 4096]")
+            );
+        }
+        let table: toml::Table = toml::from_str("samples_per_period = 1.5").unwrap();
+        let e = crate::session::Settings::read("time_history", Some(table)).unwrap_err();
+        assert_eq!(e.path.as_deref(), Some("samples_per_period"));
+        assert!(
+            e.message.contains("1.5") && e.message.contains("whole number"),
+            "{}",
+            e.message
+        );
     }
 
     /// The steady part repeats with the response period, and it spans the reported amplitude.
