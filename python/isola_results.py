@@ -43,7 +43,16 @@ INTEGER = {
     "step",
 }
 # Columns that hold true/false.
-BOOLEAN = {"hidden", "partly_hidden", "restarted", "seeded", "steady", "subharmonic"}
+BOOLEAN = {
+    "hidden",
+    "partly_hidden",
+    "restarted",
+    "seeded",
+    "slack_i",
+    "slack_ii",
+    "steady",
+    "subharmonic",
+}
 # Columns that hold labels.
 TEXT = {"at", "class", "kind", "largest_type", "of", "response_type", "verdict"}
 
@@ -56,18 +65,22 @@ class Tables(dict):
 
 
 def dtype_of(column: str, cells: pd.Series) -> str:
-    """The dtype of a column, by its name (and, for ``stable``, by what it holds: a count of
-    stable responses in a map, a flag on a continued branch)."""
+    """The dtype of a column, by its name, else by what it holds (``stable`` is a count of
+    stable responses in a map, a flag on a continued branch; a column this reader does not
+    know is a flag if it holds only true/false, else numbers, else labels)."""
     if column in TEXT:
         return "string"
     if column in BOOLEAN:
         return "boolean"
     if column in INTEGER:
         return "Int64"
+    written = cells[cells != ""]
+    if len(written) and set(written) <= {"true", "false"}:
+        return "boolean"
     if column == "stable":
-        values = set(cells[cells != ""])
-        return "boolean" if values <= {"true", "false"} else "Int64"
-    return "float64"
+        return "Int64"
+    numbers = pd.to_numeric(written, errors="coerce")
+    return "float64" if numbers.notna().all() else "string"
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
