@@ -159,6 +159,32 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
             ));
         }
     }
+    // at rest under the mean drive, and the small oscillations about it (`isola model`)
+    if let Some(rest) = isola::model::statics::equilibrium(&p) {
+        let derived = |label: &str, value: f64, what: String| Row {
+            label: label.into(),
+            value: format_number(value),
+            physical: what,
+            overridden: false,
+            target: Target::Derived("derived from the model at rest: edit λ_p, J or the drive"),
+        };
+        out.push(derived(
+            "λ_I*",
+            rest.lambda_i,
+            format!("at rest, Δλ {:+.4}", rest.lambda_i - p.lambda_p()),
+        ));
+        if let Some(omega_0) = rest.omega_0 {
+            out.push(derived(
+                "ω₀",
+                omega_0,
+                format!(
+                    "{:.2} Hz; 2ω₀ {:.2} Hz",
+                    device.hz(omega_0),
+                    device.hz(2.0 * omega_0)
+                ),
+            ));
+        }
+    }
     flatten(&session.settings_table(index), &mut Vec::new(), &mut out);
     out
 }
