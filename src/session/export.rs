@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::analysis::global::basin::Basin;
-use crate::analysis::global::frequency_response::FrequencyResponse;
+use crate::analysis::global::frequency_response::{FrequencyResponse, Response};
 use crate::analysis::{Class, SteadyState};
 use crate::model::Device;
 
@@ -150,6 +150,13 @@ fn start_fields(s: &SteadyState) -> [String; 2] {
     [0, 1].map(|i| s.poincare.first().map_or(String::new(), |p| num(p[i])))
 }
 
+/// The tables a basin writes beside its cells (`A.attractors.csv`, `A.points.csv`).
+pub const BASIN_TABLES: [&str; 2] = ["attractors", "points"];
+/// The tables a frequency response writes beside its responses.
+pub const RESPONSE_TABLES: [&str; 2] = ["points", "outcomes"];
+/// The tables a family writes beside its branches.
+pub const FAMILY_TABLES: [&str; 3] = ["responses", "points", "outcomes"];
+
 /// Where a table beside a result's main file `A.csv` lives: `A.TABLE.csv`.
 pub fn beside(main: &Path, table: &str) -> PathBuf {
     main.with_extension(format!("{table}.csv"))
@@ -216,7 +223,7 @@ pub fn basin_csv(
         }
         Ok(())
     })?;
-    Ok(written(path, &["attractors", "points"]))
+    Ok(written(path, &BASIN_TABLES))
 }
 
 /// `main` and the tables beside it.
@@ -271,29 +278,30 @@ impl ResponseTables<'_> {
         outcomes: &Path,
     ) -> anyhow::Result<()> {
         let columns = self.columns;
+        // the periodic responses, numbered once for both tables that name them
+        let responses: Vec<(Option<f64>, &Response)> = members
+            .iter()
+            .flat_map(|&(value, fr)| periodic(fr).map(move |r| (value, r)))
+            .collect();
         write_atomic(main, |w| {
             let mut rest = vec!["response".to_string()];
             rest.extend(RESPONSE_COLUMNS.map(String::from));
             rest.extend(columns.steady());
             rest.extend(columns.start());
             w.write_record(self.header(&rest))?;
-            let mut id = 0usize;
-            for &(value, fr) in members {
-                for r in periodic(fr) {
-                    let mut rest = vec![
-                        id.to_string(),
-                        num(r.omega),
-                        columns.hz(r.omega),
-                        r.branch.map_or(String::new(), |b| b.to_string()),
-                        r.hidden.map_or(String::new(), |h| h.to_string()),
-                        r.seeded.to_string(),
-                        num(r.share),
-                    ];
-                    rest.extend(steady_fields(&r.steady));
-                    rest.extend(start_fields(&r.steady));
-                    w.write_record(self.row(value, rest))?;
-                    id += 1;
-                }
+            for (id, &(value, r)) in responses.iter().enumerate() {
+                let mut rest = vec![
+                    id.to_string(),
+                    num(r.omega),
+                    columns.hz(r.omega),
+                    r.branch.map_or(String::new(), |b| b.to_string()),
+                    r.hidden.map_or(String::new(), |h| h.to_string()),
+                    r.seeded.to_string(),
+                    num(r.share),
+                ];
+                rest.extend(steady_fields(&r.steady));
+                rest.extend(start_fields(&r.steady));
+                w.write_record(self.row(value, rest))?;
             }
             Ok(())
         })?;
@@ -301,20 +309,16 @@ impl ResponseTables<'_> {
             let mut rest = vec!["response".to_string(), "omega".into(), "point".into()];
             rest.extend(columns.poincare());
             w.write_record(self.header(&rest))?;
-            let mut id = 0usize;
-            for &(value, fr) in members {
-                for r in periodic(fr) {
-                    for (k, p) in r.steady.poincare.iter().enumerate() {
-                        let rest = vec![
-                            id.to_string(),
-                            num(r.omega),
-                            k.to_string(),
-                            num(p[0]),
-                            num(p[1]),
-                        ];
-                        w.write_record(self.row(value, rest))?;
-                    }
-                    id += 1;
+            for (id, &(value, r)) in responses.iter().enumerate() {
+                for (k, p) in r.steady.poincare.iter().enumerate() {
+                    let rest = vec![
+                        id.to_string(),
+                        num(r.omega),
+                        k.to_string(),
+                        num(p[0]),
+                        num(p[1]),
+                    ];
+                    w.write_record(self.row(value, rest))?;
                 }
             }
             Ok(())
@@ -344,9 +348,7 @@ impl ResponseTables<'_> {
 }
 
 /// The periodic responses of `fr`, in order.
-fn periodic(
-    fr: &FrequencyResponse,
-) -> impl Iterator<Item = &crate::analysis::global::frequency_response::Response> {
+fn periodic(fr: &FrequencyResponse) -> impl Iterator<Item = &Response> {
     fr.responses
         .iter()
         .filter(|r| r.steady.class == Class::Periodic)
@@ -379,12 +381,7 @@ pub fn response_csv(
         &beside(path, "points"),
         &beside(path, "outcomes"),
     )?;
-    Ok(written(path, &["points", "outcomes"]))
-}
-
-/// Where a family's per-response file lives beside its branch table: `A.responses.csv`.
-pub fn family_responses_path(family_csv: &Path) -> PathBuf {
-    beside(family_csv, "responses")
+    Ok(written(path, &RESPONSE_TABLES))
 }
 
 /// One row per periodic response per ω_e per member of a family, the parameter's value
@@ -406,7 +403,7 @@ pub fn family_responses_csv(
     }
     .write(
         &members,
-        &family_responses_path(family_csv),
+        &beside(family_csv, "responses"),
         &beside(family_csv, "points"),
         &beside(family_csv, "outcomes"),
     )
@@ -610,11 +607,6 @@ pub fn family_csv(
     })
 }
 
-/// Where a hunt's continued branches live beside its frequency response: `A.branches.csv`.
-pub fn branches_path(response_csv: &Path) -> PathBuf {
-    response_csv.with_extension("branches.csv")
-}
-
 /// One row per point (kind `point`, in order along the branch) and per located bifurcation
 /// (its kind) of each branch, numbered from 0. Columns: branch, period, verdict (isola,
 /// attached, half-attached, open), kind, the continuation parameter, `omega_e`, the state at
@@ -815,11 +807,6 @@ pub fn map_csv(
         }
         Ok(())
     })
-}
-
-/// Where a map's curves live beside its cells: `A.curves.csv`.
-pub fn curves_path(map_csv: &Path) -> PathBuf {
-    map_csv.with_extension("curves.csv")
 }
 
 /// One row per point of each two-parameter curve (`kind` `fold` or `period-doubling`,

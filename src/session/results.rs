@@ -820,7 +820,7 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
         }
         Settings::Hunt(_) => {
             let responses = response_points(&c, &rows, &paths.csv)?;
-            let continued = read_continued(&super::export::branches_path(&paths.csv))?;
+            let continued = read_continued(&super::export::beside(&paths.csv, "branches"))?;
             ResultView::Hunt(HuntView {
                 responses,
                 continued: continued.branches,
@@ -857,7 +857,7 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 omegas,
                 values,
                 rows: rows_out,
-                curves: read_curves(&super::export::curves_path(&paths.csv))?,
+                curves: read_curves(&super::export::beside(&paths.csv, "curves"))?,
             })
         }
         Settings::Basin(spec) => {
@@ -888,8 +888,7 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
         }
         Settings::Family(spec) => {
             let parameter = spec.parameter.name();
-            let (rc, response_rows) =
-                self::rows(&super::export::family_responses_path(&paths.csv))?;
+            let (rc, response_rows) = self::rows(&super::export::beside(&paths.csv, "responses"))?;
             let mut members: Vec<(f64, Vec<ResponsePoint>)> = Vec::new();
             let mut add = |value: f64, points: Vec<ResponsePoint>| match members
                 .iter_mut()

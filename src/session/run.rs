@@ -101,11 +101,11 @@ pub fn chunk_count(settings: &Settings) -> usize {
 pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
     let mut files = vec![csv.to_path_buf()];
     let tables: &[&str] = match settings {
-        Settings::Basin(_) => &["attractors", "points"],
-        Settings::FrequencyResponse(_) => &["points", "outcomes"],
+        Settings::Basin(_) => &export::BASIN_TABLES,
+        Settings::FrequencyResponse(_) => &export::RESPONSE_TABLES,
         Settings::Hunt(_) => &["branches", "points", "outcomes"],
         Settings::Map(_) => &["curves"],
-        Settings::Family(_) => &["responses", "points", "outcomes"],
+        Settings::Family(_) => &export::FAMILY_TABLES,
         _ => &[],
     };
     files.extend(tables.iter().map(|t| export::beside(csv, t)));
@@ -394,7 +394,7 @@ impl Run<'_> {
                             Vec::new()
                         };
                         finite(&curves, "the map's curves")?;
-                        export::curves_csv(&curves, columns, &export::curves_path(csv))?;
+                        export::curves_csv(&curves, columns, &export::beside(csv, "curves"))?;
                         let omegas = spec.response.omega.values();
                         let names = (spec.x.name(), spec.parameter.name());
                         export::map_csv(names, &omegas, &rows, columns, csv)
@@ -489,7 +489,7 @@ impl Run<'_> {
                     let found = hunt_in(osc, fr, &hunt.continuation, progress).map_err(&named)?;
                     finite(&found, "the hunt")?;
                     let branches: Vec<_> = found.branches.iter().map(|h| &h.branch).collect();
-                    export::continued_csv(&branches, columns, &export::branches_path(csv))?;
+                    export::continued_csv(&branches, columns, &export::beside(csv, "branches"))?;
                     export::response_csv(&found.response, columns, csv).map(drop)
                 } else {
                     finite(&fr, "the frequency response")?;
