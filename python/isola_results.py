@@ -45,6 +45,7 @@ INTEGER = {
 # Columns that hold true/false.
 BOOLEAN = {
     "hidden",
+    "located",
     "partly_hidden",
     "restarted",
     "seeded",
@@ -54,7 +55,18 @@ BOOLEAN = {
     "subharmonic",
 }
 # Columns that hold labels.
-TEXT = {"at", "class", "kind", "largest_type", "of", "response_type", "verdict"}
+TEXT = {
+    "after",
+    "at",
+    "before",
+    "class",
+    "event",
+    "kind",
+    "largest_type",
+    "of",
+    "response_type",
+    "verdict",
+}
 
 
 class Tables(dict):

@@ -110,6 +110,8 @@ struct MemberSummary<'a> {
 struct TransitionSummary<'a> {
     #[serde(skip)]
     parameter: &'a str,
+    /// `birth`, `vanishing`, `merging`, `detaching` or `change`.
+    event: &'static str,
     #[serde(flatten)]
     transition: Transition,
     limit: Option<IsolaLimit>,
@@ -206,23 +208,25 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
                 out.show(&MemberSummary::of(name, m))
             })
         })??;
-        let transitions = locate_limits(&params, &family, &members, 1e-4, &progress)?
-            .into_iter()
-            .map(|(transition, limit)| TransitionSummary {
-                parameter: name,
-                transition,
-                limit,
-            })
-            .collect();
+        let limits = locate_limits(&params, &family, &members, 1e-4, &progress)?;
         let mut done = Done {
             elapsed_seconds: started.elapsed().as_secs_f64(),
             ..Done::default()
         };
         if let Some(path) = &args.csv {
             done.wrote.extend(isola::session::export::hunt_family_csv(
-                name, &members, path,
+                name, &members, &limits, path,
             )?);
         }
+        let transitions = limits
+            .into_iter()
+            .map(|(transition, limit)| TransitionSummary {
+                parameter: name,
+                event: transition.event(),
+                transition,
+                limit,
+            })
+            .collect();
         return out.report(&HuntFamilySummary {
             model: Model::of(&params),
             omega,

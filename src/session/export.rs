@@ -693,6 +693,10 @@ pub fn continued_csv(
 pub fn hunt_family_csv(
     parameter: &str,
     members: &[crate::analysis::continuation::hunt_family::HuntMember],
+    limits: &[(
+        crate::analysis::continuation::hunt_family::Transition,
+        Option<crate::analysis::continuation::isola_limits::IsolaLimit>,
+    )],
     path: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
     write_atomic(path, |w| {
@@ -749,7 +753,51 @@ pub fn hunt_family_csv(
         }
         Ok(())
     })?;
-    Ok(written(path, &["bifurcations"]))
+    // each change of the picture between two values, and where it happens when located
+    write_atomic(&beside(path, "limits"), |w| {
+        w.write_record([
+            "period".to_string(),
+            "event".into(),
+            "before".into(),
+            "after".into(),
+            format!("{parameter}_from"),
+            format!("{parameter}_to"),
+            "located".into(),
+            parameter.into(),
+            "precision".into(),
+            "omega".into(),
+            "amplitude_stretch".into(),
+        ])?;
+        let verdict = |v: Option<crate::analysis::continuation::hunt::Verdict>| {
+            v.map_or("none", |v| v.as_str()).to_string()
+        };
+        for (t, limit) in limits {
+            let located = limit.as_ref().map_or(
+                [String::new(), String::new(), String::new(), String::new()],
+                |l| {
+                    [
+                        num(l.value),
+                        num(l.precision),
+                        num(l.omega),
+                        num(l.amplitude),
+                    ]
+                },
+            );
+            let mut row = vec![
+                t.period.to_string(),
+                t.event().to_string(),
+                verdict(t.before),
+                verdict(t.after),
+                num(t.from),
+                num(t.to),
+                limit.is_some().to_string(),
+            ];
+            row.extend(located);
+            w.write_record(row)?;
+        }
+        Ok(())
+    })?;
+    Ok(written(path, &["bifurcations", "limits"]))
 }
 
 /// One row per cell of a map: `Y, X, frequency_hz` (with x = ω_e, for `device`; empty

@@ -14,11 +14,11 @@ use isola::analysis::continuation::branch::{
     BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
 };
 use isola::analysis::continuation::hunt::Verdict;
-use isola::analysis::continuation::isola_limits::{isola_birth, isola_merge};
+use isola::analysis::continuation::isola_limits::{isola_birth, isola_merge, isola_vanishing};
 use isola::analysis::parameter::ContinuationParameter;
 use isola::analysis::parameter::FamilyParameter;
 use isola::analysis::{SteadyStateSpec, steady_state};
-use isola::model::Params;
+use isola::model::{ParamSpec, Params};
 
 fn in_omega() -> ContinuationSpec {
     ContinuationSpec {
@@ -150,8 +150,8 @@ fn the_isola_fold_curve_joins_its_folds_and_its_birth() {
     }
 }
 
-/// `isola_birth` from the isola at ADR 0.4; `isola_merge` from ADR 0.6 towards 0.8, checked
-/// by fresh continuations just below and above.
+/// `isola_birth` from the isola at ADR 0.4; `isola_merge` from ADR 0.6 towards 0.8, located
+/// to 1e-8 and checked by fresh continuations 3e-4 below (closed) and above (attached).
 #[test]
 fn birth_and_merging_across_adr() {
     let (p, isola) = subharmonic(0.4, 4.5, 0.15);
@@ -185,11 +185,76 @@ fn birth_and_merging_across_adr() {
         "merge {merge:?} in {:.2} s",
         started.elapsed().as_secs_f64()
     );
-    assert!(merge.precision <= 1e-4);
+    // located on the fold curve the attached branch gains there, not just bracketed
+    assert!(merge.precision <= 1e-8, "{merge:?}");
     assert!(merge.value > 0.6 && merge.value < 0.7, "{merge:?}");
-    // fresh continuations on both sides, seeded from brute force
-    let below = subharmonic(merge.value - 2.0 * merge.precision - 1e-3, 3.7, 0.3).1;
-    let above = subharmonic(merge.value + 2.0 * merge.precision + 1e-3, 3.7, 0.3).1;
+    // fresh continuations on both sides, seeded from brute force, closer than the
+    // bisection's dependence on its seed and steps (up to 1e-4) would allow
+    let below = subharmonic(merge.value - 3e-4, 3.7, 0.3).1;
+    let above = subharmonic(merge.value + 3e-4, 3.7, 0.3).1;
     assert_eq!(Verdict::of(&below), Verdict::Isola);
     assert_eq!(Verdict::of(&above), Verdict::Attached);
+}
+
+/// The largest λ_p at which the 1:2 response of `isola` (continued in ω at `p`) exists at
+/// ω: its larger orbit there continued in λ_p, up to the fold.
+fn highest_lambda_p_at(p: &Params, isola: &ContinuedBranch, omega: f64) -> f64 {
+    let at = p.with_omega(omega).unwrap();
+    let orbit = isola
+        .orbits_at(&at, omega, &Default::default())
+        .unwrap()
+        .into_iter()
+        .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
+        .expect("the isola spans ω");
+    let spec = ContinuationSpec {
+        parameter: ContinuationParameter::Model(FamilyParameter::LambdaP),
+        min: 1.0,
+        max: 1.2,
+        ..ContinuationSpec::default()
+    };
+    let b = continue_branch(&at, 2, &orbit.poincare[0], &spec, &Progress::new(0)).unwrap();
+    b.of_kind(BifurcationKind::Fold)
+        .map(|f| f.parameter)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Over λ_p the ADR 0.6 isola shrinks and vanishes (between λ_p 1.04 and 1.05, as a hunt
+/// over λ_p brackets it): `isola_vanishing` locates it as the maximum of λ_p along the isola's
+/// fold curve, and one-parameter continuations in λ_p at fixed ω (independent of the curve)
+/// find the same largest λ_p at that ω within 1e-6, and smaller ones beside it.
+#[test]
+fn a_vanishing_isola_is_located_on_its_fold_curve() {
+    let p = ParamSpec {
+        lambda_p: 1.04,
+        ..Params::paper(0.6, 4.2).unwrap().to_spec()
+    }
+    .build()
+    .unwrap();
+    let brute = steady_state(&p, p.lambda_p() + 0.35, 0.0, &SteadyStateSpec::default());
+    assert_eq!(brute.period, Some(2), "the isola at λ_p 1.04, ω 4.2");
+    let isola = continue_branch(&p, 2, &brute.poincare[0], &in_omega(), &Progress::new(0)).unwrap();
+    assert!(isola.closed());
+    let curve = CurveSpec {
+        second: ContinuationParameter::Model(FamilyParameter::LambdaP),
+        min: 1.04,
+        max: 1.05,
+        ..curve_spec()
+    };
+    let end = isola_vanishing(
+        &p,
+        &isola,
+        FamilyParameter::LambdaP,
+        &curve,
+        &Progress::new(0),
+    )
+    .unwrap()
+    .expect("the fold curve turns below λ_p 1.05");
+    eprintln!("vanishing {end:?}");
+    assert!(end.value > 1.04 && end.value < 1.05, "{end:?}");
+    assert!(end.precision < 1e-6, "{end:?}");
+    let at = highest_lambda_p_at(&p, &isola, end.omega);
+    assert!((at - end.value).abs() < 1e-6, "{at} vs {}", end.value);
+    for dw in [-0.05, 0.05] {
+        assert!(highest_lambda_p_at(&p, &isola, end.omega + dw) < end.value - 1e-5);
+    }
 }

@@ -555,3 +555,55 @@ fn orbit_history_sampling_is_the_users() {
     assert!(!alone.status.success());
     assert!(String::from_utf8_lossy(&alone.stderr).contains("--history-csv"));
 }
+
+/// `hunt --vary` writes each change of the picture between two values, located where it can
+/// be, beside its CSV (`FILE.limits.csv`) and in `--json`, the same numbers in both: over λ_p
+/// the ADR 0.6 isola vanishes between 1.04 and 1.05, at the maximum of λ_p on its fold curve
+/// (1.0480627675, which `bifurcation_curves::a_vanishing_isola_is_located_on_its_fold_curve`
+/// checks against continuations in λ_p at fixed ω).
+#[test]
+fn hunt_over_a_parameter_writes_where_the_isola_vanishes() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("h.csv");
+    let v = json(&[
+        "hunt",
+        "--adr",
+        "0.6",
+        "--omega",
+        "3.9:4.5:0.1",
+        "--range",
+        "3:6",
+        "--vary",
+        "lambda_p",
+        "--values",
+        "1.04,1.05",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--json",
+    ]);
+    let transitions = v["transitions"].as_array().unwrap();
+    assert_eq!(transitions.len(), 1, "{v}");
+    let t = &transitions[0];
+    assert_eq!(t["event"], "vanishing");
+    let value = t["limit"]["value"].as_f64().expect("located");
+    assert!((value - 1.0480627675).abs() < 1e-8, "{t}");
+    assert!(t["limit"]["precision"].as_f64().unwrap() <= 1e-8, "{t}");
+    let limits = std::fs::read_to_string(dir.path().join("h.limits.csv")).unwrap();
+    let mut rows = csv::Reader::from_reader(limits.as_bytes());
+    let header = rows.headers().unwrap().clone();
+    let cell = |row: &csv::StringRecord, name: &str| {
+        row[header.iter().position(|h| h == name).unwrap()].to_string()
+    };
+    let rows: Vec<_> = rows.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 1, "{limits}");
+    assert_eq!(cell(&rows[0], "event"), "vanishing");
+    assert_eq!(cell(&rows[0], "before"), "isola");
+    assert_eq!(cell(&rows[0], "after"), "none");
+    assert_eq!(cell(&rows[0], "located"), "true");
+    assert_eq!(cell(&rows[0], "lambda_p").parse::<f64>().unwrap(), value);
+    assert_eq!(
+        cell(&rows[0], "omega").parse::<f64>().unwrap(),
+        t["limit"]["omega"].as_f64().unwrap()
+    );
+    assert_eq!(cell(&rows[0], "lambda_p_from"), "1.04");
+}

@@ -73,6 +73,18 @@ pub struct Transition {
 }
 
 impl Transition {
+    /// What happens, in one word: `birth`, `vanishing`, `merging`, `detaching`, or `change`
+    /// for any other pair of verdicts.
+    pub fn event(&self) -> &'static str {
+        match (self.before, self.after) {
+            (None, Some(Verdict::Isola)) => "birth",
+            (Some(Verdict::Isola), None) => "vanishing",
+            (Some(Verdict::Isola), Some(Verdict::Attached | Verdict::HalfAttached)) => "merging",
+            (Some(Verdict::Attached | Verdict::HalfAttached), Some(Verdict::Isola)) => "detaching",
+            _ => "change",
+        }
+    }
+
     /// `1:2 isola born between adr 0.2 and 0.3`, `... merges ...`.
     pub fn describe(&self, parameter: &str) -> String {
         let what = match (self.before, self.after) {

@@ -1,13 +1,15 @@
 //! Where an isola begins and ends across a model parameter (ADR, E_a, ...).
 //!
-//! - **Birth**: the isola shrinks to a point where its two folds meet. Its fold curve in
-//!   (ω_e, parameter) passes through both folds and turns at the birth value: the minimum
-//!   (or maximum) of the parameter along that curve, located to the continuation's accuracy.
+//! - **Birth** and **vanishing**: the isola shrinks to a point where its two folds meet. Its
+//!   fold curve in (ω_e, parameter) passes through both folds and turns there: a minimum of
+//!   the parameter along that curve (a birth as the parameter rises) or a maximum (the isola
+//!   vanishes), located to the continuation's accuracy.
 //! - **Merging**: the isola touches the branch attached to the main response's period
 //!   doublings and the two become one. Between a value where the branch through an isola
 //!   orbit closes on itself and one where it ends on period doublings, the value is bisected;
 //!   at each trial the isola's orbit is followed in the parameter at fixed ω_e and its branch
-//!   continued in ω_e. The precision is the final bracket's width.
+//!   continued in ω_e. Then, as the bracket depends on the continuation's steps, the value is
+//!   located exactly as the turning point of the fold curve the attached branch gains there.
 
 use serde::{Deserialize, Serialize};
 
@@ -50,6 +52,40 @@ pub fn isola_birth<M: Continuable>(
     curve: &CurveSpec,
     progress: &Progress,
 ) -> Result<Option<IsolaLimit>, ContinuationError> {
+    isola_shrinks(params, isola, parameter, curve, Towards::Below, progress)
+}
+
+/// Where the closed branch `isola` vanishes as `parameter` rises: its lowest fold continued
+/// in (ω_e, `parameter`) up to where the two folds meet, the curve's maximum in `parameter`.
+/// `curve` bounds the continuation as for [`isola_birth`], its lower bound replaced by the
+/// current value. `None` if the curve does not turn within the bounds.
+pub fn isola_vanishing<M: Continuable>(
+    params: &M,
+    isola: &ContinuedBranch,
+    parameter: FamilyParameter,
+    curve: &CurveSpec,
+    progress: &Progress,
+) -> Result<Option<IsolaLimit>, ContinuationError> {
+    isola_shrinks(params, isola, parameter, curve, Towards::Above, progress)
+}
+
+/// On which side of the current value an isola shrinks to a point.
+#[derive(Clone, Copy, PartialEq)]
+enum Towards {
+    Below,
+    Above,
+}
+
+/// The turning point of the fold curve through the isola's lowest fold, on the `side` of
+/// the current value of `parameter` (a minimum below, a maximum above).
+fn isola_shrinks<M: Continuable>(
+    params: &M,
+    isola: &ContinuedBranch,
+    parameter: FamilyParameter,
+    curve: &CurveSpec,
+    side: Towards,
+    progress: &Progress,
+) -> Result<Option<IsolaLimit>, ContinuationError> {
     let second = ContinuationParameter::Model(parameter);
     let now = params.value_of(params.resolve(second)?);
     let Some(low) = isola
@@ -58,16 +94,30 @@ pub fn isola_birth<M: Continuable>(
     else {
         return Ok(None);
     };
-    let spec = CurveSpec {
-        second,
-        max: now + 1e-3 * now.abs().max(1e-3),
-        ..*curve
+    // a little past the current value, so that the curve ends beyond the isola's other fold
+    let past = 1e-3 * now.abs().max(1e-3);
+    let spec = match side {
+        Towards::Below => CurveSpec {
+            second,
+            max: now + past,
+            ..*curve
+        },
+        Towards::Above => CurveSpec {
+            second,
+            min: now - past,
+            ..*curve
+        },
     };
+    let minimum = side == Towards::Below;
     let c = continue_bifurcation(params, isola.parameter, low, &spec, progress)?;
-    Ok(c.extrema_of(Turning::Second)
-        .filter(|e| e.minimum)
-        .min_by(|a, b| a.point.second.total_cmp(&b.point.second))
-        .map(|e| limit(&e.point, e.precision)))
+    let extrema = c
+        .extrema_of(Turning::Second)
+        .filter(|e| e.minimum == minimum);
+    let turning = match side {
+        Towards::Below => extrema.min_by(|a, b| a.point.second.total_cmp(&b.point.second)),
+        Towards::Above => extrema.max_by(|a, b| a.point.second.total_cmp(&b.point.second)),
+    };
+    Ok(turning.map(|e| limit(&e.point, e.precision)))
 }
 
 fn limit(p: &CurvePoint, precision: f64) -> IsolaLimit {
@@ -83,7 +133,19 @@ fn limit(p: &CurvePoint, precision: f64) -> IsolaLimit {
 
 /// Where the isola `isola` (closed, continued in ω_e about `params`) merges with an attached
 /// branch as `parameter` moves from its value in `params` to `towards` (where the branch is
-/// attached): bisected to `tolerance`. `None` if at `towards` the branch is still closed.
+/// attached).
+///
+/// First bisected to `tolerance` between closed and attached. Near the merging the gap
+/// between the isola and the branch is narrow, and whether a continuation crosses it depends
+/// on its steps and on the orbit it starts from (brackets from other seeds differ by up to
+/// about 1e-4 in ADR at the paper's point, much more than their widths). So the value is
+/// then located exactly: where the two touch, the attached branch gains a fold (the facing
+/// folds of isola and branch lie on one fold curve, which turns at the merging value), and
+/// the turning point of that fold curve nearest the bracket, within a margin of the
+/// dependence, is the merging, to the curve's precision. If no fold curve turns there, the
+/// bisection is repeated with half the continuation steps, and the value is the middle of
+/// the two brackets' union, its half-width the precision. `None` if at `towards` the branch
+/// is still closed, or a bisection meets a picture that is not a simple merging.
 pub fn isola_merge<M: Continuable>(
     params: &M,
     isola: &ContinuedBranch,
@@ -93,6 +155,96 @@ pub fn isola_merge<M: Continuable>(
     tolerance: f64,
     progress: &Progress,
 ) -> Result<Option<IsolaLimit>, ContinuationError> {
+    let Some(first) = bisect_merge(params, isola, parameter, towards, spec, tolerance, progress)?
+    else {
+        return Ok(None);
+    };
+    let from = params.value_of(params.resolve(ContinuationParameter::Model(parameter))?);
+    let margin = (10.0 * tolerance).max(1e-3 * (towards - from).abs());
+    if let Some(exact) =
+        merge_on_fold_curve(&first, parameter, towards > from, margin, spec, progress)?
+    {
+        return Ok(Some(exact));
+    }
+    let finer = ContinuationSpec {
+        step: 0.5 * spec.step,
+        step_max: 0.5 * spec.step_max,
+        ..*spec
+    };
+    let Some(second) = bisect_merge(
+        params, isola, parameter, towards, &finer, tolerance, progress,
+    )?
+    else {
+        return Ok(None);
+    };
+    let lo = first.bracket[0].min(second.bracket[0]);
+    let hi = first.bracket[1].max(second.bracket[1]);
+    Ok(Some(IsolaLimit {
+        value: 0.5 * (lo + hi),
+        precision: 0.5 * (hi - lo),
+        omega: second.omega,
+        amplitude: second.amplitude,
+    }))
+}
+
+/// One bisection of a merging: the final bracket in the parameter (increasing), where the
+/// isola's fold touches the attached branch, and the attached branch at the bracket's end
+/// (with the model there).
+struct Merging<M> {
+    bracket: [f64; 2],
+    omega: f64,
+    amplitude: f64,
+    attached: ContinuedBranch,
+    attached_at: M,
+}
+
+/// The merging as the turning point (a minimum of the parameter if it `rises` towards the
+/// attached side, else a maximum) of the fold curve through one of the attached branch's
+/// folds, within `margin` of the bisection's bracket: the one nearest the bracket's middle.
+fn merge_on_fold_curve<M: Continuable>(
+    m: &Merging<M>,
+    parameter: FamilyParameter,
+    rises: bool,
+    margin: f64,
+    spec: &ContinuationSpec,
+    progress: &Progress,
+) -> Result<Option<IsolaLimit>, ContinuationError> {
+    let [lo, hi] = [m.bracket[0] - margin, m.bracket[1] + margin];
+    let curve = CurveSpec {
+        second: ContinuationParameter::Model(parameter),
+        min: lo,
+        max: hi,
+        first_min: spec.min,
+        first_max: spec.max,
+        ..CurveSpec::default()
+    };
+    let middle = 0.5 * (m.bracket[0] + m.bracket[1]);
+    let mut nearest: Option<IsolaLimit> = None;
+    for fold in m.attached.of_kind(BifurcationKind::Fold) {
+        let c = continue_bifurcation(&m.attached_at, m.attached.parameter, fold, &curve, progress)?;
+        for e in c.extrema_of(Turning::Second) {
+            let value = e.point.second;
+            let closer = nearest
+                .as_ref()
+                .is_none_or(|n| (value - middle).abs() < (n.value - middle).abs());
+            if e.minimum == rises && (lo..=hi).contains(&value) && closer {
+                nearest = Some(limit(&e.point, e.precision));
+            }
+        }
+    }
+    Ok(nearest)
+}
+
+/// [`isola_merge`]'s bisection with the continuation steps of `spec`.
+fn bisect_merge<M: Continuable>(
+    params: &M,
+    isola: &ContinuedBranch,
+    parameter: FamilyParameter,
+    towards: f64,
+    spec: &ContinuationSpec,
+    tolerance: f64,
+    progress: &Progress,
+) -> Result<Option<Merging<M>>, ContinuationError> {
     let model = ContinuationParameter::Model(parameter);
     let resolved = params.resolve(model)?;
     let from = params.value_of(resolved);
@@ -164,11 +316,12 @@ pub fn isola_merge<M: Continuable>(
     else {
         return Ok(None);
     };
-    Ok(Some(IsolaLimit {
-        value: 0.5 * (closed + merged),
-        precision: 0.5 * (merged - closed).abs(),
+    Ok(Some(Merging {
+        bracket: [closed.min(merged), closed.max(merged)],
         omega: fold.omega,
         amplitude: fold.amplitude,
+        attached_at: at_seed.with(resolved, merged)?,
+        attached: after,
     }))
 }
 
@@ -183,7 +336,6 @@ pub fn locate_limits<M: Continuable>(
     progress: &Progress,
 ) -> Result<Vec<(Transition, Option<IsolaLimit>)>, ContinuationError> {
     let model = params.resolve(ContinuationParameter::Model(spec.parameter))?;
-    let hi = spec.values.iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v));
     let isola_at = |value: f64, k: usize| {
         members
             .iter()
@@ -198,23 +350,27 @@ pub fn locate_limits<M: Continuable>(
         let c = &spec.hunt.continuation;
         let limit = match (t.before, t.after) {
             (None, Some(Verdict::Isola)) | (Some(Verdict::Isola), None) => {
-                let at = if t.after.is_some() { t.to } else { t.from };
+                let born = t.after.is_some();
+                let at = if born { t.to } else { t.from };
                 match isola_at(at, t.period) {
                     Some(h) => {
                         let p = params.with(model, at)?;
                         let p = p.with(p.frequency(), h.peak_omega)?;
-                        // a birth bracketed by these values turns above the lower one, a
-                        // valid model of the family
+                        // the curve stays within the bracket (both ends valid models of the
+                        // family); the side towards the isola is set by the locator
                         let curve = CurveSpec {
                             first_min: c.min,
                             first_max: c.max,
-                            min: t.from.min(t.to),
-                            max: hi,
+                            min: t.from,
+                            max: t.to,
                             ..CurveSpec::default()
                         };
-                        let found = isola_birth(&p, &h.branch, spec.parameter, &curve, progress)?;
-                        // a birth bracketed by these two values
-                        found.filter(|l| l.value >= t.from.min(t.to) && l.value <= t.to.max(t.from))
+                        let found = if born {
+                            isola_birth(&p, &h.branch, spec.parameter, &curve, progress)?
+                        } else {
+                            isola_vanishing(&p, &h.branch, spec.parameter, &curve, progress)?
+                        };
+                        found.filter(|l| l.value >= t.from && l.value <= t.to)
                     }
                     None => None,
                 }
