@@ -10,7 +10,7 @@
 //!   fold curves and two-parameter maps.
 //!
 //! [`parameter`] names what an analysis can vary; [`grid`] the axes; [`cost`] the worst-case
-//! cost of any of them.
+//! cost of any of them; [`resolution`] the resolution a user sets on any of them.
 
 pub mod continuation;
 pub mod cost;
@@ -19,6 +19,7 @@ pub mod grid;
 pub mod orbit;
 pub mod parameter;
 pub mod progress;
+pub mod resolution;
 
 pub use global::oscillator::Oscillator;
 pub use orbit::period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};

@@ -6,6 +6,7 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::global::basin::{BasinSpec, basin};
 use isola::analysis::grid::Axis;
+use isola::analysis::resolution::ResolutionSetting;
 use isola::analysis::{Progress, SteadyState};
 use isola::jobs::JobContext;
 use serde::Serialize;
@@ -27,6 +28,10 @@ pub struct BasinArgs {
     /// Integrate every cell to full convergence (no early stop on known attractors).
     #[arg(long = "no-early-stop")]
     no_early_stop: bool,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long).
+    #[arg(long, value_name = "N", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -67,12 +72,13 @@ pub fn run(args: &BasinArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let (dx, v) = args.starts.axes(args.grid);
-    let spec = BasinSpec {
+    let mut spec = BasinSpec {
         dx,
         v,
         early_stop: !args.no_early_stop,
         ..BasinSpec::default()
     };
+    parse::set_resolution(&mut spec, args.resolution)?;
     spec.validate()?;
     super::check_memory("basin", isola::analysis::cost::basin(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));

@@ -12,6 +12,7 @@ use isola::analysis::continuation::branch::{
 };
 use isola::analysis::continuation::branch_from_state::{BranchFromState, branch_from_state};
 use isola::analysis::parameter::ContinuationParameter;
+use isola::analysis::resolution::ResolutionSetting;
 use serde::Serialize;
 
 use super::model_args::ModelArgs;
@@ -38,6 +39,12 @@ pub struct ContinueArgs {
     /// continue it too.
     #[arg(long)]
     switch: bool,
+    /// The integrators' resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period of the steady state the seed settles to (`128`; default 64, steps also
+    /// at most 3.2/N long), or the Dormand–Prince tolerance of the shooting along the branch
+    /// (`rtol=1e-12`; default rtol=1e-11).
+    #[arg(long, value_name = "N|rtol=X", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Write one row per branch point and per bifurcation to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -136,7 +143,7 @@ pub fn run(args: &ContinueArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let params = args.model.params()?;
     let started = Instant::now();
-    let spec = BranchFromState {
+    let mut spec = BranchFromState {
         dx0: args.start.x0,
         v0: args.start.v0,
         continuation: ContinuationSpec {
@@ -149,6 +156,7 @@ pub fn run(args: &ContinueArgs, out: Output) -> anyhow::Result<()> {
         },
         ..BranchFromState::default()
     };
+    super::parse::set_resolution(&mut spec, args.resolution)?;
     let progress = Progress::new(0);
     let branch = branch_from_state(&params, &spec, &progress)?;
     let mut born = Vec::new();

@@ -9,6 +9,7 @@ use isola::analysis::global::family::{FamilyMember, FamilySpec, family};
 use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
 use isola::analysis::parameter::FamilyParameter;
+use isola::analysis::resolution::ResolutionSetting;
 use isola::jobs::JobContext;
 use serde::Serialize;
 
@@ -35,6 +36,10 @@ pub struct FamilyArgs {
     /// Grid of initial states NΔλ x Nv.
     #[arg(long, default_value = "15x15", value_parser = parse::grid)]
     ics: (usize, usize),
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long).
+    #[arg(long, value_name = "N", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -78,7 +83,7 @@ impl<'a> MemberSummary<'a> {
 pub fn run(args: &FamilyArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
-    let spec = FamilySpec {
+    let mut spec = FamilySpec {
         parameter: args.vary,
         values: args.values.clone(),
         response: FrequencyResponseSpec {
@@ -88,6 +93,7 @@ pub fn run(args: &FamilyArgs, out: Output) -> anyhow::Result<()> {
             ..FrequencyResponseSpec::default()
         },
     };
+    super::parse::set_resolution(&mut spec, args.resolution)?;
     spec.validate(&params)?;
     super::check_memory("family", isola::analysis::cost::family(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));

@@ -17,6 +17,7 @@ use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::global::frequency_response::frequency_response;
 use isola::analysis::grid::Axis;
 use isola::analysis::parameter::FamilyParameter;
+use isola::analysis::resolution::ResolutionSetting;
 use isola::jobs::JobContext;
 use serde::Serialize;
 
@@ -48,6 +49,10 @@ pub struct HuntArgs {
     /// Largest arclength step of the continuation.
     #[arg(long = "step-max", default_value_t = ContinuationSpec::default().step_max, value_parser = super::parse::finite)]
     step_max: f64,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long), or the Dormand–Prince tolerance of the shooting (default rtol=1e-11) (`rtol=1e-12`).
+    #[arg(long, value_name = "N|rtol=X", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -177,7 +182,7 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
     let (min, max) = args
         .range
         .unwrap_or((omega.min.min(omega.max), omega.min.max(omega.max)));
-    let spec = HuntSpec {
+    let mut spec = HuntSpec {
         response: FrequencyResponseSpec {
             omega,
             dx,
@@ -192,6 +197,7 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
             ..ContinuationSpec::default()
         },
     };
+    super::parse::set_resolution(&mut spec, args.resolution)?;
     super::check_memory("hunt", isola::analysis::cost::hunt(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;

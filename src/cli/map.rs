@@ -13,6 +13,7 @@ use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
 use isola::analysis::parameter::ContinuationParameter;
 use isola::analysis::parameter::FamilyParameter;
+use isola::analysis::resolution::ResolutionSetting;
 use isola::jobs::JobContext;
 use serde::Serialize;
 
@@ -46,6 +47,10 @@ pub struct MapArgs {
     /// Skip the fold and period-doubling curves.
     #[arg(long = "no-curves")]
     no_curves: bool,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long).
+    #[arg(long, value_name = "N", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -110,7 +115,7 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
         (x_axis, args.model.params()?)
     };
     let (dx, v) = args.starts.axes(args.ics);
-    let spec = MapSpec {
+    let mut spec = MapSpec {
         hidden_branches: false,
         x: args.x,
         parameter: args.vary,
@@ -123,6 +128,7 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
         },
         curves: !args.no_curves,
     };
+    super::parse::set_resolution(&mut spec, args.resolution)?;
     spec.validate(&params)?;
     super::check_memory("map", isola::analysis::cost::map(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));

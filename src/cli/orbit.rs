@@ -5,9 +5,10 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::orbit::period_map::Rk4PeriodMap;
 use isola::analysis::orbit::time_history::{SAMPLES_PER_PERIOD, TimeHistorySpec, time_history};
+use isola::analysis::resolution::ResolutionSetting;
 use isola::analysis::{DopriPeriodMap, SteadyState, SteadyStateSpec, steady_state_with};
 use isola::model::{Device, Params};
-use isola::solver::{Resolution, Tolerance};
+use isola::solver::Resolution;
 use serde::Serialize;
 
 use super::model_args::ModelArgs;
@@ -25,15 +26,22 @@ pub struct OrbitArgs {
     /// Forcing periods to integrate before calling the response non-periodic.
     #[arg(long = "max-periods", default_value_t = 6000)]
     max_periods: usize,
-    /// Minimum RK4 steps per forcing period.
-    #[arg(long = "steps-per-period", default_value_t = Resolution::default().min_steps_per_period)]
+    /// Minimum RK4 steps per forcing period (steps at most 0.05 long; --resolution N makes
+    /// them at most 3.2/N).
+    #[arg(long = "steps-per-period", default_value_t = Resolution::default().min_steps_per_period,
+          conflicts_with = "resolution")]
     steps_per_period: u32,
     /// Use the adaptive Dormand–Prince reference integrator (slower, error-controlled).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resolution")]
     reference: bool,
     /// Relative tolerance of the reference integrator.
     #[arg(long, default_value_t = 1e-10, requires = "reference", value_parser = super::parse::finite)]
     rtol: f64,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 with N steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long) or the Dormand–Prince
+    /// reference with that tolerance (`rtol=1e-12`: --reference --rtol 1e-12).
+    #[arg(long, value_name = "N|rtol=X", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Write the time history and phase path (transient and steady part) to this CSV file.
     #[arg(long = "history-csv")]
     history_csv: Option<std::path::PathBuf>,
@@ -116,13 +124,21 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
     let started = Instant::now();
     super::check_outputs([args.history_csv.as_deref()])?;
     let params = args.model.params()?;
+    let (resolution, reference) = match args.resolution {
+        Some(ResolutionSetting::StepsPerPeriod(n)) => (ResolutionSetting::steps(n), None),
+        Some(ResolutionSetting::Reference { rtol }) => (Resolution::default(), Some(rtol)),
+        None => (
+            Resolution {
+                min_steps_per_period: args.steps_per_period,
+                ..Resolution::default()
+            },
+            args.reference.then_some(args.rtol),
+        ),
+    };
     let spec = SteadyStateSpec {
         max_period: args.max_period,
         max_forcing_periods: args.max_periods,
-        resolution: Resolution {
-            min_steps_per_period: args.steps_per_period,
-            ..Resolution::default()
-        },
+        resolution,
         ..SteadyStateSpec::default()
     };
     spec.validate()?;
@@ -135,11 +151,8 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
     };
     history_spec.validate()?;
     let x0 = params.lambda_p() + args.start.x0;
-    let steady = if args.reference {
-        let tol = Tolerance {
-            rtol: args.rtol,
-            atol: args.rtol * 1e-2,
-        };
+    let steady = if let Some(rtol) = reference {
+        let tol = ResolutionSetting::tolerance(rtol);
         tol.validate()?;
         steady_state_with(
             &mut DopriPeriodMap::new(&params, tol, x0, args.start.v0),
@@ -165,7 +178,7 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
         omega: params.omega(),
         x0: args.start.x0,
         v0: args.start.v0,
-        integrator: if args.reference { "dopri5" } else { "rk4" },
+        integrator: if reference.is_some() { "dopri5" } else { "rk4" },
         max_period: args.max_period,
         max_forcing_periods: args.max_periods,
         response_type: steady.response_type(),

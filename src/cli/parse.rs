@@ -1,6 +1,25 @@
 //! Parsers for the range and grid flags: `0.2:6.0:0.05`, `201x251`, `-0.8:0.8`.
 
 use isola::analysis::grid::Axis;
+use isola::analysis::resolution::{Integrators, ResolutionSetting};
+
+/// `--resolution`: `128` (RK4 steps per forcing period) or `rtol=1e-12` (Dormand–Prince).
+pub fn resolution(s: &str) -> Result<ResolutionSetting, String> {
+    ResolutionSetting::parse(s)
+}
+
+/// Sets `--resolution`, if given, on `spec`; an error names the flag where the command's
+/// integrator takes the other form.
+pub fn set_resolution(
+    spec: &mut impl Integrators,
+    resolution: Option<ResolutionSetting>,
+) -> anyhow::Result<()> {
+    if let Some(setting) = resolution {
+        spec.set_resolution(setting)
+            .map_err(|e| anyhow::anyhow!("--resolution {e}"))?;
+    }
+    Ok(())
+}
 
 /// A finite number (`1e400`, `nan` and `inf` are refused as written).
 pub fn finite(s: &str) -> Result<f64, String> {

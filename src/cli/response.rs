@@ -9,6 +9,7 @@ use isola::analysis::global::frequency_response::{
     Branch, FrequencyResponseSpec, frequency_response,
 };
 use isola::analysis::grid::Axis;
+use isola::analysis::resolution::ResolutionSetting;
 use isola::jobs::JobContext;
 use serde::Serialize;
 
@@ -35,6 +36,10 @@ pub struct ResponseArgs {
     /// Integrate every trajectory to full convergence.
     #[arg(long = "no-early-stop")]
     no_early_stop: bool,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long).
+    #[arg(long, value_name = "N", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -85,7 +90,7 @@ pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
-    let spec = FrequencyResponseSpec {
+    let mut spec = FrequencyResponseSpec {
         omega,
         dx,
         v,
@@ -94,6 +99,7 @@ pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
         early_stop: !args.no_early_stop,
         ..FrequencyResponseSpec::default()
     };
+    parse::set_resolution(&mut spec, args.resolution)?;
     spec.validate()?;
     super::check_memory("response", isola::analysis::cost::response(&spec, None))?;
     let progress = std::sync::Arc::new(Progress::new(0));

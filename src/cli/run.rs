@@ -12,6 +12,7 @@ use isola::analysis::Progress;
 use isola::jobs::JobContext;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
+use isola::session::convergence::{self, Changes};
 use isola::session::run::{Outcome, Role, Shard, run_analysis_as};
 use isola::session::select::{Filter, SelectionError, export_selection, parse_filter};
 use isola::session::store::ResultPaths;
@@ -44,6 +45,11 @@ pub struct RunArgs {
     /// assembly step, assembles).
     #[arg(long)]
     worker: bool,
+    /// Also run each analysis at twice the resolution (twice the RK4 steps per period,
+    /// Dormand–Prince tolerances / 32) and report what changed. The doubled results are kept
+    /// in NAME.results/convergence.results/, never in place of the session's own.
+    #[arg(long, conflicts_with_all = ["shard", "worker"])]
+    convergence: bool,
 }
 
 /// A positive, finite number of seconds.
@@ -97,6 +103,9 @@ struct RunSummary {
     /// This run's shard `index` of `count`, when it was given one.
     shard: Option<ShardSummary>,
     analyses: Vec<AnalysisRun>,
+    /// With --convergence: each analysis at twice the resolution, and what changed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    convergence: Vec<ConvergenceRun>,
     /// The results this run assembled (their CSV files).
     #[serde(flatten)]
     done: Done,
@@ -170,48 +179,51 @@ pub fn run(args: &RunArgs, out: Output) -> anyhow::Result<()> {
     log_to_file(&session)?;
     tracing::info!(session = %args.session.display(), "run started");
     let entries = selected(&session, args.only.as_deref())?;
-    let shard = args.shard.unwrap_or(Shard::ALL);
     let threads = isola::jobs::worker_count(args.threads)?;
     let budget = Budget::on_this_machine(threads, args.budget, args.force);
     budget::check_all(&session, entries.iter().copied(), &budget)?;
+    let doubled = if args.convergence {
+        let doubled = convergence::at_twice_the_resolution(&session)?;
+        let twins = entries.iter().filter_map(|e| doubled.analysis(&e.name));
+        budget::check_all(&doubled, twins, &budget)?;
+        Some(doubled)
+    } else {
+        None
+    };
     let total_started = Instant::now();
     let mut analyses = Vec::new();
+    let mut compared = Vec::new();
     let mut done = Done::default();
     for entry in entries {
-        let progress = Arc::new(Progress::new(0));
-        let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
-        let finished = Arc::new(AtomicBool::new(false));
-        let reporter = out
-            .shows_progress()
-            .then(|| spawn_reporter(entry.name.clone(), progress.clone(), finished.clone()));
-        let started = Instant::now();
-        let role = Role {
-            shard,
-            worker: args.worker,
-        };
-        let outcome = ctx.run(|| run_analysis_as(&session, entry, role, &progress));
-        finished.store(true, Ordering::Relaxed);
-        if let Some(reporter) = reporter {
-            let _ = reporter.join();
+        let analysis = run_one(&session, entry, args, out, &entry.name)?;
+        if analysis.assembled_here() {
+            done.wrote.push(analysis.csv.clone());
         }
-        let outcome = RunOutcome::from(outcome??);
-        let csv = ResultPaths::new(&session, &entry.name).csv;
-        if let RunOutcome::Completed {
-            assembled_here: true,
-            ..
-        } = outcome
-        {
-            done.wrote.push(csv.clone());
-        }
-        let analysis = AnalysisRun {
-            name: entry.name.clone(),
-            kind: entry.settings.kind(),
-            outcome,
-            seconds: started.elapsed().as_secs_f64(),
-            csv,
-            shard,
-        };
         out.show(&analysis);
+        if let Some(doubled) = &doubled {
+            let twin = doubled
+                .analysis(&entry.name)
+                .expect("the doubled session has the same analyses");
+            let twice = run_one(doubled, twin, args, out, &format!("{} ×2", entry.name))?;
+            if twice.assembled_here() {
+                done.wrote.push(twice.csv.clone());
+            }
+            let view = |s: &Session, e| {
+                convergence::stored_view(s, e)
+                    .ok_or_else(|| anyhow::anyhow!("{}: no complete result to compare", e.name))
+            };
+            let run = ConvergenceRun {
+                name: entry.name.clone(),
+                kind: entry.settings.kind(),
+                resolution: entry.settings.resolution_in_words(),
+                doubled: twin.settings.resolution_in_words(),
+                seconds: twice.seconds,
+                csv: twice.csv,
+                changes: convergence::compare(&view(&session, entry)?, &view(doubled, twin)?),
+            };
+            out.show(&run);
+            compared.push(run);
+        }
         analyses.push(analysis);
     }
     done.elapsed_seconds = total_started.elapsed().as_secs_f64();
@@ -222,8 +234,168 @@ pub fn run(args: &RunArgs, out: Output) -> anyhow::Result<()> {
             count: s.count,
         }),
         analyses,
+        convergence: compared,
         done,
     })
+}
+
+/// Runs analysis `entry` of `session` through its store, with progress shown as `label`.
+fn run_one(
+    session: &Session,
+    entry: &isola::session::AnalysisEntry,
+    args: &RunArgs,
+    out: Output,
+    label: &str,
+) -> anyhow::Result<AnalysisRun> {
+    let shard = args.shard.unwrap_or(Shard::ALL);
+    let progress = Arc::new(Progress::new(0));
+    let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let finished = Arc::new(AtomicBool::new(false));
+    let reporter = out
+        .shows_progress()
+        .then(|| spawn_reporter(label.to_string(), progress.clone(), finished.clone()));
+    let started = Instant::now();
+    let role = Role {
+        shard,
+        worker: args.worker,
+    };
+    let outcome = ctx.run(|| run_analysis_as(session, entry, role, &progress));
+    finished.store(true, Ordering::Relaxed);
+    if let Some(reporter) = reporter {
+        let _ = reporter.join();
+    }
+    Ok(AnalysisRun {
+        name: entry.name.clone(),
+        kind: entry.settings.kind(),
+        outcome: RunOutcome::from(outcome??),
+        seconds: started.elapsed().as_secs_f64(),
+        csv: ResultPaths::new(session, &entry.name).csv,
+        shard,
+    })
+}
+
+impl AnalysisRun {
+    /// Whether this run assembled the result (and so wrote its files).
+    fn assembled_here(&self) -> bool {
+        matches!(
+            self.outcome,
+            RunOutcome::Completed {
+                assembled_here: true,
+                ..
+            }
+        )
+    }
+}
+
+/// One analysis at twice the resolution: where its result is and what changed.
+#[derive(Serialize)]
+struct ConvergenceRun {
+    name: String,
+    kind: &'static str,
+    /// The resolution of the session's result, and of the doubled run, in words.
+    resolution: String,
+    doubled: String,
+    seconds: f64,
+    csv: PathBuf,
+    changes: Changes,
+}
+
+impl Summary for ConvergenceRun {
+    fn print_text(&self) {
+        println!(
+            "{} at twice the resolution ({}; the result: {}) in {:.2} s → {}",
+            self.name,
+            self.doubled,
+            self.resolution,
+            self.seconds,
+            self.csv.display()
+        );
+        match &self.changes {
+            Changes::Basin(b) => {
+                println!(
+                    "  {} of {} cells changed attractor ({:.4} %); largest amplitude difference {:.2e}",
+                    b.changed,
+                    b.cells,
+                    100.0 * b.share,
+                    b.largest_amplitude_difference
+                );
+                print_seen("  attractors gained", &b.gained);
+                print_seen("  attractors lost", &b.lost);
+            }
+            Changes::Responses(r) => print_responses("  ", r),
+            Changes::Family { members } => {
+                for m in members {
+                    println!("  member {}:", m.value);
+                    print_responses("    ", &m.changes);
+                }
+            }
+            Changes::Hunt {
+                responses,
+                bifurcations,
+            } => {
+                print_responses("  ", responses);
+                print_numbers(bifurcations);
+            }
+            Changes::Map(m) => println!(
+                "  {} of {} cells changed their stable responses; largest amplitude difference {:.2e}",
+                m.changed, m.cells, m.largest_amplitude_difference
+            ),
+            Changes::Numbers(n) => print_numbers(n),
+            Changes::Nothing => println!("  nothing is integrated"),
+        }
+    }
+}
+
+fn print_seen(what: &str, seen: &[convergence::Seen]) {
+    if seen.is_empty() {
+        println!("{what}: none");
+        return;
+    }
+    let items: Vec<String> = seen
+        .iter()
+        .map(|s| {
+            let at = s.omega.map_or(String::new(), |w| format!(" at ω {w}"));
+            let amplitude = s
+                .amplitude
+                .map_or(String::new(), |a| format!(" (amplitude {a:.6})"));
+            format!("{}{at}{amplitude}", s.response_type)
+        })
+        .collect();
+    println!("{what}: {}", items.join("; "));
+}
+
+fn print_responses(indent: &str, r: &convergence::ResponseChanges) {
+    println!(
+        "{indent}{} responses and {} other outcomes: {} gained, {} lost; largest amplitude \
+         difference {:.2e}",
+        r.responses,
+        r.outcomes,
+        r.gained.len(),
+        r.lost.len(),
+        r.largest_amplitude_difference
+    );
+    print_seen(&format!("{indent}responses gained"), &r.gained);
+    print_seen(&format!("{indent}responses lost"), &r.lost);
+    println!(
+        "{indent}{} branches, {} with edges moved",
+        r.branches,
+        r.edges_moved.len()
+    );
+    for e in &r.edges_moved {
+        println!(
+            "{indent}  {}: ω {}–{} → {}–{}",
+            e.response_type, e.omega_min[0], e.omega_max[0], e.omega_min[1], e.omega_max[1]
+        );
+    }
+    print_seen(&format!("{indent}branches gained"), &r.branches_gained);
+    print_seen(&format!("{indent}branches lost"), &r.branches_lost);
+}
+
+fn print_numbers(n: &convergence::NumberChanges) {
+    println!(
+        "  largest difference of {}: {:.2e} ({} compared, {} in one run only)",
+        n.of, n.largest_difference, n.compared, n.unmatched
+    );
 }
 
 impl Summary for AnalysisRun {

@@ -5,11 +5,12 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use clap::Args;
+use isola::analysis::SteadyState;
 use isola::analysis::global::stepped_sweep::stepped_sweep;
 use isola::analysis::grid::Axis;
 use isola::analysis::orbit::chirp_sweep::{ChirpSpec, chirp_sweep};
 use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
-use isola::analysis::{SteadyState, SteadyStateSpec};
+use isola::analysis::resolution::ResolutionSetting;
 use isola::model::Device;
 use serde::Serialize;
 
@@ -30,6 +31,10 @@ pub struct SweepArgs {
     /// Envelope window of the chirp, in τ.
     #[arg(long, default_value_t = 20.0, value_parser = super::parse::finite)]
     window: f64,
+    /// The integrator's resolution, as a session's `resolution` setting: RK4 steps per
+    /// forcing period (`128`; default 64, steps also at most 3.2/N long) for --stepped; for a chirp the Dormand–Prince tolerance (`rtol=1e-12`; default rtol=1e-8).
+    #[arg(long, value_name = "N|rtol=X", value_parser = super::parse::resolution)]
+    resolution: Option<ResolutionSetting>,
     /// Write the samples with their envelope (chirp) or the steps (stepped) to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -103,16 +108,14 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     let mut done = Done::default();
     if args.stepped {
         let axis: Axis = parse::range(omega_text).map_err(|e| anyhow::anyhow!("--omega: {e}"))?;
+        let mut spec = isola::session::schema::SteppedSweepSpec {
+            omega: axis,
+            ..Default::default()
+        };
+        parse::set_resolution(&mut spec, args.resolution)?;
         let omegas: Vec<f64> = axis.values();
         let start = [params.lambda_p(), 0.0];
-        let steps = stepped_sweep(
-            &params,
-            &omegas,
-            start,
-            &SteadyStateSpec::default(),
-            &never,
-            |_| {},
-        )?;
+        let steps = stepped_sweep(&params, &omegas, start, &spec.steady, &never, |_| {})?;
         done.elapsed_seconds = started.elapsed().as_secs_f64();
         if let Some(path) = &args.csv {
             isola::session::export::stepped_csv(
@@ -141,13 +144,14 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     }
     let (a, b) = parse::interval_any(omega_text)
         .map_err(|e| anyhow::anyhow!("--omega: {e} (a chirp takes START:END)"))?;
-    let spec = ChirpSpec {
+    let mut spec = ChirpSpec {
         omega_start: a,
         omega_end: b,
         span: args.span,
         window: args.window,
         ..ChirpSpec::default()
     };
+    parse::set_resolution(&mut spec, args.resolution)?;
     let sweep = chirp_sweep(&params, &spec, &never, |_| {})?;
     done.elapsed_seconds = started.elapsed().as_secs_f64();
     let peak = sweep

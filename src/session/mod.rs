@@ -3,6 +3,7 @@
 
 pub mod atomic;
 pub mod budget;
+pub mod convergence;
 pub mod edit;
 pub mod export;
 pub mod locate;

@@ -33,6 +33,7 @@ use crate::analysis::grid::Axis;
 use crate::analysis::orbit::chirp_sweep::ChirpSpec;
 use crate::analysis::orbit::force_curve::ForceCurveSpec;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
+use crate::analysis::resolution::{Integrators, ResolutionSetting};
 use crate::model::error::check_in;
 use crate::model::{Device, ParamError, ParamSpec, Params, limits};
 
@@ -177,7 +178,19 @@ impl Settings {
             path: None,
             message: format!("a {what} needs settings: parameter and values"),
         };
-        Ok(match kind {
+        let mut table = table;
+        let resolution = table
+            .as_mut()
+            .and_then(|t| t.remove("resolution"))
+            .map(|value| {
+                ResolutionSetting::from_toml(&value).map_err(|message| SettingsError {
+                    path: Some("resolution".into()),
+                    message,
+                })
+            })
+            .transpose()?;
+        let written = table.clone();
+        let mut settings = match kind {
             "force_curve" => Settings::ForceCurve(or_default(table)?),
             "time_history" => Settings::TimeHistory(or_default(table)?),
             "chirp_sweep" => Settings::ChirpSweep(or_default(table)?),
@@ -194,6 +207,87 @@ impl Settings {
                     message: format!("unknown kind '{other}': one of {}", KINDS.join(", ")),
                 });
             }
+        };
+        if let Some(setting) = resolution {
+            settings.set_resolution(setting, written.as_ref())?;
+        }
+        Ok(settings)
+    }
+
+    /// Sets what `resolution = SETTING` sets (see [`ResolutionSetting`]); refused where the
+    /// settings `written` also write that integrator under its own key
+    /// (`steady.resolution`, `tolerance`...), so the two can never disagree.
+    fn set_resolution(
+        &mut self,
+        setting: ResolutionSetting,
+        written: Option<&toml::Table>,
+    ) -> Result<(), SettingsError> {
+        let error = |message: String| SettingsError {
+            path: Some("resolution".into()),
+            message,
+        };
+        let key = self.integrator_key(setting);
+        if let Some(key) = key.filter(|k| written.is_some_and(|t| has_path(t, k))) {
+            return Err(error(format!(
+                "{setting} and settings.{key} both set the {}: write one of them",
+                match setting {
+                    ResolutionSetting::StepsPerPeriod(_) => "RK4 steps",
+                    ResolutionSetting::Reference { .. } => "Dormand–Prince tolerance",
+                }
+            )));
+        }
+        self.with_integrators(|s| s.set_resolution(setting))
+            .unwrap_or_else(|| {
+                Err(format!(
+                    "{setting} is out of range: force curves are static, nothing is integrated"
+                ))
+            })
+            .map_err(error)
+    }
+
+    /// The key (in these settings) of the integrator `setting` sets, if they have one.
+    fn integrator_key(&self, setting: ResolutionSetting) -> Option<&'static str> {
+        let mut settings = self.clone();
+        settings
+            .with_integrators(|s| match setting {
+                ResolutionSetting::StepsPerPeriod(_) => s.rk4().map(|(k, _)| k),
+                ResolutionSetting::Reference { .. } => s.dopri().map(|(k, _)| k),
+            })
+            .flatten()
+    }
+
+    /// These settings at twice the resolution (see [`Integrators::double_resolution`]); the
+    /// same for force curves, which integrate nothing.
+    pub fn at_twice_the_resolution(&self) -> Result<Settings, ParamError> {
+        let mut settings = self.clone();
+        settings
+            .with_integrators(|s| s.double_resolution())
+            .transpose()?;
+        Ok(settings)
+    }
+
+    /// The resolution these settings integrate at, in words (empty for force curves).
+    pub fn resolution_in_words(&self) -> String {
+        let mut settings = self.clone();
+        settings
+            .with_integrators(|s| s.describe_resolution())
+            .unwrap_or_default()
+    }
+
+    /// Runs `f` on the spec of these settings as its [`Integrators`]; `None` for force
+    /// curves, which integrate nothing.
+    fn with_integrators<R>(&mut self, f: impl FnOnce(&mut dyn Integrators) -> R) -> Option<R> {
+        Some(match self {
+            Settings::ForceCurve(_) => return None,
+            Settings::TimeHistory(s) => f(s),
+            Settings::ChirpSweep(s) => f(s),
+            Settings::SteppedSweep(s) => f(s),
+            Settings::FrequencyResponse(s) => f(s),
+            Settings::Basin(s) => f(s),
+            Settings::Family(s) => f(s),
+            Settings::Continuation(s) => f(s),
+            Settings::Hunt(s) => f(s),
+            Settings::Map(s) => f(s),
         })
     }
 
@@ -257,6 +351,20 @@ impl Settings {
     }
 }
 
+/// Whether `table` writes the dotted `path` (`steady.resolution`).
+fn has_path(table: &toml::Table, path: &str) -> bool {
+    let mut at = Some(table);
+    let mut keys = path.split('.').peekable();
+    while let (Some(t), Some(key)) = (at, keys.next()) {
+        match t.get(key) {
+            Some(_) if keys.peek().is_none() => return true,
+            Some(v) => at = v.as_table(),
+            None => return false,
+        }
+    }
+    false
+}
+
 /// What of the model an analysis uses (see [`Settings::model_use`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ModelUse {
@@ -283,6 +391,15 @@ pub struct SteppedSweepSpec {
     pub dx0: f64,
     pub v0: f64,
     pub steady: SteadyStateSpec,
+}
+
+impl Integrators for SteppedSweepSpec {
+    fn what(&self) -> &'static str {
+        "a stepped sweep"
+    }
+    fn rk4(&mut self) -> Option<(&'static str, &mut crate::solver::Resolution)> {
+        Some(("steady.resolution", &mut self.steady.resolution))
+    }
 }
 
 impl Default for SteppedSweepSpec {

@@ -13,6 +13,7 @@ mod hunt;
 mod map;
 mod paper_claims;
 mod reference;
+mod resolution;
 mod sessions;
 mod signals;
 mod store;
