@@ -94,20 +94,20 @@ pub struct BranchSummary<'a> {
     parameter_min: f64,
     parameter_max: f64,
     pub ends: &'a [BranchEnd; 2],
-    closed: bool,
+    pub closed: bool,
     pub points: usize,
-    arcs: Vec<Arc>,
+    pub arcs: Vec<Arc>,
     pub bifurcations: &'a [Bifurcation],
 }
 
 /// A maximal run of points of equal stability, from its first point to its last.
 #[derive(Serialize)]
-struct Arc {
-    stable: bool,
-    parameter_start: f64,
-    parameter_end: f64,
-    amplitude_start: f64,
-    amplitude_end: f64,
+pub struct Arc {
+    pub stable: bool,
+    pub parameter_start: f64,
+    pub parameter_end: f64,
+    pub amplitude_start: f64,
+    pub amplitude_end: f64,
 }
 
 impl<'a> BranchSummary<'a> {

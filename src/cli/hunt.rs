@@ -43,7 +43,9 @@ pub struct HuntArgs {
     /// The values of --vary, increasing, comma-separated.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     values: Vec<f64>,
-    /// Range MIN:MAX the branches are continued over (default: the --omega grid's).
+    /// Range MIN:MAX the branches are continued over (default: the paper's 0.2:6, widened to
+    /// hold the --omega grid), so that a branch found in a narrow --omega window is followed
+    /// to where it closes or attaches, not cut at the window's edges.
     #[arg(long, value_parser = parse::interval)]
     range: Option<(f64, f64)>,
     /// Largest arclength step of the continuation.
@@ -179,9 +181,11 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref(), args.response_csv.as_deref()])?;
     let (omega, params) = args.model.omega_range("0.2:6.0:0.05")?;
     let (dx, v) = args.starts.axes(args.ics);
-    let (min, max) = args
-        .range
-        .unwrap_or((omega.min.min(omega.max), omega.min.max(omega.max)));
+    let paper = ContinuationSpec::default();
+    let (min, max) = args.range.unwrap_or((
+        paper.min.min(omega.min.min(omega.max)),
+        paper.max.max(omega.min.max(omega.max)),
+    ));
     let mut spec = HuntSpec {
         response: FrequencyResponseSpec {
             omega,
@@ -310,17 +314,9 @@ impl Summary for HuntSummary<'_> {
                 "   ω {:.4}–{:.4} = {:.2}–{:.2} Hz; ends: {} / {}",
                 h.omega_min, h.omega_max, h.frequency_hz_min, h.frequency_hz_max, ends[0], ends[1]
             );
-            let arcs = |a: &[[f64; 2]]| {
-                a.iter()
-                    .map(|r| format!("{:.4}–{:.4}", r[0], r[1]))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            println!(
-                "   stable ω {}; unstable ω {}",
-                arcs(h.stable_arcs),
-                arcs(h.unstable_arcs)
-            );
+            for line in arc_lines(&h.branch) {
+                println!("   {line}");
+            }
             for b in h.branch.bifurcations {
                 println!(
                     "   {:<16} ω {:.9} (±{:.0e}), amplitude {:.6}",
@@ -336,6 +332,43 @@ impl Summary for HuntSummary<'_> {
         }
         self.done.print_wrote();
     }
+}
+
+/// The arcs of a branch in order along it, each with where it starts and ends in ω and in
+/// amplitude (a closed branch's first and last joined where they are one arc through the
+/// seam), so that a folded branch reads as it turns: `stable   ω 3.5896 → 5.4439, amplitude
+/// 0.5094 → 0.0266`, then the unstable arc back.
+fn arc_lines(b: &BranchSummary) -> Vec<String> {
+    let mut arcs: Vec<[f64; 4]> = Vec::new();
+    let mut stable: Vec<bool> = Vec::new();
+    for a in &b.arcs {
+        arcs.push([
+            a.parameter_start,
+            a.parameter_end,
+            a.amplitude_start,
+            a.amplitude_end,
+        ]);
+        stable.push(a.stable);
+    }
+    if b.closed && arcs.len() > 1 && stable[0] == stable[arcs.len() - 1] {
+        let last = arcs.pop().expect("more than one arc");
+        stable.pop();
+        arcs[0][0] = last[0];
+        arcs[0][2] = last[2];
+    }
+    arcs.iter()
+        .zip(&stable)
+        .map(|(a, &s)| {
+            format!(
+                "{:<8} ω {:.4} → {:.4}, amplitude {:.4} → {:.4}",
+                if s { "stable" } else { "unstable" },
+                a[0],
+                a[1],
+                a[2],
+                a[3]
+            )
+        })
+        .collect()
 }
 
 impl Summary for MemberSummary<'_> {

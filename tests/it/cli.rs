@@ -379,12 +379,19 @@ fn continue_json_has_the_branch() {
     assert!(v["switches"].as_array().unwrap().is_empty());
 }
 
-/// A hunt: each continued branch with its verdict, arcs and located bifurcations.
+/// A hunt: each continued branch with its verdict, arcs and located bifurcations. Found in
+/// the window ω 3.5–3.9, the 1:2 isola is continued beyond it and called an isola.
 #[test]
 fn hunt_json_agrees_with_the_text() {
     let (v, text) = json_and_text(&["hunt", "--omega", "3.5:3.9:0.2", "--ics", "3x3"]);
     let branches = v["branches"].as_array().unwrap();
     assert!(!branches.is_empty(), "{text}");
+    assert!(
+        branches
+            .iter()
+            .any(|h| h["response_type"] == "1:2 subharmonic" && h["verdict"] == "isola"),
+        "{text}"
+    );
     assert_eq!(
         text.lines().filter(|l| l.starts_with('#')).count(),
         branches.len()
@@ -401,6 +408,44 @@ fn hunt_json_agrees_with_the_text() {
             h["verdict"].as_str().unwrap()
         );
         assert!(text.contains(&head), "{head} in\n{text}");
+        // each arc along the branch with its ω and amplitude at both ends, as in --json; a
+        // closed branch's last arc runs on into its first (the seam at the seed): one arc
+        let mut arcs: Vec<(bool, [f64; 4])> = h["branch"]["arcs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| {
+                let f = |k: &str| a[k].as_f64().unwrap();
+                (
+                    a["stable"].as_bool().unwrap(),
+                    [
+                        f("parameter_start"),
+                        f("parameter_end"),
+                        f("amplitude_start"),
+                        f("amplitude_end"),
+                    ],
+                )
+            })
+            .collect();
+        if h["branch"]["closed"].as_bool().unwrap()
+            && arcs.len() > 1
+            && arcs[0].0 == arcs[arcs.len() - 1].0
+        {
+            let (_, last) = arcs.pop().unwrap();
+            arcs[0].1[0] = last[0];
+            arcs[0].1[2] = last[2];
+        }
+        for (stable, a) in arcs {
+            let line = format!(
+                "{:<8} ω {:.4} → {:.4}, amplitude {:.4} → {:.4}",
+                if stable { "stable" } else { "unstable" },
+                a[0],
+                a[1],
+                a[2],
+                a[3]
+            );
+            assert!(text.contains(&line), "{line} in\n{text}");
+        }
         for f in h["branch"]["bifurcations"].as_array().unwrap() {
             let omega = f["omega"].as_f64().unwrap();
             assert!(
@@ -560,7 +605,9 @@ fn orbit_history_sampling_is_the_users() {
 /// be, beside its CSV (`FILE.limits.csv`) and in `--json`, the same numbers in both: over λ_p
 /// the ADR 0.6 isola vanishes between 1.04 and 1.05, at the maximum of λ_p on its fold curve
 /// (1.0480627675, which `bifurcation_curves::a_vanishing_isola_is_located_on_its_fold_curve`
-/// checks against continuations in λ_p at fixed ω).
+/// checks against continuations in λ_p at fixed ω). The isola spans ω 3.92–4.88 at λ_p 1.04:
+/// found in the window 3.9–4.5, it is continued beyond it (by default over the paper's range)
+/// and called an isola, not an open branch.
 #[test]
 fn hunt_over_a_parameter_writes_where_the_isola_vanishes() {
     let dir = tempfile::tempdir().unwrap();
@@ -571,8 +618,6 @@ fn hunt_over_a_parameter_writes_where_the_isola_vanishes() {
         "0.6",
         "--omega",
         "3.9:4.5:0.1",
-        "--range",
-        "3:6",
         "--vary",
         "lambda_p",
         "--values",
