@@ -8,7 +8,7 @@ use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::continuation::bifurcation_curve::{Extremum, Turning};
 use isola::analysis::continuation::branch::{BifurcationKind, BranchEnd};
-use isola::analysis::continuation::map::{MapSpec, map};
+use isola::analysis::continuation::map::{MapSpec, WindowCut, map};
 use isola::analysis::global::frequency_response::FrequencyResponseSpec;
 use isola::analysis::grid::Axis;
 use isola::analysis::parameter::ContinuationParameter;
@@ -87,6 +87,10 @@ struct MapSummary<'a> {
     hidden_subharmonic_min: Option<f64>,
     hidden_subharmonic_max: Option<f64>,
     curves: Vec<CurveSummary<'a>>,
+    /// Subharmonic branches the x window cuts (their curves beyond it are not drawn).
+    cut: &'a [WindowCut],
+    /// The same in words.
+    cut_messages: Vec<String>,
     #[serde(flatten)]
     done: Done,
 }
@@ -134,7 +138,8 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
     let progress = std::sync::Arc::new(Progress::new(0));
     let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
     let started = Instant::now();
-    let (rows, curves) = ctx.run(|| map(&params, &spec, &progress))??;
+    let (rows, found) = ctx.run(|| map(&params, &spec, &progress))??;
+    let curves = &found.curves;
     let mut done = Done {
         elapsed_seconds: started.elapsed().as_secs_f64(),
         ..Done::default()
@@ -160,7 +165,7 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.curves_csv {
         isola::session::export::curves_csv(
-            &curves,
+            curves,
             &isola::session::export::ModelColumns::built_in(&isola::model::Device::default()),
             path,
         )?;
@@ -190,6 +195,12 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
                 ends: &c.ends,
                 extrema: c.extrema_of(Turning::Second).collect(),
             })
+            .collect(),
+        cut: &found.cut,
+        cut_messages: found
+            .cut
+            .iter()
+            .map(|c| c.describe(args.x.name(), name))
             .collect(),
         done,
     })
@@ -233,6 +244,9 @@ impl Summary for MapSummary<'_> {
                     e.point.first
                 );
             }
+        }
+        for message in &self.cut_messages {
+            println!("  note: {message}");
         }
         self.done.print_wrote();
     }

@@ -389,7 +389,13 @@ impl Run<'_> {
                     |chunks, csv| {
                         let rows: Vec<MapRow> = chunks.collect::<anyhow::Result<_>>()?;
                         let curves = if spec.curves {
-                            map_curves(params, spec, &rows, progress).map_err(&named)?
+                            let found =
+                                map_curves(params, spec, &rows, progress).map_err(&named)?;
+                            let names = (spec.x.name(), spec.parameter.name());
+                            for cut in &found.cut {
+                                tracing::warn!("{}", cut.describe(names.0, names.1));
+                            }
+                            found.curves
                         } else {
                             Vec::new()
                         };

@@ -27,7 +27,9 @@ fn a_map_over_adr_and_omega_around_the_merging() {
         curves: true,
     };
     let progress = Progress::new(0);
-    let (rows, curves) = map(&p, &spec, &progress).unwrap();
+    let (rows, found) = map(&p, &spec, &progress).unwrap();
+    let curves = &found.curves;
+    assert!(found.cut.is_empty(), "{:?}", found.cut);
     // the curves are work of unknown length: counted as steps, not as a gauge stuck at 100 %
     let (done, total) = progress.get();
     assert_eq!(done, total, "the rows' work is exactly what was announced");
@@ -46,8 +48,9 @@ fn a_map_over_adr_and_omega_around_the_merging() {
     assert_eq!(cell.largest_type.as_deref(), Some("1:2"));
     let a = cell.largest_amplitude.unwrap();
     assert!((a - 0.4156).abs() < 1e-3, "{a}");
-    // a fold curve turns at the merging: the bisection of tests/bifurcation_curves.rs puts
-    // it at ADR 0.645264 ± 5e-5
+    // a fold curve turns at the merging: `isola_merge` (tests/it/bifurcation_curves.rs)
+    // locates it at ADR 0.6452597 on the same kind of curve, and brackets it by bisection
+    // to within 1e-4
     let turning: Vec<f64> = curves
         .iter()
         .filter(|c| c.period == 2)
@@ -56,7 +59,7 @@ fn a_map_over_adr_and_omega_around_the_merging() {
         .collect();
     eprintln!("minima of ADR on the 1:2 fold curves: {turning:?}");
     assert!(
-        turning.iter().any(|v| (v - 0.645264).abs() < 1e-4),
+        turning.iter().any(|v| (v - 0.6452597).abs() < 1e-6),
         "{turning:?}"
     );
 }
@@ -145,4 +148,33 @@ fn a_map_announces_all_its_rows_at_once() {
     );
     assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "monotone");
     assert_eq!(progress.get(), (total, total));
+}
+
+/// A map whose ω window (3–4.5) cuts the ADR 0.6 isola (ω 3.59–5.44) says so: the branch
+/// leaves the window at ω 4.5, where its folds beyond are not drawn.
+#[test]
+fn a_window_that_cuts_the_isola_says_so() {
+    let p = Params::paper(0.6, 3.7).unwrap();
+    let spec = MapSpec {
+        hidden_branches: false,
+        x: ContinuationParameter::Omega,
+        parameter: FamilyParameter::Adr,
+        values: Axis::new(0.6, 0.6, 1),
+        response: FrequencyResponseSpec {
+            omega: Axis::new(3.0, 4.5, 16),
+            dx: Axis::new(-0.8, 0.8, 5),
+            v: Axis::new(-1.0, 1.0, 5),
+            ..FrequencyResponseSpec::default()
+        },
+        curves: true,
+    };
+    let (_, found) = map(&p, &spec, &Progress::new(0)).unwrap();
+    let cut: Vec<_> = found.cut.iter().filter(|c| c.period == 2).collect();
+    assert_eq!(cut.len(), 1, "{:?}", found.cut);
+    assert_eq!(cut[0].edges, [4.5], "{:?}", cut[0]);
+    let text = cut[0].describe("omega", "adr");
+    assert!(
+        text.starts_with("the 1:2 branch at adr = 0.6 leaves the omega window at omega = 4.5"),
+        "{text}"
+    );
 }

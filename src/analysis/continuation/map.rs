@@ -12,7 +12,7 @@ use crate::analysis::continuation::bifurcation_curve::{
     BifurcationCurve, CurveSpec, continue_bifurcation,
 };
 use crate::analysis::continuation::branch::{
-    BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
+    BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
 };
 use crate::analysis::continuation::model::Continuable;
 use crate::analysis::global::frequency_response::{
@@ -207,17 +207,52 @@ pub fn map_row<M: Continuable>(
     Ok(summarise(&p, value, &fr, spec.hidden_branches))
 }
 
+/// A map's curves, and the subharmonic branches its x window cuts.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MapCurves {
+    pub curves: Vec<BifurcationCurve>,
+    /// Branches of the row the curves start from that reach an edge of the x window: their
+    /// folds and period doublings beyond it, and so their curves, are not drawn.
+    pub cut: Vec<WindowCut>,
+}
+
+/// A subharmonic branch that leaves a map's x window.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WindowCut {
+    pub period: usize,
+    /// The map parameter's value of the row it was continued at.
+    pub value: f64,
+    /// Where it reaches the window's edges, in x.
+    pub edges: Vec<f64>,
+}
+
+impl WindowCut {
+    /// `the 1:2 branch at adr = 0.6 leaves the omega window at omega = 4.5: ...`.
+    pub fn describe(&self, x: &str, parameter: &str) -> String {
+        let edges: Vec<String> = self.edges.iter().map(|e| e.to_string()).collect();
+        format!(
+            "the 1:{} branch at {parameter} = {} leaves the {x} window at {x} = {}: its folds \
+             and period doublings beyond are not in the map (widen the window to draw their \
+             curves)",
+            self.period,
+            self.value,
+            edges.join(" and ")
+        )
+    }
+}
+
 /// The fold and period-doubling curves of the subharmonic branches of the row with the most
-/// of them, continued over the map's ω_e and parameter ranges. Branches that cannot be
-/// continued are skipped (a map is drawn even if a curve is missing).
+/// of them, continued over the map's ω_e and parameter ranges, and which of those branches
+/// the window cuts. Branches that cannot be continued are skipped (a map is drawn even if a
+/// curve is missing).
 pub fn map_curves<M: Continuable>(
     params: &M,
     spec: &MapSpec,
     rows: &[MapRow],
     progress: &Progress,
-) -> Result<Vec<BifurcationCurve>, AnalysisError> {
+) -> Result<MapCurves, AnalysisError> {
     let Some(row) = rows.iter().rev().max_by_key(|r| r.seeds.len()) else {
-        return Ok(Vec::new());
+        return Ok(MapCurves::default());
     };
     let (w_lo, w_hi) = (
         spec.response.omega.min.min(spec.response.omega.max),
@@ -274,6 +309,27 @@ pub fn map_curves<M: Continuable>(
             branches.push(b);
         }
     }
+    let cut = branches
+        .iter()
+        .filter_map(|b| {
+            // both ends of a cut isola may stop at the same edge
+            let mut edges: Vec<f64> = b
+                .ends
+                .iter()
+                .filter_map(|e| match e {
+                    BranchEnd::Bound { value } => Some(*value),
+                    _ => None,
+                })
+                .collect();
+            edges.sort_by(f64::total_cmp);
+            edges.dedup();
+            (!edges.is_empty()).then_some(WindowCut {
+                period: b.period,
+                value: row.value,
+                edges,
+            })
+        })
+        .collect();
     let mut curves: Vec<BifurcationCurve> = Vec::new();
     for b in &branches {
         for bif in b.bifurcations.iter().filter(|f| {
@@ -313,7 +369,7 @@ pub fn map_curves<M: Continuable>(
             }
         }
     }
-    Ok(curves)
+    Ok(MapCurves { curves, cut })
 }
 
 /// A response's amplitude, −∞ for none (collision, non-periodic).
@@ -326,7 +382,7 @@ pub fn map<M: Continuable>(
     params: &M,
     spec: &MapSpec,
     progress: &Progress,
-) -> Result<(Vec<MapRow>, Vec<BifurcationCurve>), AnalysisError> {
+) -> Result<(Vec<MapRow>, MapCurves), AnalysisError> {
     spec.validate(params)?;
     progress.grow_total(spec.values.points * spec.response.work());
     let rows = (0..spec.values.points)
@@ -335,7 +391,7 @@ pub fn map<M: Continuable>(
     let curves = if spec.curves {
         map_curves(params, spec, &rows, progress)?
     } else {
-        Vec::new()
+        MapCurves::default()
     };
     Ok((rows, curves))
 }
