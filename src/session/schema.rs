@@ -283,6 +283,9 @@ pub struct SteppedSweepSpec {
     pub dx0: f64,
     pub v0: f64,
     pub steady: SteadyStateSpec,
+    /// The factor by which the amplitude must change between two steps to be a jump (see
+    /// [`crate::analysis::global::stepped_sweep::StepJump`]).
+    pub jump_ratio: f64,
 }
 
 impl Default for SteppedSweepSpec {
@@ -292,6 +295,7 @@ impl Default for SteppedSweepSpec {
             dx0: 0.0,
             v0: 0.0,
             steady: SteadyStateSpec::default(),
+            jump_ratio: crate::analysis::orbit::chirp_sweep::DEFAULT_JUMP_RATIO,
         }
     }
 }
@@ -830,7 +834,8 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
                 std::mem::swap(&mut range.min, &mut range.max);
             }
             range.validate("omega", 100_000)?;
-            s.steady.validate().map_err(|e| e.within("steady"))
+            s.steady.validate().map_err(|e| e.within("steady"))?;
+            crate::analysis::orbit::chirp_sweep::check_jump_ratio(s.jump_ratio)
         }
         Settings::FrequencyResponse(s) => {
             s.validate()?;

@@ -16,4 +16,5 @@ mod reference;
 mod sessions;
 mod signals;
 mod store;
+mod sweep_findings;
 mod tui_pty;
