@@ -279,3 +279,54 @@ fn session_sweeps_write_their_findings_beside_their_results() {
     assert_eq!(stepped.len(), 2, "{stepped:?}");
     assert_eq!(&stepped[1][1], "4");
 }
+
+/// `isola sweep`: the chirp's jumps in `--json` as the text lists them, with `time_s`
+/// = τ × the silicone device's seconds per τ and the collision-free record's ω_e range; the
+/// CSV's jumps table beside it; `--jump-ratio` out of (1, 1e6] refused, naming the flag.
+#[test]
+fn the_cli_chirp_reports_its_jumps_and_refuses_a_bad_ratio() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("c.csv");
+    let args = [
+        "sweep",
+        "--omega",
+        "2.6:1.4",
+        "--span",
+        "1200",
+        "--csv",
+        csv.to_str().unwrap(),
+    ];
+    let isola = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_isola"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let with_json: Vec<&str> = args.iter().copied().chain(["--json"]).collect();
+    let v: serde_json::Value = serde_json::from_slice(&isola(&with_json).stdout).unwrap();
+    let text = String::from_utf8(isola(&args).stdout).unwrap();
+    let jumps = v["jumps"].as_array().unwrap();
+    assert!(!jumps.is_empty(), "{v}");
+    let unit = isola::model::Device::silicone().time_scale();
+    for j in jumps {
+        let (tau, omega) = (j["tau"].as_f64().unwrap(), j["omega"].as_f64().unwrap());
+        assert_eq!(j["time_s"].as_f64().unwrap(), tau * unit);
+        let line = format!("{:<4} at ω_e {omega:.3}", j["direction"].as_str().unwrap());
+        assert!(text.contains(&line), "{line} in\n{text}");
+    }
+    assert_eq!(v["collision_omega"], serde_json::Value::Null);
+    let table = std::fs::read_to_string(dir.path().join("c.jumps.csv")).unwrap();
+    assert_eq!(table.lines().count(), jumps.len() + 1, "{table}");
+    for bad in ["1", "0.5", "1e7", "nan"] {
+        let out = isola(&["sweep", "--jump-ratio", bad]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains("--jump-ratio"),
+            "{bad}: {err}"
+        );
+        assert!(
+            err.contains("(1, 1e6]") || err.contains("not a finite number"),
+            "{bad}: {err}"
+        );
+    }
+}
