@@ -2,7 +2,7 @@
 
 A session's results live in ``SESSION.results/``; each complete analysis ``A`` has its
 main table ``A.csv``, the tables beside it (``A.points.csv``, ``A.outcomes.csv``,
-``A.attractors.csv``, ...) and ``A.manifest.json``, which lists every file with its
+``A.attractors.csv``, a sweep's ``A.jumps.csv``, ...) and ``A.manifest.json``, which lists every file with its
 SHA-256 and records what the result was computed from.
 
     import isola_results
@@ -31,6 +31,7 @@ INTEGER = {
     "branch",
     "cells",
     "curve",
+    "jump",
     "largest_ratio_excitation",
     "largest_ratio_response",
     "period",
@@ -41,6 +42,8 @@ INTEGER = {
     "ratio_response",
     "response",
     "step",
+    "steps",
+    "window",
 }
 # Columns that hold true/false.
 BOOLEAN = {
@@ -60,11 +63,14 @@ TEXT = {
     "at",
     "before",
     "class",
+    "direction",
     "event",
     "kind",
     "largest_type",
     "of",
     "response_type",
+    "response_type_after",
+    "response_type_before",
     "verdict",
 }
 

@@ -6,9 +6,11 @@ use std::time::Instant;
 
 use clap::Args;
 use isola::analysis::SteadyState;
-use isola::analysis::global::stepped_sweep::stepped_sweep;
+use isola::analysis::global::stepped_sweep::{StepJump, SweepFindings, TypePeak, stepped_sweep};
 use isola::analysis::grid::Axis;
-use isola::analysis::orbit::chirp_sweep::{ChirpSpec, chirp_sweep};
+use isola::analysis::orbit::chirp_sweep::{
+    ChirpFindings, ChirpSpec, DEFAULT_JUMP_RATIO, Direction, check_jump_ratio, chirp_sweep,
+};
 use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
 use isola::analysis::resolution::ResolutionSetting;
 use isola::model::Device;
@@ -41,6 +43,10 @@ pub struct SweepArgs {
     /// Write the chirp's Morlet scalogram (one row per time × frequency) to this CSV file.
     #[arg(long = "scalogram-csv")]
     scalogram_csv: Option<PathBuf>,
+    /// A jump changes the envelope (chirp) or the amplitude between steps (stepped) by at
+    /// least this factor.
+    #[arg(long = "jump-ratio", default_value_t = DEFAULT_JUMP_RATIO, value_parser = super::parse::finite)]
+    jump_ratio: f64,
 }
 
 /// A stepped sweep: each step's steady state.
@@ -50,6 +56,10 @@ struct SteppedSummary<'a> {
     #[serde(flatten)]
     model: Model,
     steps: Vec<StepSummary<'a>>,
+    /// Jumps between neighbouring steps (response type or amplitude), in the sweep's order.
+    jumps: &'a [StepJump],
+    /// Each response type's largest amplitude.
+    peaks: &'a [TypePeak],
     #[serde(flatten)]
     done: Done,
 }
@@ -66,7 +76,8 @@ struct StepSummary<'a> {
     steady: &'a SteadyState,
 }
 
-/// A chirp: its span, samples, where it met a frame and its largest envelope.
+/// A chirp: its span, samples, where it met a frame, its largest envelope, the range of λ_I
+/// and the jumps of its envelope.
 #[derive(Serialize)]
 struct ChirpSummary {
     stepped: bool,
@@ -78,18 +89,60 @@ struct ChirpSummary {
     span_seconds: f64,
     window: f64,
     samples: usize,
-    /// Where the mass met a frame, if it did (the record stops there).
+    /// Where the mass met a frame, if it did (the record stops there), and ω_e there.
     collision_tau: Option<f64>,
+    collision_omega: Option<f64>,
     /// The largest envelope (max − min of λ_I over a window) and the window's ω_e and τ.
     largest_envelope: f64,
     largest_envelope_omega: f64,
     largest_envelope_tau: f64,
+    lambda_min: f64,
+    lambda_max: f64,
+    jump_ratio: f64,
+    /// The envelope's jumps, in the sweep's order.
+    jumps: Vec<ChirpJump>,
     #[serde(flatten)]
     done: Done,
 }
 
+/// A jump of the chirp's envelope, with its time in seconds and ω_e in Hz.
+#[derive(Serialize)]
+struct ChirpJump {
+    direction: Direction,
+    window: usize,
+    tau: f64,
+    time_s: f64,
+    omega: f64,
+    frequency_hz: f64,
+    envelope_before: f64,
+    envelope_after: f64,
+}
+
+impl ChirpJump {
+    fn all(found: &ChirpFindings, dev: &Device) -> Vec<ChirpJump> {
+        found
+            .jumps
+            .iter()
+            .map(|j| ChirpJump {
+                direction: j.direction,
+                window: j.window,
+                tau: j.tau,
+                time_s: dev.seconds(j.tau),
+                omega: j.omega,
+                frequency_hz: dev.hz(j.omega),
+                envelope_before: j.amplitude_before,
+                envelope_after: j.amplitude_after,
+            })
+            .collect()
+    }
+}
+
 pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.csv.as_deref(), args.scalogram_csv.as_deref()])?;
+    check_jump_ratio(args.jump_ratio).map_err(|mut e| {
+        e.field = "--jump-ratio".into();
+        e
+    })?;
     let omega_text = args
         .model
         .omega_text(if args.stepped { "0.2:6.0:0.05" } else { "0:6" });
@@ -101,7 +154,9 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
         .parse::<f64>()
         .unwrap_or(0.0);
     // ω_e of the parameter set only seeds validation; the sweep sets its own
-    let params = args.model.params_at(first.max(1e-3))?;
+    let params = args
+        .model
+        .params_at(first.max(isola::model::limits::OMEGA.0))?;
     let never = AtomicBool::new(false);
     let dev = Device::silicone();
     let started = Instant::now();
@@ -117,13 +172,14 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
         let start = [params.lambda_p(), 0.0];
         let steps = stepped_sweep(&params, &omegas, start, &spec.steady, &never, |_| {})?;
         done.elapsed_seconds = started.elapsed().as_secs_f64();
+        let found = SweepFindings::of(&steps, args.jump_ratio);
         if let Some(path) = &args.csv {
-            isola::session::export::stepped_csv(
+            done.wrote.extend(isola::session::export::stepped_csv(
                 &steps,
+                &found,
                 &isola::session::export::ModelColumns::built_in(&dev),
                 path,
-            )?;
-            done.wrote.push(path.clone());
+            )?);
         }
         let steps = steps
             .iter()
@@ -139,6 +195,8 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
             stepped: true,
             model: Model::of(&params),
             steps,
+            jumps: &found.jumps,
+            peaks: &found.peaks,
             done,
         });
     }
@@ -149,18 +207,15 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
         omega_end: b,
         span: args.span,
         window: args.window,
+        jump_ratio: args.jump_ratio,
         ..ChirpSpec::default()
     };
     parse::set_resolution(&mut spec, args.resolution)?;
     let sweep = chirp_sweep(&params, &spec, &never, |_| {})?;
     done.elapsed_seconds = started.elapsed().as_secs_f64();
-    let peak = sweep
-        .envelope
-        .iter()
-        .fold([0.0; 3], |m, e| if e[2] > m[2] { *e } else { m });
     if let Some(path) = &args.csv {
-        isola::session::export::chirp_csv(&sweep, &dev, path)?;
-        done.wrote.push(path.clone());
+        done.wrote
+            .extend(isola::session::export::chirp_csv(&sweep, &dev, path)?);
     }
     if let Some(path) = &args.scalogram_csv {
         let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
@@ -188,6 +243,7 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
         })?;
         done.wrote.push(path.clone());
     }
+    let found = &sweep.findings;
     out.report(&ChirpSummary {
         stepped: false,
         model: Model::of(&params),
@@ -197,10 +253,15 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
         span_seconds: dev.seconds(args.span),
         window: args.window,
         samples: sweep.lambda.len(),
-        collision_tau: sweep.collision_tau,
-        largest_envelope: peak[2],
-        largest_envelope_omega: peak[1],
-        largest_envelope_tau: peak[0],
+        collision_tau: found.collision.map(|c| c.tau),
+        collision_omega: found.collision.map(|c| c.omega),
+        largest_envelope: found.peak_amplitude,
+        largest_envelope_omega: found.peak_omega,
+        largest_envelope_tau: found.peak_tau,
+        lambda_min: found.lambda_min,
+        lambda_max: found.lambda_max,
+        jump_ratio: args.jump_ratio,
+        jumps: ChirpJump::all(found, &dev),
         done,
     })
 }
@@ -221,6 +282,27 @@ impl Summary for SteppedSummary<'_> {
                 s.steady.amplitude.map_or("-".into(), |a| format!("{a:.5}"))
             );
         }
+        let amplitude = |a: Option<f64>| a.map_or("-".into(), |a| format!("{a:.5}"));
+        println!("jumps between steps: {}", self.jumps.len());
+        for j in self.jumps {
+            println!(
+                "  {} ω_e {:.3} → {:.3}: {} {} → {} {}",
+                j.direction.map_or("type", |d| d.as_str()),
+                j.omega_before,
+                j.omega_after,
+                j.type_before,
+                amplitude(j.amplitude_before),
+                j.type_after,
+                amplitude(j.amplitude_after)
+            );
+        }
+        println!("peak amplitude per response type:");
+        for p in self.peaks {
+            println!(
+                "  {:<18} {:.5} at ω_e {:.3} ({} steps)",
+                p.response_type, p.peak_amplitude, p.peak_omega, p.steps
+            );
+        }
         self.done.print_wrote();
     }
 }
@@ -236,12 +318,32 @@ impl Summary for ChirpSummary {
             self.samples,
             self.done.elapsed_seconds,
             self.collision_tau
-                .map_or(String::new(), |t| format!(", hit a frame at τ = {t:.1}"))
+                .zip(self.collision_omega)
+                .map_or(String::new(), |(t, w)| format!(
+                    ", hit a frame at τ = {t:.1} (ω_e {w:.3})"
+                ))
         );
         println!(
-            "  largest envelope {:.4} at ω_e {:.3}",
-            self.largest_envelope, self.largest_envelope_omega
+            "  largest envelope {:.4} at ω_e {:.3}; λ_I from {:.4} to {:.4}",
+            self.largest_envelope, self.largest_envelope_omega, self.lambda_min, self.lambda_max
         );
+        println!(
+            "  jumps of the envelope (×{} or more): {}",
+            self.jump_ratio,
+            self.jumps.len()
+        );
+        for j in &self.jumps {
+            println!(
+                "  {:<4} at ω_e {:.3} ({:.2} Hz), τ {:.0} ({:.2} s): envelope {:.4} → {:.4}",
+                j.direction.as_str(),
+                j.omega,
+                j.frequency_hz,
+                j.tau,
+                j.time_s,
+                j.envelope_before,
+                j.envelope_after
+            );
+        }
         self.done.print_wrote();
     }
 }

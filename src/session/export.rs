@@ -156,6 +156,10 @@ pub const BASIN_TABLES: [&str; 2] = ["attractors", "points"];
 pub const RESPONSE_TABLES: [&str; 2] = ["points", "outcomes"];
 /// The tables a family writes beside its branches.
 pub const FAMILY_TABLES: [&str; 3] = ["responses", "points", "outcomes"];
+/// The tables a chirp sweep writes beside its samples.
+pub const CHIRP_TABLES: [&str; 2] = ["jumps", "extremes"];
+/// The tables a stepped sweep writes beside its steps.
+pub const STEPPED_TABLES: [&str; 2] = ["jumps", "peaks"];
 
 /// Where a table beside a result's main file `A.csv` lives: `A.TABLE.csv`.
 pub fn beside(main: &Path, table: &str) -> PathBuf {
@@ -504,17 +508,23 @@ pub fn state_history_bytes(
     })
 }
 
-/// One row per sample of a chirp sweep, with the envelope (max − min of λ_I over the sample's
-/// window) beside it.
+/// One row per sample of a chirp sweep (τ and the time in seconds on `device`), with the
+/// envelope (max − min of λ_I over the sample's window) beside it; beside the samples, one
+/// row per located jump of the envelope (`A.jumps.csv`: `jump, direction, window, tau,
+/// time_s, omega, frequency_hz`, the envelope before and after) and one row of extremes
+/// (`A.extremes.csv`: the largest envelope with its τ and ω_e, λ_I's least and greatest
+/// values, and where the mass met a frame, empty if it did not). Returns the files written,
+/// `path` first.
 pub fn chirp_csv(
     s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
     device: &Device,
     path: &Path,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Vec<PathBuf>> {
     let per_window = s.window_samples.max(1);
     write_atomic(path, |w| {
         w.write_record([
             "tau",
+            "time_s",
             "omega",
             "frequency_hz",
             "lambda_stretch",
@@ -522,8 +532,10 @@ pub fn chirp_csv(
         ])?;
         for (j, (&lambda, &omega)) in s.lambda.iter().zip(&s.omega).enumerate() {
             let envelope = s.envelope.get(j / per_window).map_or(0.0, |e| e[2]);
+            let tau = j as f64 * s.dt;
             w.write_record([
-                num(j as f64 * s.dt),
+                num(tau),
+                num(device.seconds(tau)),
                 num(omega),
                 num(device.hz(omega)),
                 num(lambda),
@@ -531,15 +543,80 @@ pub fn chirp_csv(
             ])?;
         }
         Ok(())
-    })
+    })?;
+    let found = &s.findings;
+    write_atomic(&beside(path, "jumps"), |w| {
+        w.write_record([
+            "jump",
+            "direction",
+            "window",
+            "tau",
+            "time_s",
+            "omega",
+            "frequency_hz",
+            "envelope_amplitude_stretch_before",
+            "envelope_amplitude_stretch_after",
+        ])?;
+        for (id, j) in found.jumps.iter().enumerate() {
+            w.write_record([
+                id.to_string(),
+                j.direction.as_str().into(),
+                j.window.to_string(),
+                num(j.tau),
+                num(device.seconds(j.tau)),
+                num(j.omega),
+                num(device.hz(j.omega)),
+                num(j.amplitude_before),
+                num(j.amplitude_after),
+            ])?;
+        }
+        Ok(())
+    })?;
+    write_atomic(&beside(path, "extremes"), |w| {
+        w.write_record([
+            "peak_envelope_amplitude_stretch",
+            "peak_tau",
+            "peak_time_s",
+            "peak_omega",
+            "peak_frequency_hz",
+            "lambda_min",
+            "lambda_max",
+            "collision_tau",
+            "collision_time_s",
+            "collision_omega",
+            "collision_frequency_hz",
+        ])?;
+        let c = found.collision;
+        let opt = |x: Option<f64>| x.map_or(String::new(), num);
+        w.write_record([
+            num(found.peak_amplitude),
+            num(found.peak_tau),
+            num(device.seconds(found.peak_tau)),
+            num(found.peak_omega),
+            num(device.hz(found.peak_omega)),
+            num(found.lambda_min),
+            num(found.lambda_max),
+            opt(c.map(|c| c.tau)),
+            opt(c.map(|c| device.seconds(c.tau))),
+            opt(c.map(|c| c.omega)),
+            opt(c.map(|c| device.hz(c.omega))),
+        ])?;
+        Ok(())
+    })?;
+    Ok(written(path, &CHIRP_TABLES))
 }
 
-/// One row per step of a stepped sweep.
+/// One row per step of a stepped sweep, and beside it one row per jump between steps
+/// (`A.jumps.csv`: `jump, step, direction,` ω_e before and after, the response types and
+/// amplitudes before and after) and one row per response type with its largest amplitude
+/// (`A.peaks.csv`: `response_type, steps,` the peak amplitude, its ω_e). Returns the files
+/// written, `path` first.
 pub fn stepped_csv(
     steps: &[crate::analysis::global::stepped_sweep::SweepStep],
+    found: &crate::analysis::global::stepped_sweep::SweepFindings,
     columns: &ModelColumns,
     path: &Path,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Vec<PathBuf>> {
     write_atomic(path, |w| {
         let mut header: Vec<String> = ["step", "omega", "frequency_hz", "restarted"]
             .map(String::from)
@@ -557,7 +634,60 @@ pub fn stepped_csv(
             w.write_record(&row)?;
         }
         Ok(())
-    })
+    })?;
+    let opt = |x: Option<f64>| x.map_or(String::new(), num);
+    write_atomic(&beside(path, "jumps"), |w| {
+        let amplitude = &columns.amplitude;
+        w.write_record([
+            "jump",
+            "step",
+            "direction",
+            "omega_before",
+            "omega_after",
+            "frequency_hz_before",
+            "frequency_hz_after",
+            "response_type_before",
+            "response_type_after",
+            &format!("{amplitude}_before"),
+            &format!("{amplitude}_after"),
+        ])?;
+        for (id, j) in found.jumps.iter().enumerate() {
+            w.write_record([
+                id.to_string(),
+                j.step.to_string(),
+                j.direction.map_or("", |d| d.as_str()).into(),
+                num(j.omega_before),
+                num(j.omega_after),
+                columns.hz(j.omega_before),
+                columns.hz(j.omega_after),
+                j.type_before.clone(),
+                j.type_after.clone(),
+                opt(j.amplitude_before),
+                opt(j.amplitude_after),
+            ])?;
+        }
+        Ok(())
+    })?;
+    write_atomic(&beside(path, "peaks"), |w| {
+        w.write_record([
+            "response_type",
+            "steps",
+            &format!("peak_{}", columns.amplitude),
+            "peak_omega",
+            "peak_frequency_hz",
+        ])?;
+        for p in &found.peaks {
+            w.write_record([
+                p.response_type.clone(),
+                p.steps.to_string(),
+                num(p.peak_amplitude),
+                num(p.peak_omega),
+                columns.hz(p.peak_omega),
+            ])?;
+        }
+        Ok(())
+    })?;
+    Ok(written(path, &STEPPED_TABLES))
 }
 
 /// One row per branch per member of a family.

@@ -26,7 +26,7 @@ use crate::analysis::global::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::global::family::{FamilyMember, FamilySpec, family_member};
 use crate::analysis::global::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
 use crate::analysis::global::oscillator::history::state_history;
-use crate::analysis::global::stepped_sweep::stepped_sweep;
+use crate::analysis::global::stepped_sweep::{SweepFindings, stepped_sweep};
 use crate::analysis::orbit::chirp_sweep::chirp_sweep;
 use crate::analysis::orbit::force_curve::force_curves;
 use crate::analysis::orbit::time_history::time_history;
@@ -106,6 +106,8 @@ pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
         Settings::Hunt(_) => &["branches", "points", "outcomes"],
         Settings::Map(_) => &["curves"],
         Settings::Family(_) => &export::FAMILY_TABLES,
+        Settings::ChirpSweep(_) => &export::CHIRP_TABLES,
+        Settings::SteppedSweep(_) => &export::STEPPED_TABLES,
         _ => &[],
     };
     files.extend(tables.iter().map(|t| export::beside(csv, t)));
@@ -872,7 +874,8 @@ impl Single for EquationSystem {
                     |_| {},
                 )?;
                 finite(&swept, "the stepped sweep")?;
-                export::stepped_csv(&swept, columns, csv)
+                let found = SweepFindings::of(&swept, spec.jump_ratio);
+                export::stepped_csv(&swept, &found, columns, csv).map(drop)
             }
             other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
         }
@@ -904,7 +907,7 @@ impl Single for Params {
             Settings::ChirpSweep(spec) => {
                 let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
                 finite(&s, "the chirp sweep")?;
-                export::chirp_csv(&s, &device, csv)
+                export::chirp_csv(&s, &device, csv).map(drop)
             }
             Settings::SteppedSweep(spec) => {
                 let start = params.grid_start([spec.dx0, spec.v0]);
@@ -917,7 +920,8 @@ impl Single for Params {
                     |_| {},
                 )?;
                 finite(&steps, "the stepped sweep")?;
-                export::stepped_csv(&steps, columns, csv)
+                let found = SweepFindings::of(&steps, spec.jump_ratio);
+                export::stepped_csv(&steps, &found, columns, csv).map(drop)
             }
             Settings::Continuation(_)
             | Settings::Basin(_)

@@ -391,6 +391,9 @@ pub struct SteppedSweepSpec {
     pub dx0: f64,
     pub v0: f64,
     pub steady: SteadyStateSpec,
+    /// The factor by which the amplitude must change between two steps to be a jump (see
+    /// [`crate::analysis::global::stepped_sweep::StepJump`]).
+    pub jump_ratio: f64,
 }
 
 impl Integrators for SteppedSweepSpec {
@@ -409,6 +412,7 @@ impl Default for SteppedSweepSpec {
             dx0: 0.0,
             v0: 0.0,
             steady: SteadyStateSpec::default(),
+            jump_ratio: crate::analysis::orbit::chirp_sweep::DEFAULT_JUMP_RATIO,
         }
     }
 }
@@ -947,7 +951,8 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
                 std::mem::swap(&mut range.min, &mut range.max);
             }
             range.validate("omega", 100_000)?;
-            s.steady.validate().map_err(|e| e.within("steady"))
+            s.steady.validate().map_err(|e| e.within("steady"))?;
+            crate::analysis::orbit::chirp_sweep::check_jump_ratio(s.jump_ratio)
         }
         Settings::FrequencyResponse(s) => {
             s.validate()?;

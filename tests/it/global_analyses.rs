@@ -412,3 +412,80 @@ fn frequency_response_is_the_same_on_one_or_two_threads() {
     });
     assert_eq!(one, two);
 }
+
+/// The 1:2 branches of a response over ω_e 3.4–5.6 by 0.05 at ADR 0.6 from `grid` × `grid`
+/// starts, without seeding (so a coarse grid misses the response at some ω_e): each as
+/// (ω_min, ω_max, points).
+fn subharmonic_branches(adr: f64, grid: usize, omega: Axis) -> Vec<(f64, f64, usize)> {
+    let spec = FrequencyResponseSpec {
+        omega,
+        dx: Axis::new(-0.8, 0.8, grid),
+        v: Axis::new(-1.0, 1.0, grid),
+        seed_neighbours: false,
+        sweeps: false,
+        ..FrequencyResponseSpec::default()
+    };
+    let fr =
+        frequency_response(&Params::paper(adr, 1.0).unwrap(), &spec, &Progress::new(0)).unwrap();
+    fr.branches
+        .iter()
+        .filter(|b| b.period == 2)
+        .map(|b| (b.omega_min, b.omega_max, b.points))
+        .collect()
+}
+
+/// A branch that a coarse grid of starts misses at one ω_e is one branch across the gap:
+/// from 4 × 4 starts the 1:2 response at ADR 0.6 is missed at ω_e 3.65 only, and its two
+/// pieces (3.60 alone, 3.70–5.40) are joined into the branch 3.60–5.40 that 5 × 5 starts
+/// find whole (36 responses and the gap). From 3 × 3 starts it is missed at 3.65, 3.75,
+/// 4.75 and 4.80: the one-step gaps are joined (3.60–4.70), the two-step gap is not.
+#[test]
+fn a_branch_missed_at_one_omega_is_joined_across_the_gap() {
+    let omega = || Axis::new(3.4, 5.6, 45);
+    let close = |got: &[(f64, f64, usize)], want: &[(f64, f64, usize)]| {
+        got.len() == want.len()
+            && got
+                .iter()
+                .zip(want)
+                .all(|(g, w)| (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9 && g.2 == w.2)
+    };
+    let whole = subharmonic_branches(0.6, 5, omega());
+    assert!(close(&whole, &[(3.6, 5.4, 37)]), "{whole:?}");
+    let four = subharmonic_branches(0.6, 4, omega());
+    assert!(close(&four, &[(3.6, 5.4, 36)]), "{four:?}");
+    let three = subharmonic_branches(0.6, 3, omega());
+    assert!(
+        close(&three, &[(3.6, 4.7, 21), (4.85, 5.4, 12)]),
+        "{three:?}"
+    );
+}
+
+/// Branches that coexist are never joined: at ADR 1.0 the 1:1 response loses stability near
+/// ω_e 4.93 and a small 1:2 response (amplitude 0.014) lives beside the large 1:2 branch
+/// (0.066) at ω_e 4.95 only; it stays a branch of its own, and the 1:1 branch ends at 4.90.
+#[test]
+fn coexisting_branches_of_one_type_are_not_joined() {
+    let spec = FrequencyResponseSpec {
+        omega: Axis::new(4.8, 5.1, 7),
+        ..FrequencyResponseSpec::default()
+    };
+    let fr =
+        frequency_response(&Params::paper(1.0, 1.0).unwrap(), &spec, &Progress::new(0)).unwrap();
+    let subharmonic: Vec<(f64, f64, f64)> = fr
+        .branches
+        .iter()
+        .filter(|b| b.period == 2)
+        .map(|b| (b.omega_min, b.omega_max, b.peak_amplitude))
+        .collect();
+    assert_eq!(subharmonic.len(), 2, "{subharmonic:?}");
+    let small = subharmonic.iter().find(|b| b.2 < 0.03).unwrap();
+    assert!(
+        (small.0 - 4.95).abs() < 1e-9 && (small.1 - 4.95).abs() < 1e-9,
+        "{small:?}"
+    );
+    let large = subharmonic.iter().find(|b| b.2 > 0.03).unwrap();
+    assert!(
+        (large.0 - 4.8).abs() < 1e-9 && (large.1 - 5.1).abs() < 1e-9,
+        "{large:?}"
+    );
+}

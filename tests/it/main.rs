@@ -17,4 +17,5 @@ mod resolution;
 mod sessions;
 mod signals;
 mod store;
+mod sweep_findings;
 mod tui_pty;

@@ -515,18 +515,128 @@ fn set_distance(a: &SteadyState, b: &SteadyState) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The chain (union-find root) response `i` belongs to.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// One pass of joins across gaps of one ω_e step (see [`link_branches`]); returns how many
+/// chains were joined.
+fn join_across_gaps(
+    responses: &[Response],
+    parent: &mut [usize],
+    by_omega: &[Vec<usize>],
+) -> usize {
+    let mut joined = 0;
+    for w in 1..by_omega.len().saturating_sub(1) {
+        let mut pairs = Vec::new();
+        for &a in &by_omega[w - 1] {
+            for &b in &by_omega[w + 1] {
+                let (ra, rb) = (root(parent, a), root(parent, b));
+                let missing_here = by_omega[w].iter().all(|&r| {
+                    let rr = root(parent, r);
+                    rr != ra && rr != rb
+                });
+                if ra == rb || !missing_here {
+                    continue;
+                }
+                let slopes = [
+                    chain_step(responses, parent, by_omega, a, -1),
+                    chain_step(responses, parent, by_omega, b, 1),
+                ];
+                if let Some(mismatch) =
+                    gap_mismatch(&responses[a].steady, &responses[b].steady, slopes)
+                {
+                    pairs.push((mismatch, a, b));
+                }
+            }
+        }
+        joined += join_closest(parent, pairs);
+    }
+    joined
+}
+
+/// Links the pairs `(mismatch, a, b)`, least mismatch first, each response at most once on
+/// each side; returns how many links were made.
+fn join_closest(parent: &mut [usize], mut pairs: Vec<(f64, usize, usize)>) -> usize {
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let (mut used_a, mut used_b) = (Vec::new(), Vec::new());
+    for (_, a, b) in pairs {
+        if !used_a.contains(&a) && !used_b.contains(&b) {
+            used_a.push(a);
+            used_b.push(b);
+            let (ra, rb) = (root(parent, a), root(parent, b));
+            parent[rb.max(ra)] = ra.min(rb);
+        }
+    }
+    used_a.len()
+}
+
+/// How response `r`'s chain changes per ω_e step next to it, towards `side` (−1 below, +1
+/// above): the change of amplitude and the distance between the Poincaré sets, from the
+/// chain's nearest member within two steps; `None` where the chain has none there.
+fn chain_step(
+    responses: &[Response],
+    parent: &mut [usize],
+    by_omega: &[Vec<usize>],
+    r: usize,
+    side: isize,
+) -> Option<(f64, f64)> {
+    let w = responses[r].omega_index as isize;
+    let chain = root(parent, r);
+    (1..=2).find_map(|steps: isize| {
+        let at = usize::try_from(w + side * steps).ok()?;
+        let &m = by_omega
+            .get(at)?
+            .iter()
+            .find(|&&m| root(parent, m) == chain)?;
+        let (x, y) = (&responses[r].steady, &responses[m].steady);
+        let amplitude = (x.amplitude? - y.amplitude?).abs();
+        Some((amplitude / steps as f64, set_distance(x, y) / steps as f64))
+    })
+}
+
+/// Whether periodic responses `a` and `b`, two ω_e steps apart with none between, continue
+/// each other: the same period and ratio, and the amplitude and the Poincaré set changing
+/// across the two steps by at most three times the larger change per step next to the gap
+/// (`slopes`: below `a`, above `b`; twice a step's change, and as much again for the
+/// curvature). Returns how far they are from that bound (0 to 1, less is closer), `None`
+/// where they do not continue each other or no step next to the gap is known.
+fn gap_mismatch(a: &SteadyState, b: &SteadyState, slopes: [Option<(f64, f64)>; 2]) -> Option<f64> {
+    let same = a.class == Class::Periodic
+        && b.class == Class::Periodic
+        && a.period == b.period
+        && a.ratio == b.ratio;
+    if !same {
+        return None;
+    }
+    let known: Vec<(f64, f64)> = slopes.into_iter().flatten().collect();
+    if known.is_empty() {
+        return None;
+    }
+    let step_amplitude = known.iter().map(|s| s.0).fold(0.0, f64::max);
+    let step_set = known.iter().map(|s| s.1).fold(0.0, f64::max);
+    let amplitude = (a.amplitude? - b.amplitude?).abs() / (GAP_SLACK * step_amplitude);
+    let set = set_distance(a, b) / (GAP_SLACK * step_set);
+    let mismatch = amplitude.max(set);
+    (mismatch <= 1.0).then_some(mismatch)
+}
+
+/// Across a gap of one ω_e step (two steps from one side to the other), a branch's amplitude
+/// and Poincaré set may change by this many times their change per step next to the gap.
+const GAP_SLACK: f64 = 3.0;
+
 /// Chains periodic responses of the same period and ratio across adjacent ω_e (closest pairs
-/// first, each response linked at most once each way) and summarises each chain.
+/// first, each response linked at most once each way), joins chains across one ω_e where
+/// neither has a response and they continue each other ([`gap_mismatch`]), and summarises
+/// each chain.
 fn link_branches(responses: &mut [Response], n_omega: usize) -> Vec<Branch> {
     let n = responses.len();
     let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
     let by_omega: Vec<Vec<usize>> = (0..n_omega)
         .map(|w| (0..n).filter(|&r| responses[r].omega_index == w).collect())
         .collect();
@@ -548,17 +658,12 @@ fn link_branches(responses: &mut [Response], n_omega: usize) -> Vec<Branch> {
                 }
             }
         }
-        pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let (mut used_a, mut used_b) = (Vec::new(), Vec::new());
-        for (_, a, b) in pairs {
-            if !used_a.contains(&a) && !used_b.contains(&b) {
-                used_a.push(a);
-                used_b.push(b);
-                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                parent[rb.max(ra)] = ra.min(rb);
-            }
-        }
+        join_closest(&mut parent, pairs);
     }
+    // chains broken by one ω_e where no start and no seed found the response (a coarse grid
+    // of starts): joined across it where they continue each other, until no more join (a
+    // join gives a chain the neighbour that tells how it changes next to another gap)
+    while join_across_gaps(responses, &mut parent, &by_omega) > 0 {}
     let mut branches: Vec<Branch> = Vec::new();
     let mut id_of_root: Vec<Option<usize>> = vec![None; n];
     #[allow(clippy::needless_range_loop)] // r is also a node of the union-find
