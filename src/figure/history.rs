@@ -7,6 +7,9 @@ use super::{AxisSpec, Drawn, Legend, Style, Swatch, fit, nothing, panel};
 use crate::model::Device;
 use crate::session::results::HistoryView;
 
+/// Forcing periods of transient drawn before the steady part of a long record.
+const TAIL_PERIODS: f64 = 8.0;
+
 /// At most this many points per series are drawn (the rest would share pixels).
 const MAX_POINTS: usize = 40_000;
 
@@ -44,28 +47,55 @@ where
     };
     let width = area.dim_in_pixel().0;
     let (left, right) = area.split_horizontally(width * 3 / 5);
-    let mut tau = AxisSpec::new("time τ", fit(h.tau.iter().copied(), 0.0));
+    // a long record is drawn from a few forcing periods before its steady part on: the
+    // steady orbit, as the paper's insets show it, and the end of the transient into it
+    let (first, last) = (h.tau[0], h.tau[n - 1]);
+    let from = match (h.summary, steady.first()) {
+        (Some(sum), Some(&k)) if sum.omega > 0.0 => {
+            let period = 2.0 * std::f64::consts::PI / sum.omega;
+            let span = (last - h.tau[k]).max(TAIL_PERIODS * period);
+            (last - span - TAIL_PERIODS * period).max(first)
+        }
+        _ => first,
+    };
+    let name = if from > first {
+        format!(
+            "time τ (the last {:.0} of {:.0})",
+            last - from,
+            last - first
+        )
+    } else {
+        "time τ".into()
+    };
+    let mut tau = AxisSpec::new(name, from..last);
     if let Some(d) = device {
         tau = tau.with_physical("t (s)", |t| d.seconds(t));
     }
-    let lambda_range = fit(h.lambda.iter().copied(), 0.08);
+    let faint = RGBColor(
+        ((p.muted.0 as u16 + p.background.0 as u16) / 2) as u8,
+        ((p.muted.1 as u16 + p.background.1 as u16) / 2) as u8,
+        ((p.muted.2 as u16 + p.background.2 as u16) / 2) as u8,
+    );
+    let shown = |idx: &[usize]| -> Vec<usize> {
+        idx.iter().copied().filter(|&k| h.tau[k] >= from).collect()
+    };
+    let lines = [
+        (shown(&transient), faint, 1),
+        (shown(&steady), steady_color, s.line + 2),
+    ];
+    let in_window = || (0..n).filter(|&k| h.tau[k] >= from);
+    let lambda_range = fit(in_window().map(|k| h.lambda[k]), 0.08);
     let mut chart = panel(
         &left,
         &tau,
         &AxisSpec::new(&x_name, lambda_range.clone()),
         s,
     )?;
-    let faint = RGBColor(
-        ((p.muted.0 as u16 + p.background.0 as u16) / 2) as u8,
-        ((p.muted.1 as u16 + p.background.1 as u16) / 2) as u8,
-        ((p.muted.2 as u16 + p.background.2 as u16) / 2) as u8,
-    );
-    let lines = [(&transient, faint, 1), (&steady, steady_color, s.line + 1)];
-    for (idx, color, width) in lines {
+    for (idx, color, width) in &lines {
         if idx.len() > 1 {
             chart.draw_series(std::iter::once(PathElement::new(
                 series(idx, |k| (h.tau[k], h.lambda[k])),
-                color.stroke_width(width),
+                color.stroke_width(*width),
             )))?;
         }
     }
@@ -90,14 +120,15 @@ where
     let mut phase = panel(
         &right,
         &AxisSpec::new(&x_name, lambda_range),
-        &AxisSpec::new(&v_name, fit(h.v.iter().copied(), 0.08)),
+        &AxisSpec::new(&v_name, fit(in_window().map(|k| h.v[k]), 0.08)),
         s,
     )?;
-    for (idx, color, width) in lines {
+    for (idx, color, width) in &lines {
         if idx.len() > 1 {
             phase.draw_series(std::iter::once(PathElement::new(
                 series(idx, |k| (h.lambda[k], h.v[k])),
-                color.stroke_width(width),
+                // a closed orbit of many short segments stroked wider draws hollow in a bitmap
+                color.stroke_width((*width).min(2)),
             )))?;
         }
     }
