@@ -1,8 +1,10 @@
 //! isola: the nonlinear dynamics of forced, piecewise-smooth oscillators, starting with
 //! antagonistic pure-shear dielectric elastomer actuators. Data flows one way:
-//! model → solver → analysis → jobs → session (and `logging`, set up by the front ends).
+//! model → solver → analysis → jobs → session → figure (and `logging`, set up by the front
+//! ends).
 
 pub mod analysis;
+pub mod figure;
 pub mod jobs;
 pub mod logging;
 pub mod model;

@@ -4,6 +4,7 @@ mod basin;
 mod continue_cmd;
 mod docs;
 mod family;
+mod figure;
 mod force;
 mod hunt;
 mod map;
@@ -71,6 +72,11 @@ enum Command {
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
     Export(run::ExportArgs),
+    /// A publication figure (SVG or PNG) of one analysis of a session, computed first if
+    /// its stored result is not current.
+    Figure(figure::FigureArgs),
+    /// One self-contained HTML page of a session: each analysis' figure and tables.
+    Report(figure::ReportArgs),
     /// Where each analysis of a session stands: its result, and the chunks done, claimed and
     /// missing, by host, with rates (while runs compute it, here or on a cluster).
     Status(status::StatusArgs),
@@ -98,6 +104,8 @@ pub fn run() -> ExitCode {
     };
     let result = match command {
         Command::Orbit(args) => orbit::run(&args, out),
+        Command::Figure(args) => figure::run(&args, out),
+        Command::Report(args) => figure::report(&args, out),
         Command::Basin(args) => basin::run(&args, out),
         Command::Response(args) => response::run(&args, out),
         Command::Force(args) => force::run(&args, out),

@@ -757,6 +757,21 @@ fn rows(path: &Path) -> anyhow::Result<(Columns, Vec<csv::StringRecord>)> {
     Ok((columns, rows))
 }
 
+/// The stored result of `entry`, if it is complete and current (for the session's model,
+/// device, settings and numerics); an error saying where it stands otherwise.
+pub fn current_view(session: &Session, entry: &AnalysisEntry) -> anyhow::Result<ResultView> {
+    let mut reader = ResultReader::new(entry);
+    reader.poll(session, entry);
+    match (reader.status, reader.view, reader.error) {
+        (ResultStatus::Complete, Some(view), _) => Ok(view),
+        (_, _, Some(error)) => Err(anyhow::anyhow!("{}: {error}", entry.name)),
+        (status, _, None) => Err(anyhow::anyhow!(
+            "{}: no current result ({status:?})",
+            entry.name
+        )),
+    }
+}
+
 /// Reads a finished result's CSV files.
 fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<ResultView> {
     let (c, rows) = rows(&paths.csv)?;

@@ -10,6 +10,7 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::analysis::global::family::FamilySpec;
 use isola::analysis::orbit::scalogram::Scalogram;
 use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec};
+use isola::figure;
 use isola::session::output::{Protected, check_target};
 use isola::session::results::{ResultStatus, ResultView};
 use isola::session::run::Outcome;
@@ -536,6 +537,7 @@ impl App {
                 })
             }
             Action::Add => self.overlay = Some(Overlay::KindPicker { selected: 0 }),
+            Action::Figure => self.write_figure(None),
             Action::Undo => self.undo(),
             Action::Redo => self.redo(),
             Action::Freeze => self.toggle_freeze(),
@@ -814,6 +816,7 @@ impl App {
                     self.poll_results(true);
                 }
             },
+            Command::Figure(path) => self.write_figure(Some(path)),
             Command::Help => self.open_help(),
             Command::Quit => self.act(Action::Quit),
         }
@@ -1375,6 +1378,64 @@ impl App {
         match result {
             Ok(done) => self.say(done, false),
             Err(e) => self.say(format!("export failed: {e:#}"), true),
+        }
+    }
+
+    /// Writes the view shown (the picked orbit, else the selected result) as a figure: to
+    /// `path`, SVG or PNG by its extension, or to `SESSION-NAME.svg` beside the session.
+    fn write_figure(&mut self, path: Option<PathBuf>) {
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        let picked = self
+            .picked
+            .as_ref()
+            .and_then(|p| Some((p.view.as_ref()?, &p.label)));
+        let Some((view, title)) = picked.or_else(|| Some((self.view()?, &entry.name))) else {
+            let run = self.keymap.label(super::keymap::Action::Run);
+            self.say(
+                format!("{}: no result to draw ({run} runs it)", entry.name),
+                true,
+            );
+            return;
+        };
+        let path = path.unwrap_or_else(|| {
+            let stem = self
+                .session
+                .path
+                .file_stem()
+                .map_or("session".into(), |s| s.to_string_lossy().into_owned());
+            let name: String = title
+                .chars()
+                .map(|c| {
+                    if c.is_alphanumeric() || c == '.' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            self.session
+                .path
+                .with_file_name(format!("{stem}-{name}.svg"))
+        });
+        let written = (|| -> anyhow::Result<()> {
+            let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+            let format: figure::Format = extension.parse()?;
+            let mut subject =
+                figure::Subject::of(&self.session, entry, view, self.scalograms.get(&entry.name));
+            subject.title = title.clone();
+            let options = figure::Options {
+                format,
+                ..figure::Options::default()
+            };
+            let bytes = figure::render(&subject, &options)?;
+            let protected = Protected::session(&self.session.path, &self.session.results_dir());
+            Ok(check_target(&path, &protected)?.write(&bytes)?)
+        })();
+        match written {
+            Ok(()) => self.say(format!("wrote the figure to {}", path.display()), false),
+            Err(e) => self.say(format!("figure {}: {e:#}", path.display()), true),
         }
     }
 

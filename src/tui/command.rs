@@ -59,6 +59,8 @@ pub enum Command {
         hz: bool,
     },
     Theme(String),
+    /// Writes the view shown as a figure: SVG or PNG by the file's extension.
+    Figure(PathBuf),
     /// Draws analysis NAME's result muted under the selected one's (`None`: stop).
     Compare(Option<String>),
     /// What a key does, by its name in the config (`zoom`, `cancel`, `undo`...).
@@ -68,7 +70,7 @@ pub enum Command {
 }
 
 /// Every command: its words, its arguments and what it does (for the help overlay).
-pub const COMMANDS: [(&str, &str, &str); 16] = [
+pub const COMMANDS: [(&str, &str, &str); 17] = [
     (
         "run",
         "[all|stale|NAME]",
@@ -91,6 +93,11 @@ pub const COMMANDS: [(&str, &str, &str); 16] = [
         "export",
         "FILE [--table T] [--where C OP V]",
         "export the orbit shown or the result's rows",
+    ),
+    (
+        "figure",
+        "FILE",
+        "write the view as a figure: FILE.svg or FILE.png",
     ),
     ("goto", "X [Y]", "move the cursor: 3.7 · 52 Hz · DX V"),
     ("theme", "NAME", "switch theme: dark, light, mono or a file"),
@@ -213,6 +220,7 @@ pub fn parse(line: &str) -> Result<Command, String> {
         },
         "open" | "e!" => Command::Open(path("open")?),
         "export" => export(args).map_err(|e| format!("{e}; {}", usage("export")))?,
+        "figure" => Command::Figure(path("figure")?),
         "help" | "?" => Command::Help,
         "quit" | "q" => Command::Quit,
         "goto" | "g" => goto(args).ok_or_else(|| usage("goto"))?,

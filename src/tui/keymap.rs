@@ -41,11 +41,13 @@ pub enum Action {
     Filter,
     /// Adds an analysis: a kind to pick, then its name.
     Add,
+    /// Writes the view shown as a figure (SVG) beside the session.
+    Figure,
 }
 
 impl Action {
     /// Every action with its config name and a few words for the help overlay.
-    pub const ALL: [(Action, &'static str, &'static str); 28] = [
+    pub const ALL: [(Action, &'static str, &'static str); 29] = [
         (Action::Quit, "quit", "quit (asks if jobs run)"),
         (Action::Help, "help", "this help"),
         (Action::FocusNext, "focus_next", "next pane"),
@@ -74,6 +76,7 @@ impl Action {
         (Action::Freeze, "freeze", "hold the plot / resume"),
         (Action::Filter, "filter", "filter the lists"),
         (Action::Add, "new", "add an analysis (pick a kind)"),
+        (Action::Figure, "figure", "write the view as SVG"),
     ];
 
     /// The action of config (and command) name `name`.
@@ -163,7 +166,7 @@ pub struct Keymap {
 
 impl Default for Keymap {
     fn default() -> Self {
-        let defaults: [(Action, &[&str]); 28] = [
+        let defaults: [(Action, &[&str]); 29] = [
             (Action::Quit, &["q"]),
             (Action::Help, &["?"]),
             (Action::FocusNext, &["tab"]),
@@ -192,6 +195,7 @@ impl Default for Keymap {
             (Action::Freeze, &["f"]),
             (Action::Filter, &["/"]),
             (Action::Add, &["a"]),
+            (Action::Figure, &["p"]),
         ];
         Keymap {
             bindings: defaults

@@ -588,6 +588,38 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     assert!(draw(&app, 80, 24).contains("stale"));
 }
 
+#[test]
+fn the_view_is_written_as_a_figure_by_its_key_and_by_figure_file() {
+    let (_dir, path) = fixture("figure", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    key(&mut app, KeyCode::Char('p'));
+    let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
+    assert!(
+        matches!(&said, Some((text, true)) if text.contains("no result to draw")),
+        "{said:?}"
+    );
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    key(&mut app, KeyCode::Char('p'));
+    let svg = std::fs::read_to_string(path.with_file_name("session-response.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("excitation frequency ωₑ"));
+    let png = path.with_file_name("response.png");
+    command(&mut app, &format!("figure {}", png.display()));
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    // a name of no figure format, or a file in the results store: refused, saying why
+    command(&mut app, "figure response.pdf");
+    let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
+    assert!(
+        matches!(&said, Some((text, true)) if text.contains("'pdf'") && text.contains("svg, png")),
+        "{said:?}"
+    );
+    let stored = app.session.results_dir().join("response.svg");
+    command(&mut app, &format!("figure {}", stored.display()));
+    let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
+    assert!(matches!(&said, Some((_, true))), "{said:?}");
+    assert!(!stored.exists());
+}
+
 /// Types `:` and a command line, then Enter.
 fn command(app: &mut App, line: &str) {
     key(app, KeyCode::Char(':'));

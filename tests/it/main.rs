@@ -7,6 +7,7 @@ mod corpus;
 mod bifurcation_curves;
 mod cli;
 mod continuation;
+mod figures;
 mod global_analyses;
 mod hostile_sessions;
 mod hunt;

@@ -1,0 +1,210 @@
+//! Chirp sweeps (Fig 3): the envelope of the response over ω_e and, under it, the Morlet
+//! scalogram as a heat map over (ω_e, response frequency) with its colour scale and the
+//! 1:1 and 1:2 lines.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::{AxisSpec, Drawn, Legend, Style, Swatch, fit, nothing, number, panel};
+use crate::analysis::AnalysisError;
+use crate::analysis::orbit::scalogram::{Scalogram, ScalogramSpec, scalogram};
+use crate::model::Device;
+use crate::session::results::ChirpView;
+
+/// Columns of the scalogram drawn at most (the rest would share pixels).
+const MAX_COLUMNS: usize = 240;
+/// Colour levels of the heat map (cells of one level up a column are drawn as one).
+const LEVELS: f64 = 32.0;
+
+/// The scalogram of a chirp's response, as the workbench computes it.
+pub fn chirp_scalogram(c: &ChirpView) -> Result<Scalogram, AnalysisError> {
+    scalogram(&c.lambda, c.dt, &ScalogramSpec::default())
+}
+
+/// `forward` for a sweep up in ω_e, `backward` down.
+fn direction(c: &ChirpView) -> &'static str {
+    match (c.omega.first(), c.omega.last()) {
+        (Some(a), Some(b)) if b < a => "backward sweep",
+        _ => "forward sweep",
+    }
+}
+
+pub(super) fn draw<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    c: &ChirpView,
+    scalogram: Option<&Scalogram>,
+    device: Option<&Device>,
+    s: &Style,
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    if c.envelope.is_empty() {
+        return Err(nothing("no envelope"));
+    }
+    let height = area.dim_in_pixel().1;
+    let (top, bottom) = match scalogram {
+        Some(_) => {
+            let (a, b) = area.split_vertically(height * 9 / 20);
+            (a, Some(b))
+        }
+        None => (area.clone(), None),
+    };
+    let omega_range = fit(c.omega.iter().copied(), 0.0);
+    let peak = c.envelope.iter().map(|e| e[1]).fold(0.0f64, f64::max);
+    let mut chart = panel(
+        &top,
+        &AxisSpec::omega(omega_range.clone(), device),
+        &AxisSpec::amplitude((peak * 1.15).max(1e-3), device),
+        s,
+    )?;
+    let color = s.palette.series(0);
+    chart.draw_series(std::iter::once(PathElement::new(
+        c.envelope.iter().map(|e| (e[0], e[1])).collect::<Vec<_>>(),
+        color.stroke_width(s.line + 1),
+    )))?;
+    let mut legend = Legend::new(s);
+    legend.add(
+        Swatch::Line(color, false),
+        format!("envelope, {}", direction(c)),
+    );
+    let plot = chart.plotting_area().strip_coord_spec();
+    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))?;
+    if let (Some(area), Some(w)) = (bottom, scalogram) {
+        draw_scalogram(&area, c, w, omega_range, s)?;
+    }
+    Ok(())
+}
+
+/// The scalogram over (ω_e, ω_r), magnitudes on a square-root scale so the weaker
+/// subharmonic lines still show, with a colour bar on the right.
+fn draw_scalogram<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    c: &ChirpView,
+    w: &Scalogram,
+    omega_range: std::ops::Range<f64>,
+    s: &Style,
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    let (nx, ny) = (w.times.len(), w.frequencies.len());
+    if nx == 0 || ny < 2 {
+        return Err(nothing("an empty scalogram"));
+    }
+    let omega_at = |t: f64| {
+        let k = ((t / c.dt.max(1e-12)).round() as usize).min(c.omega.len().saturating_sub(1));
+        c.omega.get(k).copied().unwrap_or(0.0)
+    };
+    let peak = w
+        .magnitude
+        .iter()
+        .flatten()
+        .fold(0.0f64, |a, &b| a.max(b))
+        .max(1e-30);
+    let level =
+        |iy: usize, ix: usize| ((w.magnitude[iy][ix] / peak).sqrt() * LEVELS).round() / LEVELS;
+    let width = area.dim_in_pixel().0;
+    let bar_width = s.text * 6;
+    let (map_area, bar_area) = area.split_horizontally(width - bar_width);
+    let (f0, f1) = (w.frequencies[0], w.frequencies[ny - 1]);
+    let df = 0.5 * (f1 - f0) / (ny - 1) as f64;
+    let mut chart = panel(
+        &map_area,
+        &AxisSpec::new("excitation frequency ωₑ", omega_range.clone()),
+        &AxisSpec::new("response frequency ωᵣ", f0 - df..f1 + df),
+        s,
+    )?;
+    let stride = nx.div_ceil(MAX_COLUMNS).max(1);
+    let mut cells = Vec::new();
+    let columns: Vec<usize> = (0..nx).step_by(stride).collect();
+    for (k, &ix) in columns.iter().enumerate() {
+        let here = omega_at(w.times[ix]);
+        let next = columns
+            .get(k + 1)
+            .map_or_else(|| omega_at(w.times[nx - 1]), |&j| omega_at(w.times[j]));
+        let (x0, x1) = (here.min(next), here.max(next));
+        let mut start = 0;
+        while start < ny {
+            let l = level(start, ix);
+            let mut end = start + 1;
+            while end < ny && level(end, ix) == l {
+                end += 1;
+            }
+            cells.push(Rectangle::new(
+                [
+                    (x0, w.frequencies[start] - df),
+                    (x1, w.frequencies[end - 1] + df),
+                ],
+                s.palette.ramp(l).filled(),
+            ));
+            start = end;
+        }
+    }
+    chart.draw_series(cells)?;
+    // where a 1:1 and a 1:2 response would show
+    let white = s.palette.background;
+    for (ratio, name) in [(1.0, "ωᵣ = ωₑ"), (0.5, "ωᵣ = ωₑ/2")] {
+        let ends = [omega_range.start, omega_range.end].map(|x| (x, ratio * x));
+        chart.draw_series(DashedLineSeries::new(
+            ends,
+            (s.text / 2) as i32,
+            (s.text / 2) as i32,
+            white.mix(0.8).stroke_width(1),
+        ))?;
+        // labelled near the right end, where the two lines are far apart
+        let x = omega_range.start + 0.97 * (omega_range.end - omega_range.start);
+        let y = (ratio * x).min(f1 - 2.0 * df);
+        chart.draw_series(std::iter::once(Text::new(
+            name,
+            (x, y + df),
+            s.note()
+                .color(&white)
+                .pos(Pos::new(HPos::Right, VPos::Bottom)),
+        )))?;
+    }
+    colour_bar(&bar_area, s)
+}
+
+/// The heat map's colour scale: |W| over its peak, drawn on the square-root scale.
+fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &Style) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    let h = area.dim_in_pixel().1;
+    let (top, bottom) = (
+        (s.pad + s.text) as i32,
+        h as i32 - (s.text * 3 + s.pad) as i32,
+    );
+    let (x0, x1) = (s.pad as i32, (s.pad + s.text) as i32);
+    let steps = 64;
+    for k in 0..steps {
+        let y = |k: i32| bottom - (bottom - top) * k / steps;
+        area.draw(&Rectangle::new(
+            [(x0, y(k + 1)), (x1, y(k))],
+            s.palette.ramp(k as f64 / (steps - 1) as f64).filled(),
+        ))?;
+    }
+    area.draw(&Rectangle::new(
+        [(x0, top), (x1, bottom)],
+        s.palette.text.stroke_width(1),
+    ))?;
+    // labels at magnitudes 0, 0.25 and 1 (√ of them up the bar)
+    for m in [0.0, 0.25, 1.0f64] {
+        let y = bottom - ((bottom - top) as f64 * m.sqrt()) as i32;
+        area.draw(&Text::new(
+            number(m),
+            (x1 + 4, y),
+            s.note()
+                .color(&s.palette.text)
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
+    }
+    area.draw(&Text::new(
+        "|W|/peak",
+        (x0, top - 2),
+        s.note().pos(Pos::new(HPos::Left, VPos::Bottom)),
+    ))
+    .map_err(Into::into)
+}
