@@ -66,22 +66,28 @@ struct ResponseSummary<'a> {
     done: Done,
 }
 
-/// One branch of a frequency response, its ω_e range also in Hz.
+/// One branch of a frequency response, its ω_e range also in Hz, and the range of its
+/// response frequency ω_r (ω_e times the ratio: half of it for a 1:2 subharmonic) in Hz.
 #[derive(Serialize)]
 pub struct BranchSummary<'a> {
     #[serde(flatten)]
     pub branch: &'a Branch,
     frequency_hz_min: f64,
     frequency_hz_max: f64,
+    response_frequency_hz_min: f64,
+    response_frequency_hz_max: f64,
 }
 
 impl<'a> BranchSummary<'a> {
-    /// The branch with its ω_e range in Hz.
+    /// The branch with its ω_e and ω_r ranges in Hz.
     pub fn of(branch: &'a Branch) -> Self {
+        let ratio = f64::from(branch.ratio.response) / f64::from(branch.ratio.excitation);
         BranchSummary {
             branch,
             frequency_hz_min: hz(branch.omega_min),
             frequency_hz_max: hz(branch.omega_max),
+            response_frequency_hz_min: hz(branch.omega_min * ratio),
+            response_frequency_hz_max: hz(branch.omega_max * ratio),
         }
     }
 }
@@ -142,12 +148,12 @@ impl Summary for ResponseSummary<'_> {
             self.branches.len()
         );
         println!(
-            "  branch  type                 ω_e range (Hz)                    peak amplitude at ω_e   hidden"
+            "  branch  type                 ω_e range (Hz)                    peak amplitude at ω_e   hidden  response ω_r (Hz)"
         );
         for s in &self.branches {
             let b = s.branch;
             println!(
-                "  #{:<5}  {:<19}  {:.2}–{:.2} ({:.1}–{:.1} Hz){:>8}  {:.4} at {:.2}{:>10}",
+                "  #{:<5}  {:<19}  {:.2}–{:.2} ({:.1}–{:.1} Hz){:>8}  {:.4} at {:.2}{:>10}  {:.1}–{:.1}",
                 b.id,
                 b.response_type,
                 b.omega_min,
@@ -163,7 +169,9 @@ impl Summary for ResponseSummary<'_> {
                     "partly"
                 } else {
                     "no"
-                }
+                },
+                s.response_frequency_hz_min,
+                s.response_frequency_hz_max
             );
         }
         self.done.print_wrote();

@@ -331,7 +331,24 @@ fn response_json_agrees_with_the_text() {
             b["response_type"].as_str().unwrap()
         );
         assert!(text.contains(&line), "{line} in\n{text}");
+        // the response frequency ω_r in Hz: ω_e's times the ratio (half for a 1:2)
+        let ratio: Vec<f64> = b["ratio"]
+            .as_str()
+            .unwrap()
+            .split(':')
+            .map(|n| n.parse().unwrap())
+            .collect();
+        for end in ["min", "max"] {
+            let excitation = b[format!("frequency_hz_{end}")].as_f64().unwrap();
+            let response = b[format!("response_frequency_hz_{end}")].as_f64().unwrap();
+            let expected = excitation * ratio[0] / ratio[1];
+            assert!((response - expected).abs() < 1e-12 * expected, "{b}");
+        }
     }
+    assert!(
+        branches.iter().any(|b| b["ratio"] == "1:2"),
+        "the hidden 1:2 at ω 3.6–3.8: {text}"
+    );
 }
 
 /// A stepped sweep: one entry per step, with the steady state's fields as `orbit`'s.
