@@ -142,6 +142,9 @@ enum RunOutcome {
         chunks_computed: usize,
         compute_seconds: f64,
         assembled_here: bool,
+        /// What the user should know about the result (a map's window that cuts a branch).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        notes: Vec<String>,
     },
     /// This shard's chunks are done; others are still missing.
     ShardDone {
@@ -158,10 +161,12 @@ impl From<Outcome> for RunOutcome {
                 chunks_computed,
                 seconds,
                 assembled_here,
+                notes,
             } => RunOutcome::Completed {
                 chunks_computed,
                 compute_seconds: seconds,
                 assembled_here,
+                notes,
             },
             Outcome::ShardDone {
                 chunks_computed,
@@ -407,15 +412,21 @@ impl Summary for AnalysisRun {
                 chunks_computed,
                 compute_seconds,
                 assembled_here,
-            } => println!(
-                "{name}: done in {:.2} s ({chunks_computed} chunks computed now, {compute_seconds:.2} s in all; {}) → {csv}",
-                self.seconds,
-                if assembled_here {
-                    "assembled here"
-                } else {
-                    "assembled by another run"
-                },
-            ),
+                ref notes,
+            } => {
+                println!(
+                    "{name}: done in {:.2} s ({chunks_computed} chunks computed now, {compute_seconds:.2} s in all; {}) → {csv}",
+                    self.seconds,
+                    if assembled_here {
+                        "assembled here"
+                    } else {
+                        "assembled by another run"
+                    },
+                );
+                for note in notes {
+                    println!("  note: {note}");
+                }
+            }
             RunOutcome::ShardDone {
                 chunks_computed,
                 missing,

@@ -67,12 +67,38 @@ pub enum Outcome {
         /// Seconds of computing in all (every chunk, on whichever host, and the assembly).
         seconds: f64,
         assembled_here: bool,
+        /// What the user should know about a result assembled here (a map's window that cuts
+        /// a branch, so that its curves beyond are missing).
+        notes: Vec<String>,
     },
     /// This shard's chunks are done; others are still missing.
     ShardDone {
         chunks_computed: usize,
         missing: usize,
     },
+}
+
+impl Outcome {
+    /// The same outcome with `more` notes, if it completed a result.
+    fn with_notes(self, more: Vec<String>) -> Self {
+        match self {
+            Outcome::Completed {
+                chunks_computed,
+                seconds,
+                assembled_here,
+                mut notes,
+            } => {
+                notes.extend(more);
+                Outcome::Completed {
+                    chunks_computed,
+                    seconds,
+                    assembled_here,
+                    notes,
+                }
+            }
+            other => other,
+        }
+    }
 }
 
 /// True when `entry`'s stored result is complete, passes its checksums and belongs to the
@@ -383,7 +409,8 @@ impl Run<'_> {
                 // gauge runs once from 0 to 100 %
                 let row_work = spec.response.work();
                 progress.grow_total(spec.values.points * row_work);
-                self.chunked(
+                let mut notes = Vec::new();
+                let outcome = self.chunked(
                     |_| progress.add(row_work),
                     |i| optional(map_row(params, spec, i, progress)),
                     |i, row: &MapRow| map_content(spec, i, row),
@@ -395,7 +422,9 @@ impl Run<'_> {
                                 map_curves(params, spec, &rows, progress).map_err(&named)?;
                             let names = (spec.x.name(), spec.parameter.name());
                             for cut in &found.cut {
-                                tracing::warn!("{}", cut.describe(names.0, names.1));
+                                let note = cut.describe(names.0, names.1);
+                                tracing::warn!("{note}");
+                                notes.push(note);
                             }
                             found.curves
                         } else {
@@ -407,7 +436,8 @@ impl Run<'_> {
                         let names = (spec.x.name(), spec.parameter.name());
                         export::map_csv(names, &omegas, &rows, columns, csv)
                     },
-                )
+                )?;
+                Ok(outcome.with_notes(notes))
             }
             Settings::Family(spec) => {
                 spec.validate(params)?;
@@ -540,6 +570,7 @@ impl Run<'_> {
                 chunks_computed: 0,
                 seconds: m.compute_seconds,
                 assembled_here: false,
+                notes: Vec::new(),
             });
         }
         let started = Instant::now();
@@ -555,6 +586,7 @@ impl Run<'_> {
             chunks_computed: 1,
             seconds: m.compute_seconds,
             assembled_here: true,
+            notes: Vec::new(),
         })
     }
 
@@ -759,6 +791,7 @@ impl Run<'_> {
                 chunks_computed: computed,
                 seconds: m.compute_seconds,
                 assembled_here: false,
+                notes: Vec::new(),
             });
         }
         let started = Instant::now();
@@ -784,6 +817,7 @@ impl Run<'_> {
             chunks_computed: computed,
             seconds: m.compute_seconds,
             assembled_here: true,
+            notes: Vec::new(),
         })
     }
 

@@ -348,13 +348,18 @@ impl App {
                             chunks_computed,
                             seconds,
                             assembled_here,
+                            notes,
                         } => format!(
-                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s of computing{})",
+                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s of computing{}){}",
                             if assembled_here {
                                 ""
                             } else {
                                 ", assembled by another run"
-                            }
+                            },
+                            notes
+                                .iter()
+                                .map(|n| format!("; note: {n}"))
+                                .collect::<String>()
                         ),
                         Outcome::ShardDone { missing, .. } => {
                             format!("{name}: {missing} chunks still missing")

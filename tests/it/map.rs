@@ -178,3 +178,34 @@ fn a_window_that_cuts_the_isola_says_so() {
         "{text}"
     );
 }
+
+/// The same map as a session: `isola run` prints the note under the map's line (and `--json`
+/// carries it in the analysis' `notes`) when it computes the result.
+#[test]
+fn a_session_map_whose_window_cuts_the_isola_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.toml");
+    std::fs::write(
+        &session,
+        "schema = 1\n[model]\nadr = 0.6\n\n[[analysis]]\nname = \"map\"\nkind = \"map\"\n\
+         [analysis.settings]\nparameter = \"adr\"\nvalues = { min = 0.6, max = 0.6, points = 1 }\n\
+         [analysis.settings.response]\nomega = { min = 3.0, max = 4.5, points = 16 }\n\
+         dx = { min = -0.8, max = 0.8, points = 5 }\nv = { min = -1.0, max = 1.0, points = 5 }\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_isola"))
+        .arg("run")
+        .arg(&session)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("  note: the 1:2 branch at adr = 0.6 leaves the omega window at omega = 4.5"),
+        "{text}"
+    );
+}
