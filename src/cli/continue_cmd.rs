@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use isola::analysis::Progress;
 use isola::analysis::continuation::branch::{
-    Bifurcation, BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch,
+    ArcEnds, Bifurcation, BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch,
     switch_at_period_doubling,
 };
 use isola::analysis::continuation::branch_from_state::{BranchFromState, branch_from_state};
@@ -94,37 +94,17 @@ pub struct BranchSummary<'a> {
     parameter_min: f64,
     parameter_max: f64,
     pub ends: &'a [BranchEnd; 2],
-    pub closed: bool,
+    closed: bool,
     pub points: usize,
-    pub arcs: Vec<Arc>,
+    pub arcs: Vec<ArcEnds>,
     pub bifurcations: &'a [Bifurcation],
-}
-
-/// A maximal run of points of equal stability, from its first point to its last.
-#[derive(Serialize)]
-pub struct Arc {
-    pub stable: bool,
-    pub parameter_start: f64,
-    pub parameter_end: f64,
-    pub amplitude_start: f64,
-    pub amplitude_end: f64,
 }
 
 impl<'a> BranchSummary<'a> {
     /// The summary of `b`.
     pub fn of(b: &'a ContinuedBranch) -> Self {
         let (parameter_min, parameter_max) = b.parameter_range();
-        let arcs = b
-            .arcs()
-            .into_iter()
-            .map(|(i, j, stable)| Arc {
-                stable,
-                parameter_start: b.points[i].parameter,
-                parameter_end: b.points[j].parameter,
-                amplitude_start: b.points[i].amplitude,
-                amplitude_end: b.points[j].amplitude,
-            })
-            .collect();
+        let arcs = b.arc_ends();
         BranchSummary {
             period: b.period,
             parameter: b.parameter.name(),

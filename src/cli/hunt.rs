@@ -335,37 +335,19 @@ impl Summary for HuntSummary<'_> {
 }
 
 /// The arcs of a branch in order along it, each with where it starts and ends in ω and in
-/// amplitude (a closed branch's first and last joined where they are one arc through the
-/// seam), so that a folded branch reads as it turns: `stable   ω 3.5896 → 5.4439, amplitude
-/// 0.5094 → 0.0266`, then the unstable arc back.
+/// amplitude, so that a folded branch reads as it turns: `stable   ω 3.5896 → 5.4439,
+/// amplitude 0.5094 → 0.0266`, then the unstable arc back.
 fn arc_lines(b: &BranchSummary) -> Vec<String> {
-    let mut arcs: Vec<[f64; 4]> = Vec::new();
-    let mut stable: Vec<bool> = Vec::new();
-    for a in &b.arcs {
-        arcs.push([
-            a.parameter_start,
-            a.parameter_end,
-            a.amplitude_start,
-            a.amplitude_end,
-        ]);
-        stable.push(a.stable);
-    }
-    if b.closed && arcs.len() > 1 && stable[0] == stable[arcs.len() - 1] {
-        let last = arcs.pop().expect("more than one arc");
-        stable.pop();
-        arcs[0][0] = last[0];
-        arcs[0][2] = last[2];
-    }
-    arcs.iter()
-        .zip(&stable)
-        .map(|(a, &s)| {
+    b.arcs
+        .iter()
+        .map(|a| {
             format!(
                 "{:<8} ω {:.4} → {:.4}, amplitude {:.4} → {:.4}",
-                if s { "stable" } else { "unstable" },
-                a[0],
-                a[1],
-                a[2],
-                a[3]
+                if a.stable { "stable" } else { "unstable" },
+                a.parameter_start,
+                a.parameter_end,
+                a.amplitude_start,
+                a.amplitude_end
             )
         })
         .collect()

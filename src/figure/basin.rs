@@ -4,7 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Drawn, Legend, Style, Swatch, nothing, panel, short_type};
+use super::{AxisSpec, Drawn, Legend, Style, Swatch, half_step, nothing, panel, short_type};
 use crate::model::Device;
 use crate::session::results::{AttractorRow, BasinView};
 
@@ -23,14 +23,6 @@ fn attractor_color(b: &BasinView, a: &AttractorRow, s: &Style) -> RGBColor {
     match same {
         1 => s.palette.response_type(&a.response_type),
         _ => s.palette.series(4 + a.id),
-    }
-}
-
-/// Half the spacing of grid `values` (a cell's half width).
-fn half_step(values: &[f64]) -> f64 {
-    match values {
-        [first, .., last] => 0.5 * (last - first) / (values.len() - 1) as f64,
-        _ => 0.5,
     }
 }
 

@@ -5,17 +5,9 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, nothing, panel};
+use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, half_step, nothing, panel};
 use crate::model::Device;
 use crate::session::results::MapView;
-
-/// Half the spacing of grid `values` (a cell's half width).
-fn half_step(values: &[f64]) -> f64 {
-    match values {
-        [first, .., last] => 0.5 * (last - first) / (values.len() - 1) as f64,
-        _ => 0.5,
-    }
-}
 
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,

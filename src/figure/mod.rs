@@ -183,6 +183,14 @@ impl std::fmt::Display for Nothing {
 impl Error for Nothing {}
 
 /// Refuses a view without data, saying what is missing.
+/// Half the spacing of grid `values` (a cell's half width).
+pub(super) fn half_step(values: &[f64]) -> f64 {
+    match values {
+        [first, .., last] => 0.5 * (last - first) / (values.len() - 1) as f64,
+        _ => 0.5,
+    }
+}
+
 fn nothing(what: &str) -> Box<dyn Error> {
     Box::new(Nothing(what.into()))
 }

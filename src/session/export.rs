@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::analysis::continuation::isola_limits::IsolaLimit;
 use crate::analysis::global::basin::Basin;
 use crate::analysis::global::frequency_response::{FrequencyResponse, Response};
 use crate::analysis::{Class, SteadyState};
@@ -40,6 +41,11 @@ pub fn num(x: f64) -> String {
     } else {
         x.to_string()
     }
+}
+
+/// A number that may be missing: empty when it is.
+fn opt(x: Option<f64>) -> String {
+    x.map_or(String::new(), num)
 }
 
 /// How a model's quantities are named in the columns of its results, and the device its
@@ -130,7 +136,6 @@ impl ModelColumns {
 /// A steady state's fields under [`ModelColumns::steady`]: the ratio ω_r:ω_e as two integer
 /// columns (a spreadsheet reads the text `1:2` as a time), empty where there is none.
 pub fn steady_fields(s: &SteadyState) -> [String; 8] {
-    let opt = |x: Option<f64>| x.map_or(String::new(), num);
     let int = |n: Option<u32>| n.map_or(String::new(), |n| n.to_string());
     [
         s.class.as_str().into(),
@@ -587,7 +592,6 @@ pub fn chirp_csv(
             "collision_frequency_hz",
         ])?;
         let c = found.collision;
-        let opt = |x: Option<f64>| x.map_or(String::new(), num);
         w.write_record([
             num(found.peak_amplitude),
             num(found.peak_tau),
@@ -635,7 +639,6 @@ pub fn stepped_csv(
         }
         Ok(())
     })?;
-    let opt = |x: Option<f64>| x.map_or(String::new(), num);
     write_atomic(&beside(path, "jumps"), |w| {
         let amplitude = &columns.amplitude;
         w.write_record([
@@ -825,7 +828,7 @@ pub fn hunt_family_csv(
     members: &[crate::analysis::continuation::hunt_family::HuntMember],
     limits: &[(
         crate::analysis::continuation::hunt_family::Transition,
-        Option<crate::analysis::continuation::isola_limits::IsolaLimit>,
+        Option<IsolaLimit>,
     )],
     path: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
@@ -902,18 +905,8 @@ pub fn hunt_family_csv(
             v.map_or("none", |v| v.as_str()).to_string()
         };
         for (t, limit) in limits {
-            let located = limit.as_ref().map_or(
-                [String::new(), String::new(), String::new(), String::new()],
-                |l| {
-                    [
-                        num(l.value),
-                        num(l.precision),
-                        num(l.omega),
-                        num(l.amplitude),
-                    ]
-                },
-            );
-            let mut row = vec![
+            let located = |f: fn(&IsolaLimit) -> f64| opt(limit.as_ref().map(f));
+            let row = [
                 t.period.to_string(),
                 t.event().to_string(),
                 verdict(t.before),
@@ -921,8 +914,11 @@ pub fn hunt_family_csv(
                 num(t.from),
                 num(t.to),
                 limit.is_some().to_string(),
+                located(|l| l.value),
+                located(|l| l.precision),
+                located(|l| l.omega),
+                located(|l| l.amplitude),
             ];
-            row.extend(located);
             w.write_record(row)?;
         }
         Ok(())

@@ -4,26 +4,10 @@
 //! stored results made stale by the setting only, and bad values refused.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use isola::session::Session;
 
-fn isola(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_isola"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok_json(args: &[&str]) -> serde_json::Value {
-    let out = isola(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
+use crate::common::{isola, json};
 
 /// `sessions/NAME` with `edit` applied, written to `s.toml` in a fresh folder.
 fn paper_session(name: &str, edit: impl Fn(String) -> String) -> (tempfile::TempDir, PathBuf) {
@@ -37,7 +21,7 @@ fn paper_session(name: &str, edit: impl Fn(String) -> String) -> (tempfile::Temp
 /// `isola run SESSION --only NAME --convergence --json`: the one analysis' changes.
 fn convergence(session: &Path, name: &str) -> serde_json::Value {
     let s = session.to_str().unwrap();
-    let v = ok_json(&[
+    let v = json(&[
         "run",
         s,
         "--only",
@@ -76,7 +60,7 @@ fn fig6a_basin_is_converged_at_the_default_resolution() {
     let own = dir.path().join("s.results/basin.csv");
     let doubled = dir.path().join("s.results/convergence.results/basin.csv");
     assert!(own.is_file() && doubled.is_file());
-    let again = ok_json(&["run", path.to_str().unwrap(), "--only", "basin", "--json"]);
+    let again = json(&["run", path.to_str().unwrap(), "--only", "basin", "--json"]);
     assert_eq!(again["analyses"][0]["outcome"], "up_to_date");
 }
 
@@ -135,13 +119,13 @@ fn write(dir: &Path, text: &str) -> PathBuf {
 fn a_session_resolution_computes_what_the_flag_computes() {
     let dir = tempfile::tempdir().unwrap();
     let path = write(dir.path(), &format!("{SMALL_BASIN}resolution = 96\n"));
-    ok_json(&["run", path.to_str().unwrap(), "--json"]);
+    json(&["run", path.to_str().unwrap(), "--json"]);
     let cli = |name: &str, extra: &[&str]| {
         let csv = dir.path().join(name);
         let mut args = vec!["basin", "--adr", "0.6", "--omega", "3.7", "--grid", "9x9"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--csv", csv.to_str().unwrap(), "--json"]);
-        ok_json(&args);
+        json(&args);
         csv
     };
     let read = |p: PathBuf| std::fs::read_to_string(p).unwrap();
@@ -173,15 +157,15 @@ fn resolution_makes_the_result_stale_and_absent_keeps_the_fingerprint() {
     let path = write(dir.path(), SMALL_BASIN);
     let s = path.to_str().unwrap();
     let outcome = |v: serde_json::Value| v["analyses"][0]["outcome"].clone();
-    assert_eq!(outcome(ok_json(&["run", s, "--json"])), "completed");
+    assert_eq!(outcome(json(&["run", s, "--json"])), "completed");
     write(dir.path(), &format!("{SMALL_BASIN}resolution = 64\n"));
-    assert_eq!(outcome(ok_json(&["run", s, "--json"])), "up_to_date");
+    assert_eq!(outcome(json(&["run", s, "--json"])), "up_to_date");
     write(dir.path(), &format!("{SMALL_BASIN}resolution = 80\n"));
     let manifest = dir.path().join("s.results/basin.manifest.json");
     let before = std::fs::read_to_string(&manifest).unwrap();
-    assert_eq!(outcome(ok_json(&["run", s, "--json"])), "completed");
+    assert_eq!(outcome(json(&["run", s, "--json"])), "completed");
     assert_ne!(std::fs::read_to_string(&manifest).unwrap(), before);
-    assert_eq!(outcome(ok_json(&["run", s, "--json"])), "up_to_date");
+    assert_eq!(outcome(json(&["run", s, "--json"])), "up_to_date");
 }
 
 fn refused(text: &str) -> String {

@@ -296,6 +296,38 @@ impl ContinuedBranch {
         }
         arcs
     }
+
+    /// The arcs in order along the branch with where each starts and ends; on a closed
+    /// branch the last arc runs on through the seed into the first, and the two are one.
+    pub fn arc_ends(&self) -> Vec<ArcEnds> {
+        let mut arcs: Vec<ArcEnds> = self
+            .arcs()
+            .into_iter()
+            .map(|(i, j, stable)| ArcEnds {
+                stable,
+                parameter_start: self.points[i].parameter,
+                parameter_end: self.points[j].parameter,
+                amplitude_start: self.points[i].amplitude,
+                amplitude_end: self.points[j].amplitude,
+            })
+            .collect();
+        if self.closed() && arcs.len() > 1 && arcs[0].stable == arcs[arcs.len() - 1].stable {
+            let last = arcs.pop().expect("more than one arc");
+            arcs[0].parameter_start = last.parameter_start;
+            arcs[0].amplitude_start = last.amplitude_start;
+        }
+        arcs
+    }
+}
+
+/// A maximal run of points of equal stability, from its first point to its last.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ArcEnds {
+    pub stable: bool,
+    pub parameter_start: f64,
+    pub parameter_end: f64,
+    pub amplitude_start: f64,
+    pub amplitude_end: f64,
 }
 
 /// Why a branch could not be started.

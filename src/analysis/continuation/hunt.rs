@@ -118,18 +118,13 @@ impl HuntedBranch {
             .max_by(|a, b| a.amplitude.total_cmp(&b.amplitude))
             .expect("a continued branch has its seed point");
         let mut arcs: Vec<([f64; 2], bool)> = branch
-            .arcs()
+            .arc_ends()
             .into_iter()
-            .map(|(i, j, stable)| {
-                let (p, q) = (branch.points[i].parameter, branch.points[j].parameter);
-                ([p.min(q), p.max(q)], stable)
+            .map(|a| {
+                let (p, q) = (a.parameter_start, a.parameter_end);
+                ([p.min(q), p.max(q)], a.stable)
             })
             .collect();
-        // a closed branch starts at its seed: the arcs through the seed are one
-        if branch.closed() && arcs.len() > 1 && arcs[0].1 == arcs[arcs.len() - 1].1 {
-            let (last, _) = arcs.pop().expect("more than one arc");
-            arcs[0].0 = [arcs[0].0[0].min(last[0]), arcs[0].0[1].max(last[1])];
-        }
         arcs.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
         let arcs = |stable: bool| -> Vec<[f64; 2]> {
             arcs.iter().filter(|a| a.1 == stable).map(|a| a.0).collect()

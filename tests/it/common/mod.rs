@@ -72,3 +72,22 @@ pub fn spawn_in_pty(command: Command, cols: u16, rows: u16) -> (Child, File, Own
     let child = spawn_on(command, &slave);
     (child, File::from(master), slave)
 }
+
+/// The `isola` binary run with `args`, to its end.
+pub fn isola(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_isola"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The one JSON document a successful `isola ARGS` prints.
+pub fn json(args: &[&str]) -> serde_json::Value {
+    let out = isola(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
