@@ -23,6 +23,7 @@ use super::run::selected;
 enum FormatArg {
     Svg,
     Png,
+    Pdf,
 }
 
 /// `--theme`.
@@ -84,8 +85,8 @@ pub struct FigureArgs {
     /// File format (default: from --output's extension, else svg).
     #[arg(long, value_enum)]
     format: Option<FormatArg>,
-    /// Where to write the figure (default: `SESSION-ANALYSIS.svg` or `.png` beside the
-    /// session file).
+    /// Where to write the figure (default: `SESSION-ANALYSIS.svg`, `.png` or `.pdf` beside
+    /// the session file).
     #[arg(long)]
     output: Option<PathBuf>,
     #[command(flatten)]
@@ -136,6 +137,7 @@ fn format_of(args: &FigureArgs) -> anyhow::Result<Format> {
     Ok(match (args.format, &args.output) {
         (Some(FormatArg::Svg), _) => Format::Svg,
         (Some(FormatArg::Png), _) => Format::Png,
+        (Some(FormatArg::Pdf), _) => Format::Pdf,
         (None, Some(path)) => match path.extension().and_then(|e| e.to_str()) {
             Some(ext) => ext.parse().map_err(|_| {
                 anyhow::anyhow!(
@@ -190,7 +192,17 @@ pub fn run(args: &FigureArgs, out: Output) -> anyhow::Result<()> {
     let target = check_target(&path, &protected(&session))?;
     let view = view_of(&session, entry, args.look.threads, out)?;
     let scalogram = scalogram_of(&view)?;
-    let subject = Subject::of(&session, entry, &view, scalogram.as_ref());
+    let reverse = match figure::reverse_sweep(&session, entry) {
+        Some(i) => Some(view_of(
+            &session,
+            &session.analyses[i],
+            args.look.threads,
+            out,
+        )?),
+        None => None,
+    };
+    let subject =
+        Subject::of(&session, entry, &view, scalogram.as_ref()).with_reverse(reverse.as_ref());
     let options = args.look.options(format);
     target.write(&figure::render(&subject, &options)?)?;
     out.report(&FigureSummary {
@@ -263,7 +275,8 @@ pub fn report(args: &ReportArgs, out: Output) -> anyhow::Result<()> {
     let sections: Vec<figure::report::Section> = views
         .iter()
         .map(|(entry, view, scalogram)| figure::report::Section {
-            subject: Subject::of(&session, entry, view, scalogram.as_ref()),
+            subject: Subject::of(&session, entry, view, scalogram.as_ref())
+                .with_reverse(figure::reverse_sweep(&session, entry).map(|i| &views[i].1)),
             entry,
         })
         .collect();

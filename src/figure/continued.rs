@@ -24,6 +24,20 @@ fn bifurcation_marker(kind: &str) -> Marker {
     }
 }
 
+/// The branches as polylines (x the parameter, or ω_e if `by_omega`), where a legend must
+/// not cover them.
+pub(super) fn curves(branches: &[ContinuedView], by_omega: bool) -> Vec<Vec<(f64, f64)>> {
+    branches
+        .iter()
+        .map(|b| {
+            b.points
+                .iter()
+                .map(|p| (if by_omega { p.omega } else { p.parameter }, p.amplitude))
+                .collect()
+        })
+        .collect()
+}
+
 /// Draws `branches` on `chart` with x the continuation parameter (`by_omega`: ω_e instead),
 /// and adds their entries to `legend`.
 pub(super) fn overlay<DB: DrawingBackend>(
@@ -139,6 +153,5 @@ where
     let mut chart = panel(area, &x, &y, s)?;
     let mut legend = Legend::new(s);
     overlay(&mut chart, &c.branches, false, &mut legend, s)?;
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))
+    legend.draw_clear_of(&chart, &curves(&c.branches, false))
 }

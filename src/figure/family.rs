@@ -53,6 +53,8 @@ where
             "hidden: no sweep reaches it",
         );
     }
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))
+    let markers: Vec<Vec<(f64, f64)>> = points()
+        .filter_map(|p| Some(vec![(p.omega, p.amplitude?)]))
+        .collect();
+    legend.draw_clear_of(&chart, &markers)
 }

@@ -45,6 +45,10 @@ where
             format!("λ_p {lambda_p}, φ_I {phi_i}"),
         );
     }
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))
+    let curves: Vec<Vec<(f64, f64)>> = f
+        .curves
+        .iter()
+        .map(|c| c.2.iter().map(|p| (p[0], p[1])).collect())
+        .collect();
+    legend.draw_clear_of(&chart, &curves)
 }

@@ -45,8 +45,11 @@ where
         Some(k) => p.response_type(&format!("1:{k}")),
         None => p.series(0),
     };
+    // the legend in a row above the panels: a record's oscillation fills every corner
+    let legend_row = (s.text + s.text / 3 + s.pad) as i32;
+    let (legend_area, panels) = area.split_vertically(legend_row);
     let width = area.dim_in_pixel().0;
-    let (left, right) = area.split_horizontally(width * 3 / 5);
+    let (left, right) = panels.split_horizontally(width * 3 / 5);
     // a long record is drawn from a few forcing periods before its steady part on: the
     // steady orbit, as the paper's insets show it, and the end of the transient into it
     let (first, last) = (h.tau[0], h.tau[n - 1]);
@@ -115,8 +118,8 @@ where
         None => "steady".into(),
     };
     legend.add(Swatch::Line(steady_color, false), steady_text);
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))?;
+    // from the left of the plot: past its margin and the y labels
+    legend.draw_row(&legend_area, (s.pad + s.text * 4) as i32)?;
     let mut phase = panel(
         &right,
         &AxisSpec::new(&x_name, lambda_range),

@@ -1,6 +1,7 @@
 //! Publication figures of a result: one file per view the workbench draws, rendered by
-//! `plotters` to SVG or PNG with the DejaVu Sans font shipped in `assets/fonts/`, so a figure
-//! looks the same on a machine with no fonts installed.
+//! `plotters` to SVG, PNG or PDF with the DejaVu Sans font shipped in `assets/fonts/`, so a
+//! figure looks the same on a machine with no fonts installed (a PDF embeds the glyphs it
+//! uses; PNG and PDF text is set by isola's own [`text`] layout, with SVG's metrics).
 //!
 //! Axes are in the model's non-dimensional quantities (MODEL.md §3); where the session's
 //! device gives them, a second axis shows the physical units (ω_e in Hz, Δλ in mm, τ in s).
@@ -12,12 +13,17 @@ mod force;
 mod history;
 mod map;
 mod palette;
+mod pdf;
+mod raster;
 pub mod report;
 mod response;
 mod sweep;
+mod text;
 
+use std::cell::RefCell;
 use std::error::Error;
 use std::ops::Range;
+use std::rc::Rc;
 use std::str::FromStr;
 use std::sync::Once;
 
@@ -28,12 +34,12 @@ use plotters::style::{FontStyle, register_font};
 
 use crate::analysis::orbit::scalogram::Scalogram;
 use crate::model::Device;
-use crate::session::results::ResultView;
+use crate::session::results::{ChirpView, ResultView};
 use crate::session::{AnalysisEntry, Session, Settings};
 
 use palette::Palette;
 pub use palette::Theme;
-pub use sweep::chirp_scalogram;
+pub use sweep::{chirp_scalogram, reverse_sweep};
 
 /// The font every figure is drawn with (and its name in an SVG's `font-family`, a fallback
 /// after it for a viewer without it).
@@ -51,17 +57,20 @@ pub enum Format {
     Svg,
     /// An 8-bit RGB bitmap.
     Png,
+    /// One vector page, a pixel a CSS pixel (0.75 pt), the font's glyphs embedded.
+    Pdf,
 }
 
 impl Format {
     /// Every format, by name.
-    pub const NAMES: [&str; 2] = ["svg", "png"];
+    pub const NAMES: [&str; 3] = ["svg", "png", "pdf"];
 
     /// The file extension (and the name on the command line).
     pub fn extension(self) -> &'static str {
         match self {
             Format::Svg => "svg",
             Format::Png => "png",
+            Format::Pdf => "pdf",
         }
     }
 }
@@ -72,6 +81,7 @@ impl FromStr for Format {
         match s {
             "svg" => Ok(Format::Svg),
             "png" => Ok(Format::Png),
+            "pdf" => Ok(Format::Pdf),
             _ => Err(FigureError::Unknown {
                 what: "format",
                 value: s.into(),
@@ -114,6 +124,9 @@ pub struct Subject<'a> {
     pub omega_range: Option<(f64, f64)>,
     /// A chirp sweep's scalogram, drawn under its envelope.
     pub scalogram: Option<&'a Scalogram>,
+    /// A chirp sweep's partner the other way over the same ω_e range (see
+    /// [`reverse_sweep`]), its envelope drawn with the sweep's.
+    pub reverse: Option<&'a ChirpView>,
 }
 
 /// Why a figure could not be made.
@@ -136,7 +149,7 @@ pub enum FigureError {
 /// What drawing returns: plotters' errors carry the backend's type, boxed here.
 type Drawn = Result<(), Box<dyn Error>>;
 
-/// The figure of `subject`, as the bytes of an SVG or PNG file.
+/// The figure of `subject`, as the bytes of an SVG, PNG or PDF file.
 pub fn render(subject: &Subject, options: &Options) -> Result<Vec<u8>, FigureError> {
     for (what, value) in [("width", options.width), ("height", options.height)] {
         if value == 0 || value > MAX_SIZE {
@@ -158,10 +171,20 @@ pub fn render(subject: &Subject, options: &Options) -> Result<Vec<u8>, FigureErr
         Format::Png => {
             let mut rgb = vec![0u8; 3 * options.width as usize * options.height as usize];
             let drawn = {
-                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                let root =
+                    raster::Raster(BitMapBackend::with_buffer(&mut rgb, size)).into_drawing_area();
                 draw(subject, &root, &style).and_then(|()| Ok(root.present()?))
             };
             drawn.and_then(|()| encode_png(&rgb, size))
+        }
+        Format::Pdf => {
+            // the page is kept here to be written once every area drawing on it is gone
+            let page = Rc::new(RefCell::new(pdf::Pdf::new(size)));
+            let drawn = draw(subject, &DrawingArea::from(&page), &style);
+            drawn.and_then(|()| match Rc::try_unwrap(page) {
+                Ok(page) => Ok(page.into_inner().finish()?),
+                Err(_) => Err("the PDF page is still being drawn on".into()),
+            })
         }
     };
     drawn.map_err(|e| match e.downcast::<Nothing>() {
@@ -246,7 +269,9 @@ where
         ),
         ResultView::Basin(b) => basin::draw(&body, b, device, s),
         ResultView::History(h) => history::draw(&body, h, device, s),
-        ResultView::Chirp(c) => sweep::draw(&body, c, subject.scalogram, device, s),
+        ResultView::Chirp(c) => {
+            sweep::draw(&body, c, subject.reverse, subject.scalogram, device, s)
+        }
         ResultView::Force(f) => force::draw(&body, f, device, s),
         ResultView::Family(f) => family::draw(&body, f, device, s),
         ResultView::Continuation(c) => continued::draw(&body, c, device, s),
@@ -555,8 +580,8 @@ fn short_type(response_type: &str) -> &str {
     }
 }
 
-/// Lines of a legend box drawn in the upper right of `area`: a swatch drawer and a text per
-/// entry.
+/// Lines of a legend box: a swatch and a text per entry, drawn in a corner of the plot clear
+/// of the data, or as one row outside it.
 struct Legend<'a> {
     entries: Vec<(Swatch, String)>,
     style: &'a Style,
@@ -572,6 +597,9 @@ enum Swatch {
     None,
 }
 
+/// Cells of this many pixels square count what data covers, for placing a legend.
+const BUSY_CELL: i32 = 4;
+
 impl<'a> Legend<'a> {
     fn new(style: &'a Style) -> Self {
         Legend {
@@ -584,17 +612,42 @@ impl<'a> Legend<'a> {
         self.entries.push((swatch, text.into()));
     }
 
+    fn font(&self) -> TextStyle<'_> {
+        self.style.font(self.style.text * 5 / 6)
+    }
+
+    fn line_height(&self) -> i32 {
+        (self.style.text + self.style.text / 3) as i32
+    }
+
+    fn swatch_width(&self) -> i32 {
+        (self.style.text * 2) as i32
+    }
+
+    fn pad(&self) -> i32 {
+        (self.style.pad / 2) as i32
+    }
+
+    /// The width in pixels of `text` on `area`.
+    fn text_width<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, text: &str) -> i32 {
+        area.estimate_text_size(text, &self.font())
+            .map_or(0, |(w, _)| w as i32)
+    }
+
     /// The width of the legend's box in pixels of `area`.
     fn width<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> i32 {
-        let s = self.style;
-        let font = s.font(s.text * 5 / 6);
         let widest = self
             .entries
             .iter()
-            .map(|(_, t)| area.estimate_text_size(t, &font).map_or(0, |(w, _)| w))
+            .map(|(_, t)| self.text_width(area, t))
             .max()
-            .unwrap_or(0) as i32;
-        widest + (s.text * 2) as i32 + 3 * (s.pad / 2) as i32
+            .unwrap_or(0);
+        widest + self.swatch_width() + 3 * self.pad()
+    }
+
+    /// The height of the legend's box in pixels.
+    fn height(&self) -> i32 {
+        self.line_height() * self.entries.len() as i32 + 2 * self.pad()
     }
 
     /// Draws the legend in a box whose top right corner is `corner` (pixels of `area`).
@@ -606,12 +659,7 @@ impl<'a> Legend<'a> {
             return Ok(());
         }
         let s = self.style;
-        let font = s.font(s.text * 5 / 6).color(&s.palette.text);
-        let line_height = (s.text + s.text / 3) as i32;
-        let swatch_width = (s.text * 2) as i32;
-        let pad = (s.pad / 2) as i32;
-        let width = self.width(area);
-        let height = line_height * self.entries.len() as i32 + 2 * pad;
+        let (width, height, pad) = (self.width(area), self.height(), self.pad());
         let (x0, y0) = (corner.0 - width, corner.1);
         area.draw(&Rectangle::new(
             [(x0, y0), (x0 + width, y0 + height)],
@@ -621,53 +669,145 @@ impl<'a> Legend<'a> {
             [(x0, y0), (x0 + width, y0 + height)],
             s.palette.grid.stroke_width(1),
         ))?;
-        for (k, (swatch, text)) in self.entries.iter().enumerate() {
-            let y = y0 + pad + line_height * k as i32 + line_height / 2;
-            let x = x0 + pad;
-            let centre = (x + swatch_width / 2, y);
-            match *swatch {
-                Swatch::Marker(m, color, filled) => {
-                    area.draw(&m.element(centre, s.marker as i32 + 1, color, filled))?;
+        for (k, entry) in self.entries.iter().enumerate() {
+            let y = y0 + pad + self.line_height() * k as i32 + self.line_height() / 2;
+            self.draw_entry(area, (x0 + pad, y), entry)?;
+        }
+        Ok(())
+    }
+
+    /// Draws the legend in the corner of `chart`'s plot where its box covers the least of
+    /// `data` (polylines, or single points, in the chart's coordinates): the upper right,
+    /// upper left, lower right or lower left, the first of equals.
+    fn draw_clear_of<DB: DrawingBackend>(
+        &self,
+        chart: &Chart<DB>,
+        data: &[Vec<(f64, f64)>],
+    ) -> Drawn
+    where
+        DB::ErrorType: 'static,
+    {
+        let plot = chart.plotting_area();
+        let area = plot.strip_coord_spec();
+        let (w, h) = area.dim_in_pixel();
+        let (w, h) = (w as i32, h as i32);
+        let (columns, rows) = (w / BUSY_CELL + 1, h / BUSY_CELL + 1);
+        let mut busy = vec![false; (columns * rows) as usize];
+        let base = plot.get_base_pixel();
+        let mut mark = |(x, y): (i32, i32)| {
+            let (c, r) = ((x - base.0) / BUSY_CELL, (y - base.1) / BUSY_CELL);
+            if (0..columns).contains(&c) && (0..rows).contains(&r) {
+                busy[(r * columns + c) as usize] = true;
+            }
+        };
+        for line in data {
+            let pixels: Vec<(i32, i32)> = line.iter().map(|p| plot.map_coordinate(p)).collect();
+            if let [only] = pixels[..] {
+                mark(only);
+            }
+            for pair in pixels.windows(2) {
+                let (a, b) = (pair[0], pair[1]);
+                let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / BUSY_CELL).clamp(1, 4096);
+                for k in 0..=steps {
+                    mark((a.0 + (b.0 - a.0) * k / steps, a.1 + (b.1 - a.1) * k / steps));
                 }
-                Swatch::Line(color, dashed) => {
-                    let style = color.stroke_width(s.line + 1);
-                    if dashed {
-                        let q = swatch_width / 4;
-                        for k in [0, 2] {
-                            area.draw(&PathElement::new(
-                                vec![(x + k * q, y), (x + (k + 1) * q, y)],
-                                style,
-                            ))?;
-                        }
-                    } else {
+            }
+        }
+        let (width, height, inset) = (self.width(&area), self.height(), 4);
+        let corners = [
+            (w - inset, inset),
+            (width + inset, inset),
+            (w - inset, h - inset - height),
+            (width + inset, h - inset - height),
+        ];
+        let covered = |(right, top): (i32, i32)| {
+            let cells =
+                |lo: i32, hi: i32, n: i32| (lo / BUSY_CELL).max(0)..(hi / BUSY_CELL + 1).min(n);
+            cells(top, top + height, rows)
+                .flat_map(|r| cells(right - width, right, columns).map(move |c| (r, c)))
+                .filter(|&(r, c)| busy[(r * columns + c) as usize])
+                .count()
+        };
+        let corner = corners
+            .iter()
+            .copied()
+            .min_by_key(|&c| covered(c))
+            .unwrap_or(corners[0]);
+        self.draw(&area, corner)
+    }
+
+    /// Draws the legend as one row from the left of `area`, centred in its height: outside a
+    /// plot whose data fills every corner.
+    fn draw_row<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, left: i32) -> Drawn
+    where
+        DB::ErrorType: 'static,
+    {
+        let y = area.dim_in_pixel().1 as i32 / 2;
+        let mut x = left;
+        for entry in &self.entries {
+            self.draw_entry(area, (x, y), entry)?;
+            x += self.swatch_width() + self.text_width(area, &entry.1) + 4 * self.pad();
+        }
+        Ok(())
+    }
+
+    /// Draws one entry: its swatch from `(x, y)` (the left of its middle line) and its text.
+    fn draw_entry<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        (x, y): (i32, i32),
+        (swatch, text): &(Swatch, String),
+    ) -> Drawn
+    where
+        DB::ErrorType: 'static,
+    {
+        let s = self.style;
+        let swatch_width = self.swatch_width();
+        let centre = (x + swatch_width / 2, y);
+        match *swatch {
+            Swatch::Marker(m, color, filled) => {
+                area.draw(&m.element(centre, s.marker as i32 + 1, color, filled))?;
+            }
+            Swatch::Line(color, dashed) => {
+                let style = color.stroke_width(s.line + 1);
+                if dashed {
+                    let q = swatch_width / 4;
+                    for k in [0, 2] {
                         area.draw(&PathElement::new(
-                            vec![(x, y), (x + swatch_width, y)],
+                            vec![(x + k * q, y), (x + (k + 1) * q, y)],
                             style,
                         ))?;
                     }
-                }
-                Swatch::Block(color) => {
-                    let h = line_height / 3;
-                    area.draw(&Rectangle::new(
-                        [(x, y - h), (x + swatch_width, y + h)],
-                        color.filled(),
+                } else {
+                    area.draw(&PathElement::new(
+                        vec![(x, y), (x + swatch_width, y)],
+                        style,
                     ))?;
                 }
-                Swatch::None => {}
             }
-            let text_x = match swatch {
-                Swatch::None => x,
-                _ => x + swatch_width + pad,
-            };
-            area.draw(&Text::new(
-                text.clone(),
-                (text_x, y),
-                font.pos(plotters::style::text_anchor::Pos::new(
+            Swatch::Block(color) => {
+                let h = self.line_height() / 3;
+                area.draw(&Rectangle::new(
+                    [(x, y - h), (x + swatch_width, y + h)],
+                    color.filled(),
+                ))?;
+            }
+            Swatch::None => {}
+        }
+        let text_x = match swatch {
+            Swatch::None => x,
+            _ => x + swatch_width + self.pad(),
+        };
+        area.draw(&Text::new(
+            text.clone(),
+            (text_x, y),
+            self.font()
+                .color(&s.palette.text)
+                .pos(plotters::style::text_anchor::Pos::new(
                     plotters::style::text_anchor::HPos::Left,
                     plotters::style::text_anchor::VPos::Center,
                 )),
-            ))?;
-        }
+        ))?;
         Ok(())
     }
 }
@@ -696,6 +836,17 @@ impl<'a> Subject<'a> {
             device: session.written.is_none().then(|| session.device()),
             omega_range,
             scalogram,
+            reverse: None,
         }
+    }
+
+    /// The same figure with `reverse`, the result of the sweep's [`reverse_sweep`], drawn
+    /// with it (nothing if that is no chirp sweep's result).
+    pub fn with_reverse(mut self, reverse: Option<&'a ResultView>) -> Self {
+        self.reverse = match reverse {
+            Some(ResultView::Chirp(c)) => Some(c),
+            _ => None,
+        };
+        self
     }
 }

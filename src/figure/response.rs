@@ -104,13 +104,18 @@ where
     for (t, n) in without {
         legend.add(Swatch::None, format!("{} at {n} ωₑ", short_type(t)));
     }
+    // what the legend must not cover: every marker, and the brackets or the branches
+    let mut data: Vec<Vec<(f64, f64)>> = points
+        .iter()
+        .filter_map(|q| Some(vec![(q.omega, q.amplitude?)]))
+        .collect();
     if continued.is_empty() {
-        annotate_branches(&mut chart, points, device, s)?;
+        data.extend(annotate_branches(&mut chart, points, device, s)?);
     } else {
         continued::overlay(&mut chart, continued, true, &mut legend, s)?;
+        data.extend(continued::curves(continued, true));
     }
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))
+    legend.draw_clear_of(&chart, &data)
 }
 
 /// Draws `run` as a line and empties it.
@@ -134,17 +139,19 @@ where
 }
 
 /// A bracket over each subharmonic branch's ω_e range, above its peak, with its type, range
-/// (and Hz) and whether a sweep reaches it.
+/// (and Hz) and whether a sweep reaches it; returns the brackets and the lines of their
+/// texts' feet.
 fn annotate_branches<DB: DrawingBackend>(
     chart: &mut super::Chart<DB>,
     points: &[ResponsePoint],
     device: Option<&Device>,
     s: &Style,
-) -> Drawn
+) -> Result<Vec<Vec<(f64, f64)>>, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
     let branches = branches(points);
+    let mut drawn = Vec::new();
     for b in branches
         .iter()
         .filter(|b| b.is_subharmonic() && b.omega_max > b.omega_min)
@@ -152,15 +159,18 @@ where
         let color = s.palette.response_type(&b.response_type);
         let y = b.peak_amplitude * 1.12;
         let tick = b.peak_amplitude * 0.04;
+        let bracket = vec![
+            (b.omega_min, y - tick),
+            (b.omega_min, y),
+            (b.omega_max, y),
+            (b.omega_max, y - tick),
+        ];
         chart.draw_series(std::iter::once(PathElement::new(
-            vec![
-                (b.omega_min, y - tick),
-                (b.omega_min, y),
-                (b.omega_max, y),
-                (b.omega_max, y - tick),
-            ],
+            bracket.clone(),
             color.stroke_width(s.line),
         )))?;
+        drawn.push(bracket);
+        drawn.push(vec![(b.omega_min, y + tick), (b.omega_max, y + tick)]);
         let reach = if b.hidden {
             "hidden"
         } else if b.partly_hidden {
@@ -189,5 +199,5 @@ where
                 .pos(Pos::new(HPos::Center, VPos::Bottom)),
         )))?;
     }
-    Ok(())
+    Ok(drawn)
 }

@@ -1,6 +1,7 @@
-//! Chirp sweeps (Fig 3): the envelope of the response over ω_e and, under it, the Morlet
-//! scalogram as a heat map over (ω_e, response frequency) with its colour scale and the
-//! 1:1 and 1:2 lines.
+//! Chirp sweeps (Fig 3): the envelope of the response over ω_e, with the sweep the other way
+//! over the same range where the session has it, and, under them, the Morlet scalogram of
+//! the sweep drawn as a heat map over (ω_e, response frequency) with its colour scale and
+//! the 1:1 and 1:2 lines.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -8,9 +9,11 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{AxisSpec, Drawn, Legend, Style, Swatch, fit, nothing, number, panel};
 use crate::analysis::AnalysisError;
+use crate::analysis::orbit::chirp_sweep::ChirpSpec;
 use crate::analysis::orbit::scalogram::{Scalogram, ScalogramSpec, scalogram};
 use crate::model::Device;
 use crate::session::results::ChirpView;
+use crate::session::{AnalysisEntry, Session, Settings};
 
 /// Columns of the scalogram drawn at most (the rest would share pixels).
 const MAX_COLUMNS: usize = 240;
@@ -22,17 +25,55 @@ pub fn chirp_scalogram(c: &ChirpView) -> Result<Scalogram, AnalysisError> {
     scalogram(&c.lambda, c.dt, &ScalogramSpec::default())
 }
 
-/// `forward` for a sweep up in ω_e, `backward` down.
-fn direction(c: &ChirpView) -> &'static str {
-    match (c.omega.first(), c.omega.last()) {
-        (Some(a), Some(b)) if b < a => "backward sweep",
-        _ => "forward sweep",
-    }
+/// The chirp sweep of `session` over `entry`'s ω_e range the other way (its index), with the
+/// same model and otherwise the same settings: Fig 3's backward sweep of a forward one, or
+/// the forward one of a backward.
+pub fn reverse_sweep(session: &Session, entry: &AnalysisEntry) -> Option<usize> {
+    let Settings::ChirpSweep(spec) = &entry.settings else {
+        return None;
+    };
+    session
+        .analyses
+        .iter()
+        .position(|other| match &other.settings {
+            Settings::ChirpSweep(o) => {
+                other.model == entry.model
+                    && other.values == entry.values
+                    && o.omega_start != o.omega_end
+                    && *o
+                        == ChirpSpec {
+                            omega_start: spec.omega_end,
+                            omega_end: spec.omega_start,
+                            ..spec.clone()
+                        }
+            }
+            _ => false,
+        })
+}
+
+/// Whether the sweep runs down in ω_e.
+fn is_backward(c: &ChirpView) -> bool {
+    matches!((c.omega.first(), c.omega.last()), (Some(a), Some(b)) if b < a)
+}
+
+/// `forward 0→6` or `backward 6→0`: the sweep's direction and its ω_e range.
+fn direction(c: &ChirpView) -> String {
+    let ends = match (c.omega.first(), c.omega.last()) {
+        (Some(&a), Some(&b)) => format!(" {}→{}", number(a), number(b)),
+        _ => String::new(),
+    };
+    let way = if is_backward(c) {
+        "backward"
+    } else {
+        "forward"
+    };
+    format!("{way}{ends}")
 }
 
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     c: &ChirpView,
+    reverse: Option<&ChirpView>,
     scalogram: Option<&Scalogram>,
     device: Option<&Device>,
     s: &Style,
@@ -43,6 +84,11 @@ where
     if c.envelope.is_empty() {
         return Err(nothing("no envelope"));
     }
+    // forward first, so the legend reads forward, backward whichever was asked for
+    let mut sweeps: Vec<&ChirpView> = std::iter::once(c)
+        .chain(reverse.filter(|r| !r.envelope.is_empty()))
+        .collect();
+    sweeps.sort_by_key(|v| is_backward(v));
     let height = area.dim_in_pixel().1;
     let (top, bottom) = match scalogram {
         Some(_) => {
@@ -51,26 +97,31 @@ where
         }
         None => (area.clone(), None),
     };
-    let omega_range = fit(c.omega.iter().copied(), 0.0);
-    let peak = c.envelope.iter().map(|e| e[1]).fold(0.0f64, f64::max);
+    let omega_range = fit(sweeps.iter().flat_map(|v| v.omega.iter().copied()), 0.0);
+    let peak = sweeps
+        .iter()
+        .flat_map(|v| v.envelope.iter().map(|e| e[1]))
+        .fold(0.0f64, f64::max);
     let mut chart = panel(
         &top,
         &AxisSpec::omega(omega_range.clone(), device),
         &AxisSpec::amplitude((peak * 1.15).max(1e-3), device),
         s,
     )?;
-    let color = s.palette.series(0);
-    chart.draw_series(std::iter::once(PathElement::new(
-        c.envelope.iter().map(|e| (e[0], e[1])).collect::<Vec<_>>(),
-        color.stroke_width(s.line + 1),
-    )))?;
     let mut legend = Legend::new(s);
-    legend.add(
-        Swatch::Line(color, false),
-        format!("envelope, {}", direction(c)),
-    );
-    let plot = chart.plotting_area().strip_coord_spec();
-    legend.draw(&plot, (plot.dim_in_pixel().0 as i32 - 4, 4))?;
+    let mut curves = Vec::new();
+    for sweep in &sweeps {
+        // forward blue, backward orange, in either figure of the pair
+        let color = s.palette.series(usize::from(is_backward(sweep)));
+        let points: Vec<(f64, f64)> = sweep.envelope.iter().map(|e| (e[0], e[1])).collect();
+        chart.draw_series(std::iter::once(PathElement::new(
+            points.clone(),
+            color.stroke_width(s.line + 1),
+        )))?;
+        curves.push(points);
+        legend.add(Swatch::Line(color, false), direction(sweep));
+    }
+    legend.draw_clear_of(&chart, &curves)?;
     if let (Some(area), Some(w)) = (bottom, scalogram) {
         draw_scalogram(&area, c, w, omega_range, s)?;
     }

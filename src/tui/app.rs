@@ -1387,7 +1387,7 @@ impl App {
     }
 
     /// Writes the view shown (the picked orbit, else the selected result) as a figure: to
-    /// `path`, SVG or PNG by its extension, or to `SESSION-NAME.svg` beside the session.
+    /// `path`, SVG, PNG or PDF by its extension, or to `SESSION-NAME.svg` beside the session.
     fn write_figure(&mut self, path: Option<PathBuf>) {
         let Some(entry) = self.session.analyses.get(self.selected) else {
             return;
@@ -1427,8 +1427,11 @@ impl App {
         let written = (|| -> anyhow::Result<()> {
             let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
             let format: figure::Format = extension.parse()?;
+            let reverse = figure::reverse_sweep(&self.session, entry)
+                .and_then(|i| self.stored.get(i)?.view.as_deref());
             let mut subject =
-                figure::Subject::of(&self.session, entry, view, self.scalograms.get(&entry.name));
+                figure::Subject::of(&self.session, entry, view, self.scalograms.get(&entry.name))
+                    .with_reverse(reverse);
             subject.title = title.clone();
             let options = figure::Options {
                 format,

@@ -97,7 +97,7 @@ pub const COMMANDS: [(&str, &str, &str); 17] = [
     (
         "figure",
         "FILE",
-        "write the view as a figure: FILE.svg or FILE.png",
+        "write the view as a figure: FILE.svg, FILE.png or FILE.pdf",
     ),
     ("goto", "X [Y]", "move the cursor: 3.7 · 52 Hz · DX V"),
     ("theme", "NAME", "switch theme: dark, light, mono or a file"),

@@ -338,7 +338,7 @@ fn kinds() -> Vec<(&'static str, ResultView, Vec<&'static str>)> {
             "chirp",
             ResultView::Chirp(chirp()),
             vec![
-                "envelope, forward sweep",
+                "forward 0→6",
                 "response frequency ωᵣ",
                 "|W|/peak",
                 "ωᵣ = ωₑ/2",
@@ -393,6 +393,7 @@ fn render(name: &str, view: &ResultView, format: Format, size: (u32, u32)) -> Ve
         device: Some(Device::silicone()),
         omega_range: None,
         scalogram: scalogram.as_ref(),
+        reverse: None,
     };
     let options = Options {
         format,
@@ -495,6 +496,7 @@ fn the_dark_theme_has_a_dark_background() {
         device: None,
         omega_range: None,
         scalogram: None,
+        reverse: None,
     };
     let bytes = figure::render(
         &subject,
@@ -523,6 +525,7 @@ fn bad_sizes_and_empty_views_are_refused_saying_why() {
         device: None,
         omega_range: None,
         scalogram: None,
+        reverse: None,
     };
     let zero = Options {
         width: 0,
@@ -534,8 +537,8 @@ fn bad_sizes_and_empty_views_are_refused_saying_why() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("nothing to draw: no response"), "{e}");
-    let e = "pdf".parse::<Format>().unwrap_err().to_string();
-    assert!(e.contains("'pdf'") && e.contains("svg, png"), "{e}");
+    let e = "eps".parse::<Format>().unwrap_err().to_string();
+    assert!(e.contains("'eps'") && e.contains("svg, png, pdf"), "{e}");
     let e = "neon".parse::<Theme>().unwrap_err().to_string();
     assert!(e.contains("'neon'") && e.contains("paper, dark"), "{e}");
 }
@@ -568,9 +571,9 @@ fn figure_refuses_bad_flags_naming_the_flag_the_value_and_the_choices() {
         e.contains("--analysis") && e.contains("'nope'") && e.contains("response, orbit_3_7_isola"),
         "{e}"
     );
-    let e = stderr(&["figure", FIG4, "--analysis", "response", "--format", "pdf"]);
+    let e = stderr(&["figure", FIG4, "--analysis", "response", "--format", "eps"]);
     assert!(
-        e.contains("--format") && e.contains("'pdf'") && e.contains("svg, png"),
+        e.contains("--format") && e.contains("'eps'") && e.contains("svg, png, pdf"),
         "{e}"
     );
     for flag in ["--width", "--height"] {
@@ -591,10 +594,10 @@ fn figure_refuses_bad_flags_naming_the_flag_the_value_and_the_choices() {
         "--analysis",
         "response",
         "--output",
-        "x.pdf",
+        "x.eps",
     ]);
     assert!(
-        e.contains("--output") && e.contains("'pdf'") && e.contains("svg, png"),
+        e.contains("--output") && e.contains("'eps'") && e.contains("svg, png, pdf"),
         "{e}"
     );
 }
