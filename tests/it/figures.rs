@@ -450,6 +450,177 @@ fn every_kind_renders_to_svg_with_its_series_and_labels() {
     }
 }
 
+/// The texts of the SVG figure: each `<text>`'s, trimmed.
+fn svg_texts(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().map(|t| t.trim().to_string()))
+        .collect()
+}
+
+/// The streams of a PDF file: each one's dictionary and its data, inflated if compressed.
+fn pdf_streams(pdf: &[u8]) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    while let Some(i) = find(pdf, b"stream\n", at) {
+        let start = i + b"stream\n".len();
+        let end = find(pdf, b"\nendstream", start).expect("every stream ends");
+        let object = pdf[at..i].windows(4).rposition(|w| w == b" obj").unwrap() + at;
+        let dict = String::from_utf8_lossy(&pdf[object..i]).into_owned();
+        let data = &pdf[start..end];
+        let data = if dict.contains("/FlateDecode") {
+            miniz_oxide::inflate::decompress_to_vec_zlib(data).expect("a zlib stream")
+        } else {
+            data.to_vec()
+        };
+        out.push((dict, data));
+        at = end + b"\nendstream".len();
+    }
+    out
+}
+
+/// Where `needle` first occurs in `bytes` from `from`.
+fn find(bytes: &[u8], needle: &[u8], from: usize) -> Option<usize> {
+    bytes[from..]
+        .windows(needle.len())
+        .position(|w| w == needle)
+        .map(|i| i + from)
+}
+
+/// The bytes of each literal string `( … )` in `ops` (PDF content operators), escapes read.
+fn literal_strings(ops: &[u8]) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut bytes = ops.iter().copied();
+    while let Some(b) = bytes.next() {
+        if b != b'(' {
+            continue;
+        }
+        // balanced parentheses stand unescaped in a string
+        let (mut s, mut depth) = (Vec::new(), 0);
+        while let Some(b) = bytes.next() {
+            match b {
+                b')' if depth == 0 => break,
+                b'(' | b')' => {
+                    depth += if b == b'(' { 1 } else { -1 };
+                    s.push(b);
+                }
+                b'\\' => {
+                    let e = bytes.next().unwrap();
+                    s.push(match e {
+                        b'n' => b'\n',
+                        b'r' => b'\r',
+                        b't' => b'\t',
+                        b'b' => 8,
+                        b'f' => 12,
+                        b'0'..=b'7' => {
+                            // up to three octal digits: the string's glyph ids are written so
+                            let mut v = u32::from(e - b'0');
+                            let mut rest = bytes.clone().take(2);
+                            let mut taken = 0;
+                            while let Some(d @ b'0'..=b'7') = rest.next() {
+                                v = 8 * v + u32::from(d - b'0');
+                                taken += 1;
+                            }
+                            for _ in 0..taken {
+                                bytes.next();
+                            }
+                            v as u8
+                        }
+                        other => other,
+                    });
+                }
+                other => s.push(other),
+            }
+        }
+        out.push(s);
+    }
+    out
+}
+
+/// The texts a PDF figure shows: each text object's glyphs (two-byte glyph ids), read back
+/// to characters through the font's `ToUnicode` map, trimmed.
+fn pdf_texts(pdf: &[u8]) -> Vec<String> {
+    let streams = pdf_streams(pdf);
+    let cmap = &streams
+        .iter()
+        .find(|(_, data)| data.windows(11).any(|w| w == b"beginbfchar"))
+        .expect("a ToUnicode map")
+        .1;
+    let cmap = String::from_utf8_lossy(cmap);
+    let mut chars: BTreeMap<u16, char> = BTreeMap::new();
+    for line in cmap.lines().filter(|l| l.starts_with('<')) {
+        let hex: Vec<u32> = line
+            .split(['<', '>', ' '])
+            .filter(|p| !p.is_empty())
+            .map(|h| u32::from_str_radix(h, 16).unwrap())
+            .collect();
+        chars.insert(hex[0] as u16, char::from_u32(hex[1]).unwrap());
+    }
+    let content = &streams
+        .iter()
+        .find(|(_, data)| data.windows(3).any(|w| w == b"BT\n"))
+        .expect("a page with text")
+        .1;
+    let mut texts = Vec::new();
+    let mut at = 0;
+    while let Some(begin) = find(content, b"BT\n", at) {
+        let end = find(content, b"\nET", begin).expect("every text object ends");
+        let mut text = String::new();
+        for glyphs in literal_strings(&content[begin..end]) {
+            for id in glyphs.chunks(2) {
+                let id = u16::from_be_bytes([id[0], id[1]]);
+                text.push(*chars.get(&id).unwrap_or_else(|| panic!("glyph {id}")));
+            }
+        }
+        texts.push(text.trim().to_string());
+        at = end;
+    }
+    texts
+}
+
+#[test]
+fn every_kind_renders_to_a_pdf_page_showing_the_svg_texts_in_the_embedded_font() {
+    for (name, view, labels) in kinds() {
+        let pdf = render(name, &view, Format::Pdf, (800, 500));
+        assert!(pdf.starts_with(b"%PDF-"), "{name}");
+        let text = String::from_utf8_lossy(&pdf);
+        // 800 × 500 pixels of 0.75 pt
+        assert!(text.contains("/MediaBox [0 0 600 375]"), "{name}");
+        assert_eq!(text.matches("/Type /Page\n").count(), 1, "{name}");
+        for part in [
+            "/Subtype /Type0",
+            "/CIDFontType2",
+            "+DejaVuSans",
+            "/FontFile2",
+        ] {
+            assert!(text.contains(part), "{name}: no {part}");
+        }
+        // the same texts as the SVG figure, glyph for glyph
+        let mut shown = pdf_texts(&pdf);
+        let svg = render(name, &view, Format::Svg, (800, 500));
+        let mut expected = svg_texts(&String::from_utf8(svg).unwrap());
+        shown.sort();
+        expected.sort();
+        assert_eq!(shown, expected, "{name}");
+        for label in labels {
+            assert!(
+                shown.iter().any(|t| t.contains(label)),
+                "{name}: no '{label}' in {shown:?}"
+            );
+        }
+        // the data is drawn: filled and stroked paths, as many as the SVG has shapes
+        let page = &pdf_streams(&pdf)
+            .into_iter()
+            .find(|(_, data)| data.windows(3).any(|w| w == b"BT\n"))
+            .unwrap()
+            .1;
+        let page = String::from_utf8_lossy(page);
+        let painted = page.lines().filter(|l| *l == "f" || *l == "S").count();
+        assert!(painted > 20, "{name}: {painted} paths");
+    }
+}
+
 #[test]
 fn a_response_draws_one_marker_per_response_with_hidden_ones_outlined() {
     let svg = String::from_utf8(render(
