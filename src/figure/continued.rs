@@ -5,7 +5,9 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Chart, Drawn, Legend, Marker, Style, Swatch, fit, nothing, panel};
+use super::{
+    AxisSpec, Chart, Drawn, Legend, Marker, Polylines, Style, Swatch, fit, nothing, panel,
+};
 use crate::model::Device;
 use crate::session::results::{ContinuationView, ContinuedView};
 
@@ -26,7 +28,7 @@ fn bifurcation_marker(kind: &str) -> Marker {
 
 /// The branches as polylines (x the parameter, or ω_e if `by_omega`), where a legend must
 /// not cover them.
-pub(super) fn curves(branches: &[ContinuedView], by_omega: bool) -> Vec<Vec<(f64, f64)>> {
+pub(super) fn curves(branches: &[ContinuedView], by_omega: bool) -> Polylines {
     branches
         .iter()
         .map(|b| {

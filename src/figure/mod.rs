@@ -431,12 +431,13 @@ where
         .light_line_style(p.background.stroke_width(0))
         .x_labels(7)
         .y_labels(6)
-        .x_label_formatter(&|v| number(*v))
-        .y_label_formatter(&|v| number(*v))
+        .x_label_formatter(&|v| tick(*v, x.range.end - x.range.start))
+        .y_label_formatter(&|v| tick(*v, y.range.end - y.range.start))
         .draw()?;
     if x.physical.is_some() || y.physical.is_some() {
         let none = String::new();
         let name = |a: &AxisSpec| a.physical.as_ref().map_or(&none, |(_, n)| n).clone();
+        let span = |a: &AxisSpec| a.physical.as_ref().map_or(0.0, |(r, _)| r.end - r.start);
         chart
             .configure_secondary_axes()
             .x_desc(name(x))
@@ -446,8 +447,8 @@ where
             .axis_style(p.text.stroke_width(1))
             .x_labels(7)
             .y_labels(6)
-            .x_label_formatter(&|v| number(*v))
-            .y_label_formatter(&|v| number(*v))
+            .x_label_formatter(&|v| tick(*v, span(x)))
+            .y_label_formatter(&|v| tick(*v, span(y)))
             .draw()?;
     }
     Ok(chart)
@@ -459,6 +460,24 @@ fn number(v: f64) -> String {
         return "0".into();
     }
     let decimals = (2.0 - v.abs().log10().floor()).clamp(0.0, 6.0) as usize;
+    with_decimals(v, decimals)
+}
+
+/// A tick label of an axis spanning `span`: as [`number`], but with the decimals a tick step
+/// of the span needs, so ticks close together on a narrow axis (1.015, 1.02, 1.025) do not
+/// read the same.
+fn tick(v: f64, span: f64) -> String {
+    let step = span.abs() / 20.0;
+    if v == 0.0 || !step.is_normal() {
+        return number(v);
+    }
+    let by_value = (2.0 - v.abs().log10().floor()).clamp(0.0, 6.0) as usize;
+    let by_step = (-step.log10().floor()).clamp(0.0, 6.0) as usize;
+    with_decimals(v, by_value.max(by_step))
+}
+
+/// `v` with `decimals` decimals, trailing zeros dropped, no `-0`.
+fn with_decimals(v: f64, decimals: usize) -> String {
     let text = format!("{v:.decimals$}");
     let text = if text.contains('.') {
         text.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -596,6 +615,10 @@ enum Swatch {
     /// Text only.
     None,
 }
+
+/// Polylines in a chart's coordinates (a single point for a marker): what a legend must not
+/// cover.
+type Polylines = Vec<Vec<(f64, f64)>>;
 
 /// Cells of this many pixels square count what data covers, for placing a legend.
 const BUSY_CELL: i32 = 4;

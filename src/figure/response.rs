@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, continued, fit, nothing, panel};
-use super::{number, short_type};
+use super::{Polylines, number, short_type};
 use crate::model::Device;
 use crate::session::results::{ContinuedView, ResponsePoint, branches};
 
@@ -105,7 +105,7 @@ where
         legend.add(Swatch::None, format!("{} at {n} ωₑ", short_type(t)));
     }
     // what the legend must not cover: every marker, and the brackets or the branches
-    let mut data: Vec<Vec<(f64, f64)>> = points
+    let mut data: Polylines = points
         .iter()
         .filter_map(|q| Some(vec![(q.omega, q.amplitude?)]))
         .collect();
@@ -146,7 +146,7 @@ fn annotate_branches<DB: DrawingBackend>(
     points: &[ResponsePoint],
     device: Option<&Device>,
     s: &Style,
-) -> Result<Vec<Vec<(f64, f64)>>, Box<dyn std::error::Error>>
+) -> Result<Polylines, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {

@@ -84,11 +84,12 @@ where
     if c.envelope.is_empty() {
         return Err(nothing("no envelope"));
     }
-    // forward first, so the legend reads forward, backward whichever was asked for
-    let mut sweeps: Vec<&ChirpView> = std::iter::once(c)
-        .chain(reverse.filter(|r| !r.envelope.is_empty()))
+    // the sweep asked for drawn last, on top of its reverse
+    let sweeps: Vec<&ChirpView> = reverse
+        .filter(|r| !r.envelope.is_empty())
+        .into_iter()
+        .chain(std::iter::once(c))
         .collect();
-    sweeps.sort_by_key(|v| is_backward(v));
     let height = area.dim_in_pixel().1;
     let (top, bottom) = match scalogram {
         Some(_) => {
@@ -108,18 +109,23 @@ where
         &AxisSpec::amplitude((peak * 1.15).max(1e-3), device),
         s,
     )?;
-    let mut legend = Legend::new(s);
+    // forward blue, backward orange, in either figure of the pair
+    let color = |sweep: &ChirpView| s.palette.series(usize::from(is_backward(sweep)));
     let mut curves = Vec::new();
     for sweep in &sweeps {
-        // forward blue, backward orange, in either figure of the pair
-        let color = s.palette.series(usize::from(is_backward(sweep)));
         let points: Vec<(f64, f64)> = sweep.envelope.iter().map(|e| (e[0], e[1])).collect();
         chart.draw_series(std::iter::once(PathElement::new(
             points.clone(),
-            color.stroke_width(s.line + 1),
+            color(sweep).stroke_width(s.line + 1),
         )))?;
         curves.push(points);
-        legend.add(Swatch::Line(color, false), direction(sweep));
+    }
+    // the legend reads forward, backward whichever was asked for
+    let mut legend = Legend::new(s);
+    let mut ordered = sweeps.clone();
+    ordered.sort_by_key(|v| is_backward(v));
+    for sweep in ordered {
+        legend.add(Swatch::Line(color(sweep), false), direction(sweep));
     }
     legend.draw_clear_of(&chart, &curves)?;
     if let (Some(area), Some(w)) = (bottom, scalogram) {
