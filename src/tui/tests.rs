@@ -606,11 +606,14 @@ fn the_view_is_written_as_a_figure_by_its_key_and_by_figure_file() {
     let png = path.with_file_name("response.png");
     command(&mut app, &format!("figure {}", png.display()));
     assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    let pdf = path.with_file_name("response.pdf");
+    command(&mut app, &format!("figure {}", pdf.display()));
+    assert!(std::fs::read(&pdf).unwrap().starts_with(b"%PDF-"));
     // a name of no figure format, or a file in the results store: refused, saying why
-    command(&mut app, "figure response.pdf");
+    command(&mut app, "figure response.eps");
     let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
     assert!(
-        matches!(&said, Some((text, true)) if text.contains("'pdf'") && text.contains("svg, png")),
+        matches!(&said, Some((text, true)) if text.contains("'eps'") && text.contains("svg, png, pdf")),
         "{said:?}"
     );
     let stored = app.session.results_dir().join("response.svg");
