@@ -98,7 +98,10 @@ impl Summary for ReproduceSummary {
             self.imprecise
         );
         println!();
-        println!("{:<22} {:<10} {:>22}  figure", "claim", "verdict", "isola ± precision");
+        println!(
+            "{:<22} {:<10} {:>22}  figure",
+            "claim", "verdict", "isola ± precision"
+        );
         for c in &self.claims {
             println!(
                 "{:<22} {:<10} {:>22}  {}",

@@ -13,14 +13,14 @@ use crate::analysis::continuation::isola_limits::{
     IsolaLimit, isola_birth, isola_merge, isola_vanishing,
 };
 use crate::analysis::global::frequency_response::FrequencyResponseSpec;
-use crate::analysis::global::stepped_sweep::{SweepFindings, SweepStep};
 use crate::analysis::global::oscillator::Oscillator;
+use crate::analysis::global::stepped_sweep::{SweepFindings, SweepStep};
 use crate::analysis::grid::Axis;
 use crate::analysis::parameter::{ContinuationParameter, FamilyParameter};
 use crate::model::Params;
 
 use super::responses::Seeds;
-use super::{Claim, Grids, ReproduceError, Verdict, holds, numeric_verdict};
+use super::{Claim, Grids, ReproduceError, Sink, Verdict, holds, numeric_verdict};
 
 /// Continuation in ω_e over the subharmonic region (the 1:2 and 1:3 branches live within
 /// ω_e 3–6), as the located limits are computed in the tests.
@@ -106,8 +106,8 @@ pub(super) fn branch_claims(
     grids: &Grids,
     seeds: &Seeds,
     progress: &Progress,
-) -> Result<Vec<Claim>, ReproduceError> {
-    let mut claims = Vec::new();
+    claims: &mut impl Sink,
+) -> Result<(), ReproduceError> {
     let sweep_from = format!(
         "quasi-static stepped sweeps (ω_e step {}), each step settled, in place of the \
          paper's chirp over τ = 12000",
@@ -239,7 +239,9 @@ pub(super) fn branch_claims(
                 resonant peak found in this case shows an ω_r = 0.5ω_e relationship\"",
         paper_value: None,
         isola: match forward_sub {
-            Some((a, w)) => format!("the forward sweep settles on a 1:2 response, peak {a:.4} at ω_e {w:.2}"),
+            Some((a, w)) => {
+                format!("the forward sweep settles on a 1:2 response, peak {a:.4} at ω_e {w:.2}")
+            }
             None => "the forward sweep meets no 1:2 response".into(),
         },
         value: forward_sub.map_or(0.0, |p| p.1),
@@ -461,7 +463,7 @@ pub(super) fn branch_claims(
             )
         },
     });
-    Ok(claims)
+    Ok(())
 }
 
 /// A stable response the continuation follows in E_a at fixed ω_e: its period, ω_e and
@@ -470,6 +472,8 @@ struct Followed {
     k: usize,
     base: Params,
     in_ea: ContinuedBranch,
+    /// The ω_e range its branch is continued over at each trial E_a.
+    in_omega: ContinuationSpec,
 }
 
 impl Followed {
@@ -477,6 +481,7 @@ impl Followed {
         omega: f64,
         k: usize,
         x: &[f64; 2],
+        in_omega: ContinuationSpec,
         progress: &Progress,
     ) -> Result<Self, ReproduceError> {
         let base = Params::paper(0.6, omega)?;
@@ -487,7 +492,12 @@ impl Followed {
             ..ContinuationSpec::default()
         };
         let in_ea = continue_branch(&base, k, x, &spec, progress)?;
-        Ok(Followed { k, base, in_ea })
+        Ok(Followed {
+            k,
+            base,
+            in_ea,
+            in_omega,
+        })
     }
 
     /// The E_a at which the branch in E_a itself runs into a frame, if it does.
@@ -510,18 +520,16 @@ impl Followed {
         }
         let ea = ContinuationParameter::Model(FamilyParameter::EA);
         let at = self.base.with(self.base.resolve(ea)?, e_a)?;
-        let spec = ContinuationSpec::default();
+        let spec = &self.in_omega;
         for orbit in self.in_ea.orbits_at(&self.base, e_a, &spec.shooting)? {
             if orbit.period != self.k {
                 continue;
             }
-            let b = continue_from_orbit(&at, &orbit, &spec, progress)?;
+            let b = continue_from_orbit(&at, &orbit, spec, progress)?;
             let ends = [b.points.first(), b.points.last()];
-            let stable_collision = b
-                .ends
-                .iter()
-                .zip(ends)
-                .any(|(e, p)| matches!(e, BranchEnd::Collision { .. }) && p.is_some_and(|p| p.stable));
+            let stable_collision = b.ends.iter().zip(ends).any(|(e, p)| {
+                matches!(e, BranchEnd::Collision { .. }) && p.is_some_and(|p| p.stable)
+            });
             if stable_collision {
                 return Ok(true);
             }
@@ -533,16 +541,27 @@ impl Followed {
 /// Fig 8: the smallest E_a (ADR 0.6, λ_p 1.02, c̃ 0.04) at which a stable response runs into a
 /// frame, bisected between 0.2² and 0.3²: at each trial E_a, the primary resonance's high
 /// 1:1 response (ω_e 1.8) and the isola's 1:2 response (ω_e 3.7), followed in E_a at fixed
-/// ω_e, are continued in ω_e over 0.2–6, and a branch that ends on a collision from a stable
-/// orbit counts.
+/// ω_e, are continued in ω_e (the 1:1 over 1–3 around its resonance, the 1:2 over 2–6.5),
+/// and a branch that ends on a collision from a stable orbit counts.
 pub(super) fn collision_claim(
     grids: &Grids,
     seeds: &Seeds,
     progress: &Progress,
-) -> Result<Claim, ReproduceError> {
+    claims: &mut impl Sink,
+) -> Result<(), ReproduceError> {
     let followed = [
-        Followed::new(1.8, 1, &seeds.resonance_adr06, progress)?,
-        Followed::new(3.7, 2, &seeds.isola_adr06, progress)?,
+        Followed::new(
+            1.8,
+            1,
+            &seeds.resonance_adr06,
+            ContinuationSpec {
+                min: 1.0,
+                max: 3.0,
+                ..ContinuationSpec::default()
+            },
+            progress,
+        )?,
+        Followed::new(3.7, 2, &seeds.isola_adr06, in_omega(), progress)?,
     ];
     let collides = |e_a: f64| -> Result<bool, ReproduceError> {
         for f in &followed {
@@ -561,7 +580,7 @@ pub(super) fn collision_claim(
     }
     // E_a is about the square of the bracket the paper speaks in: bisect to the mode's
     // tolerance in √E_a
-    while hit.sqrt() - free.sqrt() > grids.bisection {
+    while hit.sqrt() - free.sqrt() > grids.collision {
         let mid = 0.5 * (free + hit);
         if collides(mid)? {
             hit = mid;
@@ -572,7 +591,7 @@ pub(super) fn collision_claim(
     let value = 0.5 * (free + hit);
     let root = value.sqrt();
     let precision = 0.5 * (hit - free);
-    Ok(Claim {
+    claims.push(Claim {
         id: "collision-ea",
         figure: "Fig 8",
         paper: "\"For the case with λ_p = 1.02, c̃ = 0.04, and ADR = 0.6, E_a should be less \
@@ -587,11 +606,12 @@ pub(super) fn collision_claim(
         precision_from: format!(
             "bisection bracket (to {} in √E_a) on: a stable branch continued in ω_e ends on a \
              collision",
-            grids.bisection
+            grids.collision
         ),
         // the paper's 0.25 to two decimals: E_a within (0.245², 0.255²)
-        verdict: numeric_verdict(root, 0.5 * grids.bisection, 0.25, 0.005),
+        verdict: numeric_verdict(root, 0.5 * grids.collision, 0.25, 0.005),
         difference: Some(value - 0.0625),
         note: format!("in the paper's terms √E_a {root:.4} against 0.25"),
-    })
+    });
+    Ok(())
 }

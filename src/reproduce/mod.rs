@@ -38,6 +38,8 @@ struct Grids {
     starts: usize,
     /// Bisections (in the parameter) before a located turning point takes over.
     bisection: f64,
+    /// The bracket (in √E_a) of the smallest E_a with a collision.
+    collision: f64,
 }
 
 impl Mode {
@@ -48,12 +50,14 @@ impl Mode {
                 omega_step: 0.1,
                 starts: 7,
                 bisection: 1e-3,
+                collision: 4e-3,
             },
             Mode::Full => Grids {
                 basin: (201, 251),
                 omega_step: 0.05,
                 starts: 15,
                 bisection: 1e-4,
+                collision: 5e-4,
             },
         }
     }
@@ -143,24 +147,37 @@ impl ReproduceError {
 pub fn reproduce(
     mode: Mode,
     progress: &Progress,
-    mut on_claim: impl FnMut(&Claim),
+    on_claim: impl FnMut(&Claim),
 ) -> Result<Vec<Claim>, ReproduceError> {
     let grids = mode.grids();
-    let mut claims = Vec::new();
-    let mut keep = |found: Vec<Claim>| {
-        for c in &found {
-            on_claim(c);
-        }
-        claims.extend(found);
+    let mut out = Claims {
+        claims: Vec::new(),
+        on_claim,
     };
-    keep(responses::drive_claims()?);
-    let coexisting = responses::coexisting_claims(&grids, progress)?;
-    let seeds = coexisting.seeds;
-    keep(coexisting.claims);
-    keep(branches::branch_claims(&grids, &seeds, progress)?);
-    keep(vec![branches::collision_claim(&grids, &seeds, progress)?]);
-    keep(responses::subharmonic_elsewhere_claims(&grids, progress)?);
-    Ok(claims)
+    responses::drive_claims(&mut out)?;
+    let seeds = responses::coexisting_claims(&grids, progress, &mut out)?;
+    branches::branch_claims(&grids, &seeds, progress, &mut out)?;
+    branches::collision_claim(&grids, &seeds, progress, &mut out)?;
+    responses::subharmonic_elsewhere_claims(&grids, progress, &mut out)?;
+    Ok(out.claims)
+}
+
+/// The claims computed so far, each shown to the caller as it is added.
+struct Claims<F: FnMut(&Claim)> {
+    claims: Vec<Claim>,
+    on_claim: F,
+}
+
+/// Where a group of claims puts each one.
+trait Sink {
+    fn push(&mut self, claim: Claim);
+}
+
+impl<F: FnMut(&Claim)> Sink for Claims<F> {
+    fn push(&mut self, claim: Claim) {
+        (self.on_claim)(&claim);
+        self.claims.push(claim);
+    }
 }
 
 /// The verdict on a number the paper rounds: agrees if isola's value lies within the

@@ -11,7 +11,7 @@ use crate::analysis::grid::Axis;
 use crate::analysis::orbit::steady_state::{Class, SteadyState};
 use crate::model::{Device, Drive, ParamSpec, Params};
 
-use super::{Claim, Grids, ReproduceError, Verdict, holds, numeric_verdict};
+use super::{Claim, Grids, ReproduceError, Sink, Verdict, holds, numeric_verdict};
 
 /// The amplitude's precision at the default resolution, and how it is known.
 pub(super) const AMPLITUDE_PRECISION: f64 = 5e-6;
@@ -19,7 +19,7 @@ const AMPLITUDE_FROM: &str = "RK4 at 64 steps per forcing period against Dormand
                               rtol 1e-12 (README, Accuracy: errors below 2e-6, tests hold 5e-6)";
 
 /// §2: E_b and E_c at ADR 0.6 and 1.0, and the peak field of the drive.
-pub(super) fn drive_claims() -> Result<Vec<Claim>, ReproduceError> {
+pub(super) fn drive_claims(out: &mut impl Sink) -> Result<(), ReproduceError> {
     let d06 = Drive::from_ea_adr(0.04, 0.6)?;
     let d10 = Drive::from_ea_adr(0.04, 1.0)?;
     // the paper rounds to three decimals
@@ -33,45 +33,44 @@ pub(super) fn drive_claims() -> Result<Vec<Claim>, ReproduceError> {
     .iter()
     .all(|&(v, p)| numeric_verdict(v, 0.0, p, three) == Verdict::Agrees);
     let field = Device::silicone().mv_per_m(d06.phi_peak());
-    Ok(vec![
-        Claim {
-            id: "drive-components",
-            figure: "§ Nonlinear dynamic responses, eq. 10–11",
-            paper: "\"the amplitudes for E_b are 0.041 and 0.053 respectively, while E_c is \
+    out.push(Claim {
+        id: "drive-components",
+        figure: "§ Nonlinear dynamic responses, eq. 10–11",
+        paper: "\"the amplitudes for E_b are 0.041 and 0.053 respectively, while E_c is \
                     changed from 0.006 to 0.013 as ADR is increased from 0.6 to 1.0\"",
-            paper_value: Some(0.041),
-            isola: format!(
-                "E_b {:.6} and {:.6}, E_c {:.6} and {:.6} (ADR 0.6, 1.0; E_a 0.2²)",
-                d06.e_b(),
-                d10.e_b(),
-                d06.e_c(),
-                d10.e_c()
-            ),
-            value: d06.e_b(),
-            precision: f64::EPSILON,
-            precision_from: "closed form (eq. 11), double precision".into(),
-            verdict: holds(all_agree),
-            difference: Some(d06.e_b() - 0.041),
-            note: "all four within the paper's three decimals".into(),
-        },
-        Claim {
-            id: "drive-field",
-            figure: "§ Nonlinear dynamic responses",
-            paper: "\"the applying nominal amplitude adopted in this study is equivalent to \
+        paper_value: Some(0.041),
+        isola: format!(
+            "E_b {:.6} and {:.6}, E_c {:.6} and {:.6} (ADR 0.6, 1.0; E_a 0.2²)",
+            d06.e_b(),
+            d10.e_b(),
+            d06.e_c(),
+            d10.e_c()
+        ),
+        value: d06.e_b(),
+        precision: f64::EPSILON,
+        precision_from: "closed form (eq. 11), double precision".into(),
+        verdict: holds(all_agree),
+        difference: Some(d06.e_b() - 0.041),
+        note: "all four within the paper's three decimals".into(),
+    });
+    out.push(Claim {
+        id: "drive-field",
+        figure: "§ Nonlinear dynamic responses",
+        paper: "\"the applying nominal amplitude adopted in this study is equivalent to \
                     about 40 MV/m\"",
-            paper_value: Some(40.0),
-            isola: format!(
-                "peak nominal field (φ_DC + φ_AC)·√(μ/ε) at E_a 0.2², ADR 0.6: {field:.2} MV/m"
-            ),
-            value: field,
-            precision: 0.005,
-            precision_from: "closed form, shown to 0.01 MV/m".into(),
-            // "about 40": the paper's rounding to the nearest 10 MV/m
-            verdict: numeric_verdict(field, 0.0, 40.0, 5.0),
-            difference: Some(field - 40.0),
-            note: "\"about 40\" read as 40 ± 5 MV/m; at ADR 1.0 the peak is higher".into(),
-        },
-    ])
+        paper_value: Some(40.0),
+        isola: format!(
+            "peak nominal field (φ_DC + φ_AC)·√(μ/ε) at E_a 0.2², ADR 0.6: {field:.2} MV/m"
+        ),
+        value: field,
+        precision: 0.005,
+        precision_from: "closed form, shown to 0.01 MV/m".into(),
+        // "about 40": the paper's rounding to the nearest 10 MV/m
+        verdict: numeric_verdict(field, 0.0, 40.0, 5.0),
+        difference: Some(field - 40.0),
+        note: "\"about 40\" read as 40 ± 5 MV/m; at ADR 1.0 the peak is higher".into(),
+    });
+    Ok(())
 }
 
 /// Orbits found by the basins that the continuations start from.
@@ -82,12 +81,6 @@ pub(super) struct Seeds {
     pub resonance_adr06: [f64; 2],
     /// The period-3 response at ADR 1.0, ω_e 3.6.
     pub period3_adr10: [f64; 2],
-}
-
-/// The coexisting-response claims and the seeds for the continuations.
-pub(super) struct Coexisting {
-    pub claims: Vec<Claim>,
-    pub seeds: Seeds,
 }
 
 /// The basin at (ADR, ω_e) on the mode's grid over the paper's ranges.
@@ -173,12 +166,13 @@ fn grid_note(grids: &Grids) -> String {
 }
 
 /// Figs 4–6: the coexisting responses at ADR 0.6 (ω_e 1.2, 1.8, 3.7) and ADR 1.0 (ω_e 3.6,
-/// 3.7), from basins over the paper's initial states, and the basins' shares.
+/// 3.7), from basins over the paper's initial states, and the basins' shares; the orbits
+/// found are the seeds of the continuations.
 pub(super) fn coexisting_claims(
     grids: &Grids,
     progress: &Progress,
-) -> Result<Coexisting, ReproduceError> {
-    let mut claims = Vec::new();
+    claims: &mut impl Sink,
+) -> Result<Seeds, ReproduceError> {
     let b = basin_at(0.6, 3.7, grids, progress)?;
     let a37 = periodic(&b);
     let (sub, sub_share) = of_period(&a37, 2)
@@ -296,22 +290,24 @@ pub(super) fn coexisting_claims(
         precision_from: grid_note(grids),
         verdict: holds(superharmonic == 2 && a12.len() == 2),
         difference: Some(superharmonic as f64 - 2.0),
-        note: "counted: the stable responses whose strongest line is at 2ω_e".into(),
+        note: format!(
+            "{superharmonic} of the {} stable responses have their strongest line at 2ω_e \
+             (the paper calls both 2:1)",
+            a12.len()
+        ),
     });
 
     let b = basin_at(1.0, 3.6, grids, progress)?;
     let a36 = periodic(&b);
-    let (k1, k2, k3) = (
-        of_period(&a36, 1),
-        of_period(&a36, 2),
-        of_period(&a36, 3),
-    );
-    let (Some((one, one_share)), Some((sub, sub_share)), Some((third, third_share))) =
-        (k1, k2, k3)
+    let (k1, k2, k3) = (of_period(&a36, 1), of_period(&a36, 2), of_period(&a36, 3));
+    let (Some((one, one_share)), Some((sub, sub_share)), Some((third, third_share))) = (k1, k2, k3)
     else {
         return Err(ReproduceError::not_found(
             "coexist-adr10-w36",
-            format!("not the three responses of period 1, 2, 3: {}", listing(&a36)),
+            format!(
+                "not the three responses of period 1, 2, 3: {}",
+                listing(&a36)
+            ),
         ));
     };
     let ordered = amplitude(one) < amplitude(third) && amplitude(third) < amplitude(sub);
@@ -378,13 +374,10 @@ pub(super) fn coexisting_claims(
                paper's figure is at 3.6, its text says 3.7"
             .into(),
     });
-    Ok(Coexisting {
-        claims,
-        seeds: Seeds {
-            isola_adr06,
-            resonance_adr06,
-            period3_adr10,
-        },
+    Ok(Seeds {
+        isola_adr06,
+        resonance_adr06,
+        period3_adr10,
     })
 }
 
@@ -438,9 +431,9 @@ fn response_note(grids: &Grids, omega: &Axis) -> String {
 pub(super) fn subharmonic_elsewhere_claims(
     grids: &Grids,
     progress: &Progress,
-) -> Result<Vec<Claim>, ReproduceError> {
+    claims: &mut impl Sink,
+) -> Result<(), ReproduceError> {
     let drive = |e_a: f64| crate::model::DriveSpec::EaAdr { e_a, adr: 0.6 };
-    let mut claims = Vec::new();
     let window = grids.omega(3.0, 6.0);
     let cases = [
         (
@@ -500,7 +493,10 @@ pub(super) fn subharmonic_elsewhere_claims(
         progress,
     )?;
     let found = largest_subharmonic(&r);
-    let collisions = r.responses.iter().any(|x| x.steady.class == Class::Collision);
+    let collisions = r
+        .responses
+        .iter()
+        .any(|x| x.steady.class == Class::Collision);
     claims.push(Claim {
         id: "fig12-no-subharmonic",
         figure: "Fig 12",
@@ -525,5 +521,5 @@ pub(super) fn subharmonic_elsewhere_claims(
             }
         ),
     });
-    Ok(claims)
+    Ok(())
 }
