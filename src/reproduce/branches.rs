@@ -426,7 +426,7 @@ pub(super) fn branch_claims(
             &p,
             &isola.branch,
             FamilyParameter::LambdaP,
-            &curve(FamilyParameter::LambdaP, 1.02, 1.1),
+            &curve(FamilyParameter::LambdaP, 1.02, 1.06),
             progress,
         )?,
         "vanish-prestretch",
