@@ -8,6 +8,7 @@ pub mod figure;
 pub mod jobs;
 pub mod logging;
 pub mod model;
+pub mod reproduce;
 pub mod session;
 pub mod solver;
 

@@ -13,6 +13,7 @@ mod model_cmd;
 mod orbit;
 mod output;
 mod parse;
+mod reproduce;
 mod response;
 mod run;
 mod slurm;
@@ -68,6 +69,9 @@ enum Command {
     /// How many stable responses coexist over ω and one model parameter, where hidden
     /// responses are, with the fold and period-doubling curves.
     Map(map::MapArgs),
+    /// The paper's claims, each beside what isola computes, with its precision and a
+    /// verdict (agrees, differs, imprecise).
+    Reproduce(reproduce::ReproduceArgs),
     /// Run a session's analyses headless; resumes after a crash, can be sharded.
     Run(run::RunArgs),
     /// Export a selection of a session's result to CSV.
@@ -115,6 +119,7 @@ pub fn run() -> ExitCode {
         Command::Continue(args) => continue_cmd::run(&args, out),
         Command::Hunt(args) => hunt::run(&args, out),
         Command::Map(args) => map::run(&args, out),
+        Command::Reproduce(args) => reproduce::run(&args, out),
         Command::Run(args) => run::run(&args, out),
         Command::Export(args) => run::export(&args, out),
         Command::Status(args) => status::run(&args, out),

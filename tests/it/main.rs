@@ -14,6 +14,7 @@ mod hunt;
 mod map;
 mod paper_claims;
 mod reference;
+mod reproduce;
 mod resolution;
 mod sessions;
 mod signals;
