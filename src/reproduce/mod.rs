@@ -50,7 +50,7 @@ impl Mode {
                 omega_step: 0.1,
                 starts: 7,
                 bisection: 1e-3,
-                collision: 4e-3,
+                collision: 1e-2,
             },
             Mode::Full => Grids {
                 basin: (201, 251),

@@ -32,6 +32,8 @@ fn run_case(dir: &Path, i: usize, case: &corpus::Case) -> Outcome {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    // most cases are refused within milliseconds: poll often at first, then less
+    let mut nap = Duration::from_micros(200);
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {
             break Some(status);
@@ -41,7 +43,8 @@ fn run_case(dir: &Path, i: usize, case: &corpus::Case) -> Outcome {
             let _ = child.wait();
             break None;
         }
-        std::thread::sleep(Duration::from_millis(5));
+        std::thread::sleep(nap);
+        nap = (nap * 2).min(Duration::from_millis(10));
     };
     let seconds = started.elapsed().as_secs_f64();
     let mut stderr = String::new();

@@ -74,6 +74,10 @@ fn reproduce_quick_reports_every_claim_with_a_verdict() {
     assert_eq!(verdict("attached-adr10"), "agrees");
     // the isola vanishes with pre-stretch at the fold curve's maximum
     assert!((value("vanish-prestretch") - 1.0480627675).abs() < 1e-8);
+    // stable responses first reach a frame at √E_a ≈ 0.274 (full run: 0.2743 ± 2e-4): the
+    // paper's "below 0.25²" holds, conservatively
+    assert!((value("collision-ea").sqrt() - 0.2743).abs() < 0.01);
+    assert_eq!(verdict("collision-ea"), "imprecise");
     // the responses of Figs 4 and 5
     assert_eq!(value("coexist-adr06-w37"), 2.0);
     assert!(value("tenfold-adr06-w37") > 10.0);

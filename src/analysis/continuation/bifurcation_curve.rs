@@ -178,6 +178,34 @@ pub fn continue_bifurcation<M: Continuable>(
     spec: &CurveSpec,
     progress: &Progress,
 ) -> Result<BifurcationCurve, ContinuationError> {
+    curve_through(base, first, bif, spec, None, progress)
+}
+
+/// As [`continue_bifurcation`], but each direction stops at the first turning point of the
+/// second parameter that is a minimum (`minimum`) or a maximum, and the other direction is
+/// not run once one has found it: the curve up to where an isola is born or vanishes, not
+/// the other fold's curve beyond. A direction that stopped there ends in
+/// [`BranchEnd::Bound`] at the turning value.
+pub fn continue_to_turning<M: Continuable>(
+    base: &M,
+    first: ContinuationParameter,
+    bif: &Bifurcation,
+    spec: &CurveSpec,
+    minimum: bool,
+    progress: &Progress,
+) -> Result<BifurcationCurve, ContinuationError> {
+    curve_through(base, first, bif, spec, Some(minimum), progress)
+}
+
+/// The curve through `bif`, stopped at the first turning point of the kind `stop` gives.
+fn curve_through<M: Continuable>(
+    base: &M,
+    first: ContinuationParameter,
+    bif: &Bifurcation,
+    spec: &CurveSpec,
+    stop: Option<bool>,
+    progress: &Progress,
+) -> Result<BifurcationCurve, ContinuationError> {
     spec.validate(base, first)?;
     let flip = match bif.kind {
         BifurcationKind::Fold => false,
@@ -198,6 +226,7 @@ pub fn continue_bifurcation<M: Continuable>(
         second: base.resolve(spec.second)?,
         flip,
         spec,
+        stop,
     };
     let n = problem.n;
     let second = base.value_of(problem.second);
@@ -218,7 +247,14 @@ pub fn continue_bifurcation<M: Continuable>(
         .ok_or(ContinuationError::Seed(ShootingError::Singular))?;
     let (fwd, mut extrema, end_fwd) = problem.run(&start, t0.clone(), progress)?;
     let mut points = vec![problem.point(&start)];
-    let end_back = if end_fwd == BranchEnd::Closed {
+    let turned = |extrema: &[Extremum]| {
+        stop.is_some_and(|minimum| {
+            extrema
+                .iter()
+                .any(|e| e.of == Turning::Second && e.minimum == minimum)
+        })
+    };
+    let end_back = if end_fwd == BranchEnd::Closed || turned(&extrema) {
         BranchEnd::Closed
     } else {
         let (back, e2, end) = problem.run(&start, -t0, progress)?;
@@ -265,6 +301,9 @@ struct Curve<'a, M: Continuable> {
     /// Period doubling (det(M + I)) rather than fold (det(M − I)).
     flip: bool,
     spec: &'a CurveSpec,
+    /// Stop at the first turning point of the second parameter that is a minimum
+    /// (`Some(true)`) or a maximum (`Some(false)`).
+    stop: Option<bool>,
 }
 
 impl<M: Continuable> Curve<'_, M> {
@@ -431,10 +470,18 @@ impl<M: Continuable> Curve<'_, M> {
                 continue;
             };
             progress.step();
+            let mut turned = false;
             for (of, c) in [(Turning::First, n), (Turning::Second, n + 1)] {
                 if (t[c] < 0.0) != (t_next[c] < 0.0) {
-                    extrema.push(self.extremum(&prev, &t, h, of, c));
+                    let e = self.extremum(&prev, &t, h, of, c);
+                    turned |= of == Turning::Second && Some(e.minimum) == self.stop;
+                    extrema.push(e);
                 }
+            }
+            if turned {
+                points.push(self.point(&next));
+                let value = next.y[n + 1];
+                return Ok((points, extrema, BranchEnd::Bound { value }));
             }
             if self.outside(&next.y) {
                 points.push(self.point(&next));

@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::continuation::bifurcation_curve::{
-    CurvePoint, CurveSpec, Turning, continue_bifurcation,
+    CurvePoint, CurveSpec, Turning, continue_bifurcation, continue_to_turning,
 };
 use crate::analysis::continuation::branch::{
     BifurcationKind, ContinuationError, ContinuationSpec, ContinuedBranch, continue_branch,
@@ -109,7 +109,7 @@ fn isola_shrinks<M: Continuable>(
         },
     };
     let minimum = side == Towards::Below;
-    let c = continue_bifurcation(params, isola.parameter, low, &spec, progress)?;
+    let c = continue_to_turning(params, isola.parameter, low, &spec, minimum, progress)?;
     let extrema = c
         .extrema_of(Turning::Second)
         .filter(|e| e.minimum == minimum);

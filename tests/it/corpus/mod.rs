@@ -51,7 +51,7 @@ pub const BASES: [(&str, &str); 10] = [
     ),
     (
         "basin",
-        "dx = { min = -0.8, max = 0.8, points = 8 }\nv = { min = -1.0, max = 1.0, points = 8 }\n",
+        "dx = { min = -0.8, max = 0.8, points = 4 }\nv = { min = -1.0, max = 1.0, points = 4 }\n",
     ),
     (
         "family",
