@@ -126,12 +126,13 @@ where
         &AxisSpec::new(&v_name, fit(in_window().map(|k| h.v[k]), 0.08)),
         s,
     )?;
-    for (idx, color, width) in &lines {
+    for (idx, color, _) in &lines {
         if idx.len() > 1 {
             phase.draw_series(std::iter::once(PathElement::new(
                 series(idx, |k| (h.lambda[k], h.v[k])),
-                // a closed orbit of many short segments stroked wider draws hollow in a bitmap
-                color.stroke_width((*width).min(2)),
+                // a closed orbit retraced over many periods, of many short segments: stroked
+                // wider than one pixel, a bitmap draws it hollow and ragged
+                color.stroke_width(1),
             )))?;
         }
     }
