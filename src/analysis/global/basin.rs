@@ -103,22 +103,41 @@ pub fn basin<O: Oscillator>(
 ) -> Result<Basin, AnalysisError> {
     let plan = BasinPlan::new(params, spec, progress)?;
     progress.grow_total(plan.cells());
-    let chunks: Vec<Result<Vec<SteadyState>, AnalysisError>> = (0..plan.chunks())
-        .into_par_iter()
-        .map(|n| {
-            let out = plan.chunk(n, progress);
-            if let Ok(outcomes) = &out {
-                on_chunk(BasinChunk {
-                    start: n * CHUNK_CELLS,
-                    outcomes: outcomes.clone(),
-                });
-            }
-            out
-        })
-        .collect();
-    let chunks: Vec<Vec<SteadyState>> = chunks.into_iter().collect::<Result<_, _>>()?;
-    Ok(plan.assemble(chunks))
+    // a window of chunks at a time, in parallel, each classified in chunk order as it comes:
+    // only a window's outcomes are held (not every cell's), whatever the grid's size
+    let window = WINDOW_CHUNKS.max(8 * rayon::current_num_threads());
+    let total = plan.chunks();
+    let windows = (0..total).step_by(window).map(|first| {
+        (first..(first + window).min(total))
+            .into_par_iter()
+            .map(|n| {
+                let out = plan.chunk(n, progress);
+                if let Ok(outcomes) = &out {
+                    on_chunk(BasinChunk {
+                        start: n * CHUNK_CELLS,
+                        outcomes: outcomes.clone(),
+                    });
+                }
+                out
+            })
+            .collect::<Vec<_>>()
+    });
+    let mut failed = None;
+    let basin = plan.assemble(
+        windows
+            .flatten()
+            .map_while(|chunk| chunk.map_err(|e| failed = Some(e)).ok()),
+    );
+    match failed {
+        Some(e) => Err(e),
+        None => Ok(basin),
+    }
 }
+
+/// Chunks computed between two classifications (at least; more with many threads): the
+/// outcomes of 131 072 cells (about 30 MB) in memory at most. A window's last chunks leave
+/// cores idle, so a window is large: the paper's 201 × 251 basin is one.
+const WINDOW_CHUNKS: usize = 256;
 
 /// A validated basin computation cut into chunks of [`CHUNK_CELLS`] cells, addressed by index,
 /// so that chunks can be computed in any order, on any machine, and saved as they finish.
