@@ -101,8 +101,15 @@ where
             None => without.push((&q.response_type, 1)),
         }
     }
+    let mut omegas: Vec<f64> = points.iter().map(|q| q.omega).collect();
+    omegas.sort_by(f64::total_cmp);
+    omegas.dedup();
     for (t, n) in without {
-        legend.add(Swatch::None, format!("{} at {n} ωₑ", short_type(t)));
+        let of = omegas.len();
+        legend.add(
+            Swatch::None,
+            format!("{}: some starts, at {n} of {of} ωₑ", short_type(t)),
+        );
     }
     // what the legend must not cover: every marker, and the brackets or the branches
     let mut data: Polylines = points

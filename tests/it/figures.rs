@@ -294,7 +294,7 @@ fn kinds() -> Vec<(&'static str, ResultView, Vec<&'static str>)> {
                 "1:1",
                 "1:2",
                 "hidden: no sweep reaches it",
-                "frame hit at 2 ωₑ",
+                "frame hit: some starts, at 2 of 28 ωₑ",
                 "1:2 ωₑ 3.60–4.40",
             ],
         ),
