@@ -104,8 +104,8 @@ where
     let mut omegas: Vec<f64> = points.iter().map(|q| q.omega).collect();
     omegas.sort_by(f64::total_cmp);
     omegas.dedup();
+    let of = omegas.len();
     for (t, n) in without {
-        let of = omegas.len();
         legend.add(
             Swatch::None,
             format!("{}: some starts, at {n} of {of} ωₑ", short_type(t)),

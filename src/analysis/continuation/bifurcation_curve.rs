@@ -178,83 +178,11 @@ pub fn continue_bifurcation<M: Continuable>(
     spec: &CurveSpec,
     progress: &Progress,
 ) -> Result<BifurcationCurve, ContinuationError> {
-    curve_through(base, first, bif, spec, None, progress)
-}
-
-/// As [`continue_bifurcation`], but each direction stops at the first turning point of the
-/// second parameter that is a minimum (`minimum`) or a maximum, and the other direction is
-/// not run once one has found it: the curve up to where an isola is born or vanishes, not
-/// the other fold's curve beyond. A direction that stopped there ends in
-/// [`BranchEnd::Bound`] at the turning value.
-pub fn continue_to_turning<M: Continuable>(
-    base: &M,
-    first: ContinuationParameter,
-    bif: &Bifurcation,
-    spec: &CurveSpec,
-    minimum: bool,
-    progress: &Progress,
-) -> Result<BifurcationCurve, ContinuationError> {
-    curve_through(base, first, bif, spec, Some(minimum), progress)
-}
-
-/// The curve through `bif`, stopped at the first turning point of the kind `stop` gives.
-fn curve_through<M: Continuable>(
-    base: &M,
-    first: ContinuationParameter,
-    bif: &Bifurcation,
-    spec: &CurveSpec,
-    stop: Option<bool>,
-    progress: &Progress,
-) -> Result<BifurcationCurve, ContinuationError> {
-    spec.validate(base, first)?;
-    let flip = match bif.kind {
-        BifurcationKind::Fold => false,
-        BifurcationKind::PeriodDoubling | BifurcationKind::ParentPeriodDoubling => true,
-        BifurcationKind::NeimarkSacker => {
-            return Err(ContinuationError::Param(ParamError {
-                field: "kind".into(),
-                value: f64::NAN,
-                allowed: "a fold or a period doubling".into(),
-            }));
-        }
-    };
-    let problem = Curve {
-        base: base.clone(),
-        n: base.dim(),
-        k: bif.period,
-        first: base.resolve(first)?,
-        second: base.resolve(spec.second)?,
-        flip,
-        spec,
-        stop,
-    };
-    let n = problem.n;
-    let second = base.value_of(problem.second);
-    let guess = DVector::from_fn(n + 2, |i, _| match i {
-        i if i < n => bif.x[i],
-        i if i == n => bif.parameter,
-        _ => second,
-    });
-    // the located point is good to the locator's precision: polish it on the curve, the
-    // arclength condition fixing the second parameter
-    let mut along_second = DVector::zeros(n + 2);
-    along_second[n + 1] = 1.0;
-    let start = problem
-        .correct(guess, &along_second)
-        .map_err(|f| ContinuationError::Seed(f.into_shooting()))?;
-    let t0 = problem
-        .tangent(&start, &along_second)
-        .ok_or(ContinuationError::Seed(ShootingError::Singular))?;
+    let (problem, start, t0) = Curve::through(base, first, bif, spec, None)?;
+    let flip = problem.flip;
     let (fwd, mut extrema, end_fwd) = problem.run(&start, t0.clone(), progress)?;
     let mut points = vec![problem.point(&start)];
-    let turned = |extrema: &[Extremum]| {
-        stop.is_some_and(|minimum| {
-            extrema
-                .iter()
-                .any(|e| e.of == Turning::Second && e.minimum == minimum)
-        })
-    };
-    let end_back = if end_fwd == BranchEnd::Closed || turned(&extrema) {
+    let end_back = if end_fwd == BranchEnd::Closed {
         BranchEnd::Closed
     } else {
         let (back, e2, end) = problem.run(&start, -t0, progress)?;
@@ -277,6 +205,29 @@ fn curve_through<M: Continuable>(
         extrema,
         ends: [end_back, end_fwd],
     })
+}
+
+/// The first turning point of `spec.second` that is a minimum (`minimum`) or a maximum along
+/// the curve through `bif` (as [`continue_bifurcation`] continues it), one way and then, if
+/// not found, the other: where an isola is born or vanishes, without the other fold's curve
+/// beyond. `None` if neither way turns within the bounds.
+pub fn turning_point<M: Continuable>(
+    base: &M,
+    first: ContinuationParameter,
+    bif: &Bifurcation,
+    spec: &CurveSpec,
+    minimum: bool,
+    progress: &Progress,
+) -> Result<Option<Extremum>, ContinuationError> {
+    let (problem, start, t0) = Curve::through(base, first, bif, spec, Some(minimum))?;
+    let wanted = |e: &Extremum| e.of == Turning::Second && e.minimum == minimum;
+    for t in [t0.clone(), -t0] {
+        let (_, extrema, _) = problem.run(&start, t, progress)?;
+        if let Some(e) = extrema.into_iter().find(wanted) {
+            return Ok(Some(e));
+        }
+    }
+    Ok(None)
 }
 
 /// A corrected curve point with its Jacobian.
@@ -304,6 +255,59 @@ struct Curve<'a, M: Continuable> {
     /// Stop at the first turning point of the second parameter that is a minimum
     /// (`Some(true)`) or a maximum (`Some(false)`).
     stop: Option<bool>,
+}
+
+impl<'a, M: Continuable> Curve<'a, M> {
+    /// The curve problem through `bif`, its first point polished on the curve and the
+    /// tangent there.
+    fn through(
+        base: &M,
+        first: ContinuationParameter,
+        bif: &Bifurcation,
+        spec: &'a CurveSpec,
+        stop: Option<bool>,
+    ) -> Result<(Self, Solved, DVector<f64>), ContinuationError> {
+        spec.validate(base, first)?;
+        let flip = match bif.kind {
+            BifurcationKind::Fold => false,
+            BifurcationKind::PeriodDoubling | BifurcationKind::ParentPeriodDoubling => true,
+            BifurcationKind::NeimarkSacker => {
+                return Err(ContinuationError::Param(ParamError {
+                    field: "kind".into(),
+                    value: f64::NAN,
+                    allowed: "a fold or a period doubling".into(),
+                }));
+            }
+        };
+        let problem = Curve {
+            base: base.clone(),
+            n: base.dim(),
+            k: bif.period,
+            first: base.resolve(first)?,
+            second: base.resolve(spec.second)?,
+            flip,
+            spec,
+            stop,
+        };
+        let n = problem.n;
+        let second = base.value_of(problem.second);
+        let guess = DVector::from_fn(n + 2, |i, _| match i {
+            i if i < n => bif.x[i],
+            i if i == n => bif.parameter,
+            _ => second,
+        });
+        // the located point is good to the locator's precision: polish it on the curve, the
+        // arclength condition fixing the second parameter
+        let mut along_second = DVector::zeros(n + 2);
+        along_second[n + 1] = 1.0;
+        let start = problem
+            .correct(guess, &along_second)
+            .map_err(|f| ContinuationError::Seed(f.into_shooting()))?;
+        let t0 = problem
+            .tangent(&start, &along_second)
+            .ok_or(ContinuationError::Seed(ShootingError::Singular))?;
+        Ok((problem, start, t0))
+    }
 }
 
 impl<M: Continuable> Curve<'_, M> {

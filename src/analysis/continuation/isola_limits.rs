@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::continuation::bifurcation_curve::{
-    CurvePoint, CurveSpec, Turning, continue_bifurcation, continue_to_turning,
+    CurvePoint, CurveSpec, Turning, continue_bifurcation, turning_point,
 };
 use crate::analysis::continuation::branch::{
     BifurcationKind, ContinuationError, ContinuationSpec, ContinuedBranch, continue_branch,
@@ -109,14 +109,7 @@ fn isola_shrinks<M: Continuable>(
         },
     };
     let minimum = side == Towards::Below;
-    let c = continue_to_turning(params, isola.parameter, low, &spec, minimum, progress)?;
-    let extrema = c
-        .extrema_of(Turning::Second)
-        .filter(|e| e.minimum == minimum);
-    let turning = match side {
-        Towards::Below => extrema.min_by(|a, b| a.point.second.total_cmp(&b.point.second)),
-        Towards::Above => extrema.max_by(|a, b| a.point.second.total_cmp(&b.point.second)),
-    };
+    let turning = turning_point(params, isola.parameter, low, &spec, minimum, progress)?;
     Ok(turning.map(|e| limit(&e.point, e.precision)))
 }
 
