@@ -174,6 +174,16 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
             let states = w.model.states();
             w.model.grid().map(|i| states[i].clone())
         }),
+        omega_axis: app.session.written.as_ref().map_or("ω_e".into(), |w| {
+            w.model.parameters()[w.model.frequency()].name.clone()
+        }),
+        amplitude_axis: app
+            .session
+            .written
+            .as_ref()
+            .map_or("amplitude Δλ".into(), |w| {
+                format!("amplitude of {}", w.model.amplitude_text())
+            }),
         cursor: app.cursor,
     };
     if let Some(p) = &app.picked {

@@ -35,6 +35,28 @@ impl Cond {
         }
     }
 
+    /// [`Cond::holds`] in each of `L` lanes of registers.
+    pub(crate) fn holds_in_lanes<const L: usize>(&self, values: &[[f64; L]]) -> [bool; L] {
+        match self {
+            Cond::Positive { value: id, strict } => {
+                let s = &values[*id as usize];
+                if *strict {
+                    std::array::from_fn(|l| s[l] > 0.0)
+                } else {
+                    std::array::from_fn(|l| s[l] >= 0.0)
+                }
+            }
+            Cond::And(a, b) => {
+                let (a, b) = (a.holds_in_lanes(values), b.holds_in_lanes(values));
+                std::array::from_fn(|l| a[l] && b[l])
+            }
+            Cond::Or(a, b) => {
+                let (a, b) = (a.holds_in_lanes(values), b.holds_in_lanes(values));
+                std::array::from_fn(|l| a[l] || b[l])
+            }
+        }
+    }
+
     fn values(&self, out: &mut Vec<NodeId>) {
         match self {
             Cond::Positive { value, .. } => out.push(*value),
@@ -86,6 +108,9 @@ pub(crate) struct Compiled {
     /// Every named value (intermediates, then derivatives) in dependency order, to say which
     /// is the first that is not finite.
     pub named: Vec<(String, NodeId)>,
+    /// The nodes that vary with time alone (the forcing), run by [`Registers::load`] once
+    /// per time.
+    pub time_tape: Tape,
     pub field_tape: Tape,
     /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
@@ -456,6 +481,13 @@ impl<'d> Builder<'d> {
         );
         let named_roots: Vec<NodeId> = self.named.iter().map(|(_, id)| *id).collect();
         let g = &self.graph;
+        // what the integration evaluates at every stage: its time-only part once per time
+        let hot = [field_roots.as_slice(), &collision_roots, &[y, rate]].concat();
+        let time_only = Tape::time_only(g, &hot);
+        let time_roots: Vec<NodeId> = (0..g.len() as NodeId)
+            .filter(|&id| time_only[id as usize])
+            .collect();
+        let tape = |roots: &[NodeId]| Tape::new(g, roots, &time_only);
         Ok(Compiled {
             name: def.name.clone(),
             states: def.states.clone(),
@@ -477,12 +509,13 @@ impl<'d> Builder<'d> {
             frequency,
             grid,
             origin,
-            field_tape: Tape::new(g, &field_roots),
-            jacobian_tape: Tape::new(g, &[derivatives.as_slice(), &jacobian].concat()),
-            output_tape: Tape::new(g, &[y, rate]),
-            collision_tape: Tape::new(g, &collision_roots),
-            named_tape: Tape::new(g, &named_roots),
-            switch_gradient_tapes: switch_gradients.iter().map(|r| Tape::new(g, r)).collect(),
+            time_tape: Tape::new(g, &time_roots, &vec![false; g.len()]),
+            field_tape: tape(&field_roots),
+            jacobian_tape: tape(&[derivatives.as_slice(), &jacobian].concat()),
+            output_tape: tape(&[y, rate]),
+            collision_tape: tape(&collision_roots),
+            named_tape: tape(&named_roots),
+            switch_gradient_tapes: switch_gradients.iter().map(|r| tape(r)).collect(),
             switch_gradients,
             derivatives,
             jacobian,

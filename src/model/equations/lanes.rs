@@ -18,6 +18,7 @@ pub struct EquationLanes<const L: usize> {
     values: Vec<[f64; L]>,
     state_slots: Vec<(u8, u32)>,
     time_slot: Option<u32>,
+    stamp: u32,
 }
 
 impl<const L: usize> EquationLanes<L> {
@@ -29,14 +30,21 @@ impl<const L: usize> EquationLanes<L> {
             values: regs.values.iter().map(|&v| [v; L]).collect(),
             state_slots: regs.state_slots.clone(),
             time_slot: regs.time_slot,
+            stamp: regs.stamp,
         }
     }
 
-    /// Loads the lanes' times and states into their registers.
+    /// Loads the lanes' times and states into their registers, and the time-only nodes
+    /// unless every lane's were last computed at its time (see [`Registers::load`]).
     #[inline(always)]
     fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
         if let Some(slot) = self.time_slot {
             self.values[slot as usize] = *tau;
+            let stamp = &mut self.values[self.stamp as usize];
+            if (0..L).any(|l| stamp[l].to_bits() != tau[l].to_bits()) {
+                *stamp = *tau;
+                self.inner.time_tape.run_lanes(&mut self.values, &[0; L]);
+            }
         }
         for &(i, slot) in &self.state_slots {
             self.values[slot as usize] = x[i as usize];
@@ -70,11 +78,12 @@ impl<const L: usize> EquationLanes<L> {
         self.load(tau, x);
         let (c, values) = (&*self.inner, &mut self.values);
         c.collision_tape.run_lanes_free(values);
-        std::array::from_fn(|l| {
-            c.collisions
-                .iter()
-                .any(|cond| cond.holds(&|id| values[id as usize][l]))
-        })
+        let mut hit = [false; L];
+        for cond in &c.collisions {
+            let holds = cond.holds_in_lanes(values);
+            (0..L).for_each(|l| hit[l] |= holds[l]);
+        }
+        hit
     }
 
     /// The amplitude's output and its rate in every lane, on each lane's mode.

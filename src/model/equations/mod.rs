@@ -24,6 +24,8 @@ pub mod build;
 pub mod definition;
 pub mod graph;
 pub mod lanes;
+#[cfg(target_arch = "x86_64")]
+mod native;
 pub mod parse;
 pub mod system;
 pub mod tape;

@@ -106,14 +106,15 @@ impl System for EquationSystem {
     }
 
     fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode {
-        self.regs.load(tau, x);
-        self.model.inner.field_tape.run_free(&mut self.regs.values)
+        let c = &*self.model.inner;
+        self.regs.load(&c.time_tape, tau, x);
+        c.field_tape.run_free(&mut self.regs.values)
     }
 
     #[inline]
     fn field(&mut self, tau: f64, x: &Vector, mode: Mode, dx: &mut Vector) -> Mode {
         let c = &*self.model.inner;
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         let observed = c.field_tape.run_in(&mut self.regs.values, mode);
         for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
             *d = self.regs.get(id);
@@ -123,7 +124,7 @@ impl System for EquationSystem {
 
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {
         let c = &*self.model.inner;
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         let observed = c.field_tape.run_in(&mut self.regs.values, mode);
         for (out, sw) in s.iter_mut().zip(&c.graph.switches) {
             *out = self.regs.get(sw.value);
@@ -141,7 +142,7 @@ impl System for EquationSystem {
     ) {
         let c = &*self.model.inner;
         let n = c.states.len();
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         c.jacobian_tape.run_in(&mut self.regs.values, mode);
         for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
             *d = self.regs.get(id);
@@ -163,7 +164,7 @@ impl System for EquationSystem {
     ) -> f64 {
         let c = &*self.model.inner;
         let ids = &c.switch_gradients[k];
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         c.switch_gradient_tapes[k].run_in(&mut self.regs.values, mode);
         let (time, states) = ids.split_last().expect("a gradient has its ∂/∂τ");
         for (g, &id) in grad.iter_mut().zip(states) {
@@ -174,7 +175,7 @@ impl System for EquationSystem {
 
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
         let c = &*self.model.inner;
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         c.output_tape.run_in(&mut self.regs.values, mode);
         (self.regs.get(c.output[0]), self.regs.get(c.output[1]))
     }
@@ -184,7 +185,7 @@ impl System for EquationSystem {
         if c.collisions.is_empty() {
             return false;
         }
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         c.collision_tape.run_free(&mut self.regs.values);
         let regs = &self.regs;
         c.collisions
@@ -194,7 +195,7 @@ impl System for EquationSystem {
 
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
         let c = &*self.model.inner;
-        self.regs.load(tau, x);
+        self.regs.load(&c.time_tape, tau, x);
         c.named_tape.run_free(&mut self.regs.values);
         c.named
             .iter()

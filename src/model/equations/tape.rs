@@ -7,7 +7,7 @@ use crate::model::system::Mode;
 
 /// What an instruction does: one flat list, so that the loop dispatches once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Op {
+pub(super) enum Op {
     Add,
     Sub,
     Mul,
@@ -27,16 +27,16 @@ enum Op {
 
 /// One instruction; registers are node ids.
 #[derive(Debug, Clone, Copy)]
-struct Ins {
-    op: Op,
+pub(super) struct Ins {
+    pub op: Op,
     /// The switch of a `Select` or `Sign`.
-    k: u8,
+    pub k: u8,
     /// The exponent of a `Powi`.
-    n: i32,
+    pub n: i32,
     /// Destination and arguments: registers, always valid ones (an unused `b` is `a`).
-    d: u32,
-    a: u32,
-    b: u32,
+    pub d: u32,
+    pub a: u32,
+    pub b: u32,
 }
 
 /// The instructions that evaluate some roots of a graph.
@@ -47,11 +47,28 @@ pub struct Tape {
     registers: usize,
     /// Which switches this tape's roots depend on (a bit each).
     pub switch_mask: u64,
+    /// The registers its users read: the roots it computes. The interpreter writes every
+    /// register it computes, the machine code only these.
+    roots: Vec<NodeId>,
+    /// The tape as machine code, compiled at its first run (shared by clones).
+    native: std::sync::Arc<Natives>,
+}
+
+/// Lanes a tape is compiled for besides one (the written model's batches); other lane
+/// counts are interpreted.
+pub const NATIVE_LANES: usize = 8;
+
+/// A tape's machine code, per use: one lane or [`NATIVE_LANES`], held or free.
+#[derive(Debug, Default)]
+struct Natives {
+    #[cfg(target_arch = "x86_64")]
+    compiled: [std::sync::OnceLock<Option<super::native::Native>>; 4],
 }
 
 impl Tape {
-    /// The tape computing `roots` (and what they need) in `graph`.
-    pub fn new(graph: &Graph, roots: &[NodeId]) -> Tape {
+    /// The tape computing `roots` (and what they need) in `graph`, taking the nodes marked
+    /// `given` as already computed (the time-only values [`Registers::load`] refreshes).
+    pub fn new(graph: &Graph, roots: &[NodeId], given: &[bool]) -> Tape {
         let n = graph.len();
         let varying = graph.varying();
         let mut needed = vec![false; n];
@@ -59,7 +76,7 @@ impl Tape {
         // the switches whose branch can change along a trajectory
         let mut switch_mask = 0u64;
         while let Some(id) = stack.pop() {
-            if needed[id as usize] {
+            if needed[id as usize] || given[id as usize] {
                 continue;
             }
             needed[id as usize] = true;
@@ -124,11 +141,102 @@ impl Tape {
                 Node::Const(_) | Node::Time | Node::State(_) | Node::Param(_) => {}
             }
         }
+        let mut computed = vec![false; n];
+        for i in &ins {
+            computed[i.d as usize] = !matches!(i.op, Op::Sign | Op::SignStrict);
+        }
+        let mut roots: Vec<NodeId> = roots
+            .iter()
+            .copied()
+            .filter(|&r| computed[r as usize])
+            .collect();
+        roots.sort_unstable();
+        roots.dedup();
         Tape {
             ins,
             registers: n,
             switch_mask,
+            roots,
+            native: Default::default(),
         }
+    }
+
+    /// Whether tapes run as machine code: on x86-64 unless `ISOLA_INTERPRET` is set (to
+    /// compare the two, or if the code generator fails the host).
+    pub fn native_enabled() -> bool {
+        static ENABLED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+        *ENABLED.get_or_init(|| {
+            cfg!(target_arch = "x86_64") && std::env::var_os("ISOLA_INTERPRET").is_none()
+        })
+    }
+
+    /// The compiled tape for `lanes` (1 or [`NATIVE_LANES`]) lanes, held or `free`,
+    /// compiled now if it is the first call.
+    #[cfg(target_arch = "x86_64")]
+    pub(super) fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
+        if !Tape::native_enabled() {
+            return None;
+        }
+        let slot = match lanes {
+            1 => 0,
+            NATIVE_LANES => 2,
+            _ => return None,
+        } + free as usize;
+        self.native.compiled[slot]
+            .get_or_init(|| {
+                super::native::compile(&self.ins, &self.roots, self.registers, lanes, free)
+            })
+            .as_ref()
+            .map(|n| n.entry())
+    }
+
+    /// The nodes that vary with time alone and that `roots` need: computed once per time by
+    /// [`Registers::load`], so that the forcing's `cos(omega*t)` is not computed again at a
+    /// stage of the same time (RK4's second and third stages share one, its fourth and the
+    /// step's end another). Kinks and what follows them are left to each tape (they record
+    /// modes).
+    pub fn time_only(graph: &Graph, roots: &[NodeId]) -> Vec<bool> {
+        let n = graph.len();
+        // varying with the state, or through a kink
+        let mut excluded = vec![false; n];
+        for id in 0..n {
+            excluded[id] = match graph.node(id as NodeId) {
+                Node::State(_) | Node::Select(..) => true,
+                Node::Un(_, a) | Node::Powi(a, _) => excluded[a as usize],
+                Node::Bin(_, a, b) => excluded[a as usize] || excluded[b as usize],
+                Node::Const(_) | Node::Param(_) | Node::Time => false,
+            };
+        }
+        let varying = graph.varying();
+        let mut time_only = vec![false; n];
+        let mut stack: Vec<NodeId> = roots.to_vec();
+        let mut seen = vec![false; n];
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id as usize], true) {
+                continue;
+            }
+            let node = graph.node(id);
+            if varying[id as usize] && !matches!(node, Node::Time) {
+                let args_free = match node {
+                    Node::Un(_, a) | Node::Powi(a, _) => !excluded[a as usize],
+                    Node::Bin(_, a, b) => !excluded[a as usize] && !excluded[b as usize],
+                    _ => false,
+                };
+                time_only[id as usize] = args_free;
+            }
+            match node {
+                Node::Un(_, a) | Node::Powi(a, _) => stack.push(a),
+                Node::Bin(_, a, b) => stack.extend([a, b]),
+                Node::Select(k, a, b) => stack.extend([a, b, graph.switches[k as usize].value]),
+                _ => {}
+            }
+        }
+        time_only
+    }
+
+    /// The registers this tape computes that its users read.
+    pub fn roots(&self) -> &[NodeId] {
+        &self.roots
     }
 
     /// Number of instructions (a measure of the work per evaluation).
@@ -156,11 +264,24 @@ impl Tape {
     }
 
     #[inline(always)]
-    fn run<const FREE: bool>(&self, r: &mut [f64], mut mode: Mode) -> Mode {
+    fn run<const FREE: bool>(&self, r: &mut [f64], mode: Mode) -> Mode {
         assert!(
             r.len() >= self.registers,
             "a register file of another graph"
         );
+        #[cfg(target_arch = "x86_64")]
+        if let Some(entry) = self.native(1, FREE) {
+            let mut observed = 0;
+            // SAFETY: the code reads and writes registers below `registers` ≤ r.len()
+            // (asserted above) and one mode each way
+            unsafe { entry(r.as_mut_ptr(), &mode, &mut observed) };
+            return observed;
+        }
+        self.interpret::<FREE>(r, mode)
+    }
+
+    /// The tape run instruction by instruction.
+    pub(super) fn interpret<const FREE: bool>(&self, r: &mut [f64], mut mode: Mode) -> Mode {
         let mut observed = 0;
         for ins in &self.ins {
             // SAFETY: every index is a node id below `registers` (built so in `new`), and
@@ -230,6 +351,22 @@ impl Tape {
             r.len() >= self.registers,
             "a register file of another graph"
         );
+        #[cfg(target_arch = "x86_64")]
+        if let Some(entry) = self.native(L, FREE) {
+            let mut observed = [0u64; L];
+            // SAFETY: as in `run`, with `L` lanes of registers, modes and observed modes
+            unsafe { entry(r.as_mut_ptr().cast(), modes.as_ptr(), observed.as_mut_ptr()) };
+            return observed;
+        }
+        self.interpret_lanes::<L, FREE>(r, modes)
+    }
+
+    /// The lanes run instruction by instruction.
+    pub(super) fn interpret_lanes<const L: usize, const FREE: bool>(
+        &self,
+        r: &mut [[f64; L]],
+        modes: &[Mode; L],
+    ) -> [Mode; L] {
         let mut observed = [0u64; L];
         for ins in &self.ins {
             // SAFETY: as in `run`: every index is below `registers` ≤ r.len()
@@ -279,12 +416,16 @@ pub struct Registers {
     param_slots: Vec<(u16, u32)>,
     /// The parameter-fixed nodes, in dependency order.
     fixed: Vec<NodeId>,
+    /// The register holding the time the time-only nodes were computed at (NaN: not yet).
+    pub(super) stamp: u32,
 }
 
 impl Registers {
     pub fn new(graph: &Graph) -> Registers {
         let varying = graph.varying();
-        let mut values = vec![0.0; graph.len()];
+        let mut values = vec![0.0; graph.len() + 1];
+        let stamp = graph.len() as u32;
+        values[stamp as usize] = f64::NAN;
         let (mut state_slots, mut time_slot, mut param_slots, mut fixed) =
             (Vec::new(), None, Vec::new(), Vec::new());
         for id in 0..graph.len() as u32 {
@@ -303,12 +444,14 @@ impl Registers {
             time_slot,
             param_slots,
             fixed,
+            stamp,
         }
     }
 
     /// Loads parameter values and evaluates every node they alone fix. A kink between fixed
     /// values takes its branch by its switching value's sign.
     pub fn set_params(&mut self, graph: &Graph, params: &[f64]) {
+        self.values[self.stamp as usize] = f64::NAN;
         for &(i, slot) in &self.param_slots {
             self.values[slot as usize] = params[i as usize];
         }
@@ -331,11 +474,17 @@ impl Registers {
         }
     }
 
-    /// Loads the time and state.
+    /// Loads the time and state, and runs `time_tape` (the model's time-only nodes) unless
+    /// they were last computed at this very time.
     #[inline(always)]
-    pub fn load(&mut self, t: f64, x: &[f64]) {
+    pub fn load(&mut self, time_tape: &Tape, t: f64, x: &[f64]) {
         if let Some(slot) = self.time_slot {
             self.values[slot as usize] = t;
+            let stamp = &mut self.values[self.stamp as usize];
+            if stamp.to_bits() != t.to_bits() {
+                *stamp = t;
+                time_tape.run_in(&mut self.values, 0);
+            }
         }
         for &(i, slot) in &self.state_slots {
             self.values[slot as usize] = x[i as usize];

@@ -291,3 +291,153 @@ fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
         }
     }
 }
+
+/// A model that uses every function, integer and real powers and every kind of kink.
+const EVERY_OPERATION: &str = r#"
+[model]
+states = ["x", "y", "z"]
+frequency = "w"
+amplitude = "x + y^2"
+collision = ["x > 50 || y < -50", "z >= 1e6 && x < 0"]
+[model.parameters]
+w = 1.3
+a = { value = 0.7, min = -10, max = 10 }
+[model.let]
+s = "sin(x) + cos(y) - tan(z/7) + exp(-x^2) + ln(1 + y^2) + sqrt(abs(z))"
+h = "sinh(x/3) * cosh(y/4) - tanh(z) + asin(x/(1 + abs(x))) + acos(y/(2 + abs(y)))"
+q = "atan(z) + x^-3 - y^5 + z^2 * x^0 + abs(x)^1.7 + max(x, y, z) - min(x, -y)"
+[model.derivatives]
+x = "if(x > 0 && y <= 1 || z < -1, s, h) + a*cos(w*t)"
+y = "q / (1 + x^2) - pi"
+z = "-x + max(s - h, 0) + abs(y - z)^-2"
+"#;
+
+#[test]
+fn machine_code_gives_the_interpreters_values_bit_for_bit() {
+    use super::tape::{NATIVE_LANES, Tape};
+    if !Tape::native_enabled() {
+        eprintln!("tapes are interpreted on this host: nothing to compare");
+        return;
+    }
+    let every = {
+        let def = ModelDefinition::from_text(EVERY_OPERATION).unwrap();
+        EquationModel::new(&def, EVERY_OPERATION).unwrap()
+    };
+    let mut models = vec![paper_model(), every];
+    for file in [
+        "user_model_viscoelastic.toml",
+        "user_model_duffing_isola.toml",
+    ] {
+        models.push(catalogue(file, &[]).model().clone());
+    }
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    // a fixed pseudo-random sequence of states, times and modes, some far out (NaN, ∞)
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut uniform = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for model in &models {
+        let sys = model.system(&model.defaults()).unwrap();
+        let c = &*model.inner;
+        let dim = c.states.len();
+        let mut tapes = vec![
+            &c.time_tape,
+            &c.field_tape,
+            &c.jacobian_tape,
+            &c.output_tape,
+            &c.collision_tape,
+            &c.named_tape,
+        ];
+        tapes.extend(&c.switch_gradient_tapes);
+        for tape in tapes {
+            for round in 0..200 {
+                let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
+                let mut regs = sys.registers().clone();
+                let x: Vec<f64> = (0..dim).map(|_| scale * (2.0 * uniform() - 1.0)).collect();
+                regs.load(&c.time_tape, 20.0 * uniform(), &x);
+                let mode = (uniform() * u32::MAX as f64) as u64;
+                let (mut native, mut interpreted) = (regs.values.clone(), regs.values.clone());
+                for free in [false, true] {
+                    let (got, want) = if free {
+                        (
+                            tape.run_free(&mut native),
+                            tape.interpret::<true>(&mut interpreted, 0),
+                        )
+                    } else {
+                        (
+                            tape.run_in(&mut native, mode),
+                            tape.interpret::<false>(&mut interpreted, mode),
+                        )
+                    };
+                    assert_eq!(got, want, "observed modes");
+                    for &r in tape.roots() {
+                        let (a, b) = (native[r as usize], interpreted[r as usize]);
+                        assert!(same(a, b), "register {r}: {a:e} native, {b:e} interpreted");
+                    }
+                }
+                // lanes of other states and times: each lane as the interpreter has it
+                let mut lanes = vec![[0.0; NATIVE_LANES]; regs.values.len()];
+                for l in 0..NATIVE_LANES {
+                    let x: Vec<f64> = (0..dim).map(|_| scale * (2.0 * uniform() - 1.0)).collect();
+                    regs.load(&c.time_tape, 20.0 * uniform(), &x);
+                    for (lane, &v) in lanes.iter_mut().zip(&regs.values) {
+                        lane[l] = v;
+                    }
+                }
+                let modes: [u64; NATIVE_LANES] =
+                    std::array::from_fn(|l| mode.rotate_left(l as u32));
+                let mut by_lane = lanes.clone();
+                let got = tape.run_lanes(&mut lanes, &modes);
+                let want = tape.interpret_lanes::<NATIVE_LANES, false>(&mut by_lane, &modes);
+                assert_eq!(got, want, "observed modes in lanes");
+                let got = tape.run_lanes_free(&mut lanes);
+                let want =
+                    tape.interpret_lanes::<NATIVE_LANES, true>(&mut by_lane, &[0; NATIVE_LANES]);
+                assert_eq!(got, want, "observed modes in free lanes");
+                for &r in tape.roots() {
+                    for (a, b) in lanes[r as usize].iter().zip(&by_lane[r as usize]) {
+                        assert!(same(*a, *b), "lanes: {a:e} native, {b:e} interpreted");
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn every_tape_of_the_catalogue_compiles_to_machine_code() {
+    use super::tape::{NATIVE_LANES, Tape};
+    if !Tape::native_enabled() {
+        return;
+    }
+    for file in [
+        "user_model_paper.toml",
+        "user_model_viscoelastic.toml",
+        "user_model_dead_load.toml",
+        "user_model_duffing_isola.toml",
+    ] {
+        let c = catalogue(file, &[]).model().inner.clone();
+        let mut tapes = vec![
+            &c.time_tape,
+            &c.field_tape,
+            &c.jacobian_tape,
+            &c.output_tape,
+            &c.collision_tape,
+            &c.named_tape,
+        ];
+        tapes.extend(&c.switch_gradient_tapes);
+        for (i, tape) in tapes.into_iter().enumerate() {
+            for lanes in [1, NATIVE_LANES] {
+                for free in [false, true] {
+                    assert!(
+                        tape.native(lanes, free).is_some(),
+                        "{file}: tape {i}, {lanes} lanes"
+                    );
+                }
+            }
+        }
+    }
+}

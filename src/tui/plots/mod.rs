@@ -25,6 +25,10 @@ pub struct PlotContext<'a> {
     pub device: Option<&'a Device>,
     /// A written model's two grid states (the built-in model's are Δλ and v).
     pub grid: Option<[String; 2]>,
+    /// The forcing frequency's axis: `ω_e`, or a written model's frequency parameter.
+    pub omega_axis: String,
+    /// The amplitude's axis: `amplitude Δλ`, or of a written model's output.
+    pub amplitude_axis: String,
     pub cursor: (usize, usize),
 }
 
@@ -34,15 +38,6 @@ impl PlotContext<'_> {
         self.device.map_or(String::new(), |d| {
             format!(" ({:.decimals$} Hz)", d.hz(omega))
         })
-    }
-
-    /// The amplitude axis: of Δλ for the built-in model, of a written model's output.
-    pub fn amplitude_axis(&self) -> &'static str {
-        if self.device.is_some() {
-            "amplitude Δλ"
-        } else {
-            "amplitude"
-        }
     }
 }
 

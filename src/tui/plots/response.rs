@@ -59,8 +59,8 @@ pub fn plot(
         )
         .fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
-        Axis::new("ω_e", omega_range.0, omega_range.1),
-        Axis::new(ctx.amplitude_axis(), 0.0, (top * 1.2).max(0.01)),
+        Axis::new(ctx.omega_axis.as_str(), omega_range.0, omega_range.1),
+        Axis::new(ctx.amplitude_axis.as_str(), 0.0, (top * 1.2).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();

@@ -33,7 +33,7 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
     let all = || sweeps.iter().flat_map(|s| s.view.envelope.iter());
     let top = all().map(|e| e[1]).fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
-        Axis::fit("ω_e", all().map(|e| e[0]), 0.0),
+        Axis::fit(ctx.omega_axis.as_str(), all().map(|e| e[0]), 0.0),
         Axis::new("envelope Δλ", 0.0, (top * 1.1).max(0.01)),
     );
     plot.axis_style = theme.muted();
@@ -170,7 +170,7 @@ pub fn scalogram(
     }
     footer.push(Line::from(scale));
     let map = HeatMap {
-        x: Axis::new("ω_e", first.min(last), first.max(last)),
+        x: Axis::new(ctx.omega_axis.as_str(), first.min(last), first.max(last)),
         y: Axis::new(
             "response ω",
             s.frequencies.first().copied().unwrap_or(0.0),
