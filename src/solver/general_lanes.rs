@@ -20,6 +20,21 @@ pub struct Lanes<const L: usize> {
     pub stop: [Option<Stop>; L],
     /// Lanes without a trajectory.
     pub idle: [bool; L],
+    /// A step's stages, kept between steps so that a step neither clears nor copies whole
+    /// arrays: only the model's states are written, the rows beyond stay zero.
+    /// (Taken out of the lanes during a step.)
+    stages: Option<Box<Stages<L>>>,
+}
+
+/// The vectors of one RK4 step of `L` lanes.
+#[derive(Debug, Clone)]
+struct Stages<const L: usize> {
+    y: LaneVectors<L>,
+    k2: LaneVectors<L>,
+    k3: LaneVectors<L>,
+    k4: LaneVectors<L>,
+    end: LaneVectors<L>,
+    dx: LaneVectors<L>,
 }
 
 /// One lane's ends of a step, for recording.
@@ -39,7 +54,24 @@ impl<const L: usize> Lanes<L> {
             steps: [0; L],
             stop: std::array::from_fn(|_| None),
             idle: [true; L],
+            stages: Some(Box::new(Stages {
+                y: [[0.0; L]; MAX_DIM],
+                k2: [[0.0; L]; MAX_DIM],
+                k3: [[0.0; L]; MAX_DIM],
+                k4: [[0.0; L]; MAX_DIM],
+                end: [[0.0; L]; MAX_DIM],
+                dx: [[0.0; L]; MAX_DIM],
+            })),
         }
+    }
+
+    /// Every lane's τ, state and mode now (a step's ends, for recording).
+    pub fn ends(&self, rk: &GeneralRk4) -> LaneEnds<L> {
+        (
+            std::array::from_fn(|l| rk.tau(self.steps[l])),
+            self.x,
+            self.mode,
+        )
     }
 
     /// Lane `l` as a scalar trajectory.
@@ -94,26 +126,27 @@ impl GeneralRk4 {
         lanes.idle[l] = true;
     }
 
-    /// One step of every running lane; returns the step's ends (before, after) for
-    /// recording.
+    /// One step of every running lane.
     pub fn advance_lanes<const L: usize>(
         &self,
         sys: &mut EquationSystem,
         eval: &mut EquationLanes<L>,
         lanes: &mut Lanes<L>,
-    ) -> (LaneEnds<L>, LaneEnds<L>) {
+    ) {
         let dim = sys.dim();
         let mask = sys.switch_mask();
         let t: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l]));
         let h: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l] + 1) - t[l]);
-        let before = (t, lanes.x, lanes.mode);
+        let mut stages = lanes.stages.take().expect("stages between steps");
+        let Stages {
+            y,
+            k2,
+            k3,
+            k4,
+            end,
+            dx,
+        } = &mut *stages;
         let (x, k1, mode) = (&lanes.x, &lanes.dx, &lanes.mode);
-        let (mut y, mut k2, mut k3, mut k4) = (
-            *x,
-            [[0.0; L]; MAX_DIM],
-            [[0.0; L]; MAX_DIM],
-            [[0.0; L]; MAX_DIM],
-        );
         let t_half: [f64; L] = std::array::from_fn(|l| t[l] + 0.5 * h[l]);
         let t_end: [f64; L] = std::array::from_fn(|l| t[l] + h[l]);
         for i in 0..dim {
@@ -121,33 +154,31 @@ impl GeneralRk4 {
                 y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
             }
         }
-        let mut seen = eval.field(&t_half, &y, mode, &mut k2);
+        let mut seen = eval.field(&t_half, y, mode, k2);
         let mut seen_diff: [Mode; L] = std::array::from_fn(|l| seen[l] ^ mode[l]);
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + 0.5 * h[l] * k2[i][l];
             }
         }
-        seen = eval.field(&t_half, &y, mode, &mut k3);
+        seen = eval.field(&t_half, y, mode, k3);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + h[l] * k3[i][l];
             }
         }
-        seen = eval.field(&t_end, &y, mode, &mut k4);
+        seen = eval.field(&t_end, y, mode, k4);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
-        let mut end = *x;
         for i in 0..dim {
             for l in 0..L {
                 end[i][l] =
                     x[i][l] + h[l] / 6.0 * (k1[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
             }
         }
-        let mut dx = [[0.0; L]; MAX_DIM];
-        seen = eval.field(&t_end, &end, mode, &mut dx);
+        seen = eval.field(&t_end, end, mode, dx);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
-        let hit = eval.collided(&t_end, &end);
+        let hit = eval.collided(&t_end, end);
         for l in 0..L {
             if !lanes.running(l) {
                 continue;
@@ -181,11 +212,6 @@ impl GeneralRk4 {
                 });
             }
         }
-        let after: LaneEnds<L> = (
-            std::array::from_fn(|l| self.tau(lanes.steps[l])),
-            lanes.x,
-            lanes.mode,
-        );
-        (before, after)
+        lanes.stages = Some(stages);
     }
 }

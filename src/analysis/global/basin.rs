@@ -234,10 +234,13 @@ fn seed_attractors<O: Oscillator>(
     let (nx, nv) = (spec.dx.points, spec.v.points);
     let last = SEED_SIDE - 1;
     let pick = |n: usize, j: usize| if n <= 1 { 0 } else { j * (n - 1) / last };
-    let mut sample: Vec<O::State> = (0..SEED_SIDE * SEED_SIDE)
-        .map(|j| ics[pick(nx, j / SEED_SIDE) * nv + pick(nv, j % SEED_SIDE)])
+    // each cell once (a grid narrower than the sub-grid picks some many times), in grid order
+    let mut cells: Vec<usize> = (0..SEED_SIDE * SEED_SIDE)
+        .map(|j| pick(nx, j / SEED_SIDE) * nv + pick(nv, j % SEED_SIDE))
         .collect();
-    sample.dedup();
+    cells.sort_unstable();
+    cells.dedup();
+    let sample: Vec<O::State> = cells.into_iter().map(|c| ics[c]).collect();
     let outcomes: Vec<SteadyState> = sample
         .par_chunks(LANES)
         .map(|part| params.steady_states(part, &spec.steady, None, progress.cancel_flag(), |_| {}))

@@ -7,7 +7,8 @@
 use cranelift_codegen::control::ControlPlane;
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{
-    AbiParam, Function, InstBuilder, MemFlagsData, Signature, UserFuncName, Value, types,
+    AbiParam, Endianness, Function, InstBuilder, MemFlagsData, Signature, UserFuncName, Value,
+    types,
 };
 use cranelift_codegen::isa::OwnedTargetIsa;
 use cranelift_codegen::settings::{self, Configurable};
@@ -138,21 +139,57 @@ pub fn compile(
     let zero = b.ins().iconst(pointer, 0);
     b.ins().jump(body, &[zero.into()]);
 
-    // one lane: its byte offset `lane`
+    // `width` lanes at a time (two in one SSE register where there are pairs), at byte
+    // offset `lane`
+    let width = if lanes.is_multiple_of(2) { 2 } else { 1 };
+    let (float, int) = match width {
+        2 => (types::F64X2, types::I64X2),
+        _ => (types::F64, types::I64),
+    };
     b.switch_to_block(body);
     let lane = b.block_params(body)[0];
-    let flags = MemFlagsData::trusted();
+    // registers of lanes are f64-aligned, pairs of them not always 16-byte aligned
+    let flags = MemFlagsData::new().with_notrap();
+    let lanes_of = MemFlagsData::new().with_endianness(Endianness::Little);
     let base = b.ins().iadd(regs, lane);
     let mode = {
         let at = b.ins().iadd(modes, lane);
-        b.ins().load(types::I64, flags, at, 0)
+        b.ins().load(int, flags, at, 0)
     };
-    let mut observed = b.ins().iconst(types::I64, 0);
+    let splat = |b: &mut FunctionBuilder, ty, v: Value| match width {
+        2 => b.ins().splat(ty, v),
+        _ => v,
+    };
+    let int_const = |b: &mut FunctionBuilder, v: u64| {
+        let v = b.ins().iconst(types::I64, v as i64);
+        splat(b, int, v)
+    };
+    let float_const = |b: &mut FunctionBuilder, v: f64| {
+        let v = b.ins().f64const(v);
+        splat(b, float, v)
+    };
+    let mut observed = int_const(&mut b, 0);
     let stride = (lanes * 8) as i32;
     let mut known: Vec<Option<Value>> = vec![None; registers];
     let get = |b: &mut FunctionBuilder, known: &mut [Option<Value>], r: u32| -> Value {
         *known[r as usize]
-            .get_or_insert_with(|| b.ins().load(types::F64, flags, base, r as i32 * stride))
+            .get_or_insert_with(|| b.ins().load(float, flags, base, r as i32 * stride))
+    };
+    // a library call per lane
+    let call_each = |b: &mut FunctionBuilder, sig, address, args: &[Value]| -> Value {
+        if width == 1 {
+            return call(b, sig, address, args);
+        }
+        let mut out = None;
+        for l in 0..2u8 {
+            let lane_args: Vec<Value> = args.iter().map(|&a| b.ins().extractlane(a, l)).collect();
+            let r = call(b, sig, address, &lane_args);
+            out = Some(match out {
+                None => b.ins().scalar_to_vector(float, r),
+                Some(v) => b.ins().insertlane(v, r, l),
+            });
+        }
+        out.expect("two lanes")
     };
     for i in ins {
         let x = get(&mut b, &mut known, i.a);
@@ -162,28 +199,44 @@ pub fn compile(
             Op::Sub => b.ins().fsub(x, y),
             Op::Mul => b.ins().fmul(x, y),
             Op::Div => b.ins().fdiv(x, y),
-            Op::Pow => call(&mut b, binary, powf as *const () as usize, &[x, y]),
-            Op::Powi => powi(&mut b, x, i.n),
+            Op::Pow => call_each(&mut b, binary, powf as *const () as usize, &[x, y]),
+            Op::Powi => {
+                let one = float_const(&mut b, 1.0);
+                powi(&mut b, x, i.n, one)
+            }
             Op::Un(Func::Neg) => b.ins().fneg(x),
             Op::Un(Func::Sqrt) => b.ins().sqrt(x),
-            Op::Un(f) => call(&mut b, unary, library(f), &[x]),
+            Op::Un(f) => call_each(&mut b, unary, library(f), &[x]),
             Op::Select => {
                 let m = if free { observed } else { mode };
-                let bit = b.ins().band_imm_u(m, (1u64 << i.k) as i64);
-                let on = b.ins().icmp_imm_u(IntCC::NotEqual, bit, 0);
-                b.ins().select(on, x, y)
+                let bit = int_const(&mut b, 1u64 << i.k);
+                let bit = b.ins().band(m, bit);
+                let zero = int_const(&mut b, 0);
+                let on = b.ins().icmp(IntCC::NotEqual, bit, zero);
+                if width == 1 {
+                    b.ins().select(on, x, y)
+                } else {
+                    let on = b.ins().bitcast(float, lanes_of, on);
+                    b.ins().bitselect(on, x, y)
+                }
             }
             Op::Sign | Op::SignStrict => {
-                let zero = b.ins().f64const(0.0);
+                let zero = float_const(&mut b, 0.0);
                 let cc = if i.op == Op::Sign {
                     FloatCC::GreaterThanOrEqual
                 } else {
                     FloatCC::GreaterThan
                 };
                 let on = b.ins().fcmp(cc, x, zero);
-                let wide = b.ins().uextend(types::I64, on);
-                let shifted = b.ins().ishl_imm_u(wide, i64::from(i.k));
-                observed = b.ins().bor(observed, shifted);
+                let bit = int_const(&mut b, 1u64 << i.k);
+                let bits = if width == 1 {
+                    let on = b.ins().uextend(types::I64, on);
+                    b.ins().ishl_imm_u(on, i64::from(i.k))
+                } else {
+                    // a lane's comparison is all ones where it holds
+                    b.ins().band(on, bit)
+                };
+                observed = b.ins().bor(observed, bits);
                 continue;
             }
         };
@@ -196,7 +249,7 @@ pub fn compile(
     }
     let at = b.ins().iadd(observed_out, lane);
     b.ins().store(flags, observed, at, 0);
-    let next = b.ins().iadd_imm_u(lane, 8);
+    let next = b.ins().iadd_imm_u(lane, 8 * width as i64);
     let more = b
         .ins()
         .icmp_imm_u(IntCC::UnsignedLessThan, next, (lanes * 8) as i64);
@@ -240,8 +293,8 @@ fn call(
 }
 
 /// x^n by the multiplications of the runtime's `__powidf2`, which the interpreter's
-/// `f64::powi` calls: bit for bit its value.
-fn powi(b: &mut FunctionBuilder, x: Value, n: i32) -> Value {
+/// `f64::powi` calls: bit for bit its value (`one` is 1 in x's type).
+fn powi(b: &mut FunctionBuilder, x: Value, n: i32, one: Value) -> Value {
     let mut a = x;
     let mut left = n.unsigned_abs();
     let mut product: Option<Value> = None;
@@ -259,9 +312,8 @@ fn powi(b: &mut FunctionBuilder, x: Value, n: i32) -> Value {
         }
         a = b.ins().fmul(a, a);
     }
-    let product = product.unwrap_or_else(|| b.ins().f64const(1.0));
+    let product = product.unwrap_or(one);
     if n < 0 {
-        let one = b.ins().f64const(1.0);
         b.ins().fdiv(one, product)
     } else {
         product

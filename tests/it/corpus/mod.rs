@@ -51,7 +51,7 @@ pub const BASES: [(&str, &str); 10] = [
     ),
     (
         "basin",
-        "dx = { min = -0.8, max = 0.8, points = 4 }\nv = { min = -1.0, max = 1.0, points = 4 }\n",
+        "dx = { min = -0.8, max = 0.8, points = 3 }\nv = { min = -1.0, max = 1.0, points = 3 }\n",
     ),
     (
         "family",
@@ -70,6 +70,9 @@ pub const BASES: [(&str, &str); 10] = [
         "parameter = \"adr\"\nvalues = { min = 0.5, max = 0.6, points = 2 }\ncurves = false\n[analysis.settings.response]\nomega = { min = 3.6, max = 3.8, points = 2 }\ndx = { min = -0.6, max = 0.6, points = 2 }\nv = { min = -0.8, max = 0.8, points = 2 }\n",
     ),
 ];
+
+/// The settings that keep a time history of a hostile model short.
+const SHORT: &str = "[analysis.settings]\nsteady = { max_forcing_periods = 300 }\n";
 
 const PLACEHOLDER: &str = "@@hostile@@";
 
@@ -193,13 +196,16 @@ pub fn cases() -> Vec<Case> {
             out.push(Case {
                 label: format!("[model] {key} = {raw}"),
                 field: key.into(),
-                text: format!("schema = 1\n[model]\n{key} = {raw}\n[[analysis]]\nname = \"a\"\nkind = \"time_history\"\n"),
+                // a short history: an undamped model never settles, and would run 2000 periods
+                text: format!(
+                    "schema = 1\n[model]\n{key} = {raw}\n[[analysis]]\nname = \"a\"\nkind = \"time_history\"\n{SHORT}"
+                ),
             });
         }
         out.push(Case {
             label: format!("analysis model {key} = 1e6"),
             field: key.into(),
-            text: format!("{history}model = {{ {key} = 1e6 }}\n"),
+            text: format!("{history}model = {{ {key} = 1e6 }}\n{SHORT}"),
         });
     }
     // both forms of one quantity

@@ -333,8 +333,10 @@ fn in_lanes<const L: usize>(
         let recording = jobs.iter().any(|j| matches!(j, Job::Recording { .. }));
         for _ in 0..rk.steps_per_period() {
             let was_running: [bool; L] = std::array::from_fn(|l| lanes.running(l));
-            let (before, after) = rk.advance_lanes(&mut sys, &mut eval, &mut lanes);
-            if recording {
+            let before = recording.then(|| lanes.ends(&rk));
+            rk.advance_lanes(&mut sys, &mut eval, &mut lanes);
+            if let Some(before) = before {
+                let after = lanes.ends(&rk);
                 let (y0, rate0) = eval.output(&before.0, &before.1, &before.2);
                 let (y1, rate1) = eval.output(&after.0, &after.1, &after.2);
                 for (l, job) in jobs.iter_mut().enumerate() {
