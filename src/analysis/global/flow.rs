@@ -13,8 +13,9 @@ use crate::solver::general_lanes::Lanes;
 use crate::solver::rk4::LANES;
 use crate::solver::{Resolution, Rk4};
 
-/// Trajectories of a written model verified side by side.
-const WRITTEN_LANES: usize = 8;
+/// Trajectories of a written model verified side by side: as many as its tapes are compiled
+/// for.
+const WRITTEN_LANES: usize = crate::model::equations::tape::NATIVE_LANES;
 
 /// A one-period map on the two grid states.
 #[derive(Debug, Clone)]

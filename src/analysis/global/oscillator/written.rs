@@ -238,8 +238,9 @@ impl Oscillator for EquationSystem {
     }
 }
 
-/// Trajectories of a written model integrated side by side.
-const LANES: usize = 8;
+/// Trajectories of a written model integrated side by side: as many as its tapes are
+/// compiled for.
+const LANES: usize = crate::model::equations::tape::NATIVE_LANES;
 
 /// What one lane is doing.
 enum Job {
