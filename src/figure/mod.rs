@@ -1,7 +1,7 @@
 //! Publication figures of a result: one file per view the workbench draws, rendered by
 //! `plotters` to SVG, PNG or PDF with the DejaVu Sans font shipped in `assets/fonts/`, so a
 //! figure looks the same on a machine with no fonts installed (a PDF embeds the glyphs it
-//! uses; PNG and PDF text is set by isola's own [`text`] layout, with SVG's metrics).
+//! uses; PNG and PDF text is set by isola's own `text` layout, with SVG's metrics).
 //!
 //! Axes are in the model's non-dimensional quantities (MODEL.md §3); where the session's
 //! device gives them, a second axis shows the physical units (ω_e in Hz, Δλ in mm, τ in s).

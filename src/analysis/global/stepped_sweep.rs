@@ -19,7 +19,7 @@ pub struct SweepStep {
 
 /// A jump between two neighbouring steps: the response type changes, or the amplitude
 /// changes by the factor `jump_ratio` (or more) and by at least
-/// [`JUMP_FLOOR`](crate::analysis::orbit::chirp_sweep::JUMP_FLOOR) of the sweep's largest
+/// [`JUMP_FLOOR`] of the sweep's largest
 /// amplitude. Each step is settled, so a jump is one step wide.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct StepJump {

@@ -40,7 +40,7 @@ pub struct Scalogram {
     pub frequencies: Vec<f64>,
     /// τ of each kept column.
     pub times: Vec<f64>,
-    /// magnitude[f][c].
+    /// `magnitude[f][c]`.
     pub magnitude: Vec<Vec<f64>>,
     /// Per column: the frequency of the largest magnitude.
     pub ridge: Vec<f64>,

@@ -162,7 +162,7 @@ pub struct SteadySummary {
     pub slack_ii: f64,
 }
 
-/// The summary of the steady part of samples (τ, λ_I, v, steady) taken every `dt` = τ[1] − τ[0]
+/// The summary of the steady part of samples (τ, λ_I, v, steady) taken every `dt` = `τ[1] − τ[0]`
 /// of an orbit of `p`; `None` without a steady part of at least a forcing period.
 pub fn steady_summary(
     p: &Params,
