@@ -23,35 +23,24 @@ pub(crate) enum Cond {
 }
 
 impl Cond {
-    /// Whether the condition holds, reading each node's value with `value`.
-    pub(crate) fn holds(&self, value: &impl Fn(NodeId) -> f64) -> bool {
+    /// Whether the condition holds in each of `L` lanes, reading each node's lanes with
+    /// `value` (one lane for a single state).
+    pub(crate) fn holds<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
         match self {
             Cond::Positive { value: id, strict } => {
                 let s = value(*id);
-                if *strict { s > 0.0 } else { s >= 0.0 }
-            }
-            Cond::And(a, b) => a.holds(value) && b.holds(value),
-            Cond::Or(a, b) => a.holds(value) || b.holds(value),
-        }
-    }
-
-    /// [`Cond::holds`] in each of `L` lanes of registers.
-    pub(crate) fn holds_in_lanes<const L: usize>(&self, values: &[[f64; L]]) -> [bool; L] {
-        match self {
-            Cond::Positive { value: id, strict } => {
-                let s = &values[*id as usize];
                 if *strict {
-                    std::array::from_fn(|l| s[l] > 0.0)
+                    s.map(|s| s > 0.0)
                 } else {
-                    std::array::from_fn(|l| s[l] >= 0.0)
+                    s.map(|s| s >= 0.0)
                 }
             }
             Cond::And(a, b) => {
-                let (a, b) = (a.holds_in_lanes(values), b.holds_in_lanes(values));
+                let (a, b) = (a.holds(value), b.holds(value));
                 std::array::from_fn(|l| a[l] && b[l])
             }
             Cond::Or(a, b) => {
-                let (a, b) = (a.holds_in_lanes(values), b.holds_in_lanes(values));
+                let (a, b) = (a.holds(value), b.holds(value));
                 std::array::from_fn(|l| a[l] || b[l])
             }
         }

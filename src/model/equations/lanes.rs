@@ -80,7 +80,7 @@ impl<const L: usize> EquationLanes<L> {
         c.collision_tape.run_lanes_free(values);
         let mut hit = [false; L];
         for cond in &c.collisions {
-            let holds = cond.holds_in_lanes(values);
+            let holds = cond.holds(&|id| values[id as usize]);
             (0..L).for_each(|l| hit[l] |= holds[l]);
         }
         hit

@@ -168,7 +168,12 @@ pub fn compile(
         let v = b.ins().f64const(v);
         splat(b, float, v)
     };
-    let mut observed = int_const(&mut b, 0);
+    let (int_zero, float_zero, float_one) = (
+        int_const(&mut b, 0),
+        float_const(&mut b, 0.0),
+        float_const(&mut b, 1.0),
+    );
+    let mut observed = int_zero;
     let stride = (lanes * 8) as i32;
     let mut known: Vec<Option<Value>> = vec![None; registers];
     let get = |b: &mut FunctionBuilder, known: &mut [Option<Value>], r: u32| -> Value {
@@ -200,10 +205,7 @@ pub fn compile(
             Op::Mul => b.ins().fmul(x, y),
             Op::Div => b.ins().fdiv(x, y),
             Op::Pow => call_each(&mut b, binary, powf as *const () as usize, &[x, y]),
-            Op::Powi => {
-                let one = float_const(&mut b, 1.0);
-                powi(&mut b, x, i.n, one)
-            }
+            Op::Powi => powi(&mut b, x, i.n, float_one),
             Op::Un(Func::Neg) => b.ins().fneg(x),
             Op::Un(Func::Sqrt) => b.ins().sqrt(x),
             Op::Un(f) => call_each(&mut b, unary, library(f), &[x]),
@@ -211,8 +213,7 @@ pub fn compile(
                 let m = if free { observed } else { mode };
                 let bit = int_const(&mut b, 1u64 << i.k);
                 let bit = b.ins().band(m, bit);
-                let zero = int_const(&mut b, 0);
-                let on = b.ins().icmp(IntCC::NotEqual, bit, zero);
+                let on = b.ins().icmp(IntCC::NotEqual, bit, int_zero);
                 if width == 1 {
                     b.ins().select(on, x, y)
                 } else {
@@ -221,13 +222,12 @@ pub fn compile(
                 }
             }
             Op::Sign | Op::SignStrict => {
-                let zero = float_const(&mut b, 0.0);
                 let cc = if i.op == Op::Sign {
                     FloatCC::GreaterThanOrEqual
                 } else {
                     FloatCC::GreaterThan
                 };
-                let on = b.ins().fcmp(cc, x, zero);
+                let on = b.ins().fcmp(cc, x, float_zero);
                 let bit = int_const(&mut b, 1u64 << i.k);
                 let bits = if width == 1 {
                     let on = b.ins().uextend(types::I64, on);

@@ -190,7 +190,7 @@ impl System for EquationSystem {
         let regs = &self.regs;
         c.collisions
             .iter()
-            .any(|cond| cond.holds(&|id| regs.get(id)))
+            .any(|cond| cond.holds(&|id| [regs.get(id)])[0])
     }
 
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {

@@ -49,7 +49,7 @@ pub struct Tape {
     pub switch_mask: u64,
     /// The registers its users read: the roots it computes. The interpreter writes every
     /// register it computes, the machine code only these.
-    roots: Vec<NodeId>,
+    pub(super) roots: Vec<NodeId>,
     /// The tape as machine code, compiled at its first run (shared by clones).
     native: std::sync::Arc<Natives>,
 }
@@ -174,9 +174,6 @@ impl Tape {
     /// compiled now if it is the first call.
     #[cfg(target_arch = "x86_64")]
     pub(super) fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
-        if !Tape::native_enabled() {
-            return None;
-        }
         let slot = match lanes {
             1 => 0,
             NATIVE_LANES => 2,
@@ -184,7 +181,11 @@ impl Tape {
         } + free as usize;
         self.native.compiled[slot]
             .get_or_init(|| {
-                super::native::compile(&self.ins, &self.roots, self.registers, lanes, free)
+                Tape::native_enabled()
+                    .then(|| {
+                        super::native::compile(&self.ins, &self.roots, self.registers, lanes, free)
+                    })
+                    .flatten()
             })
             .as_ref()
             .map(|n| n.entry())
@@ -216,14 +217,8 @@ impl Tape {
                 continue;
             }
             let node = graph.node(id);
-            if varying[id as usize] && !matches!(node, Node::Time) {
-                let args_free = match node {
-                    Node::Un(_, a) | Node::Powi(a, _) => !excluded[a as usize],
-                    Node::Bin(_, a, b) => !excluded[a as usize] && !excluded[b as usize],
-                    _ => false,
-                };
-                time_only[id as usize] = args_free;
-            }
+            let computed = matches!(node, Node::Un(..) | Node::Powi(..) | Node::Bin(..));
+            time_only[id as usize] = computed && varying[id as usize] && !excluded[id as usize];
             match node {
                 Node::Un(_, a) | Node::Powi(a, _) => stack.push(a),
                 Node::Bin(_, a, b) => stack.extend([a, b]),
@@ -232,11 +227,6 @@ impl Tape {
             }
         }
         time_only
-    }
-
-    /// The registers this tape computes that its users read.
-    pub fn roots(&self) -> &[NodeId] {
-        &self.roots
     }
 
     /// Number of instructions (a measure of the work per evaluation).

@@ -292,6 +292,20 @@ fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
     }
 }
 
+/// Every tape of a compiled model.
+fn every_tape(c: &super::build::Compiled) -> Vec<&super::tape::Tape> {
+    let mut tapes = vec![
+        &c.time_tape,
+        &c.field_tape,
+        &c.jacobian_tape,
+        &c.output_tape,
+        &c.collision_tape,
+        &c.named_tape,
+    ];
+    tapes.extend(&c.switch_gradient_tapes);
+    tapes
+}
+
 /// A model that uses every function, integer and real powers and every kind of kink.
 const EVERY_OPERATION: &str = r#"
 [model]
@@ -343,16 +357,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
         let sys = model.system(&model.defaults()).unwrap();
         let c = &*model.inner;
         let dim = c.states.len();
-        let mut tapes = vec![
-            &c.time_tape,
-            &c.field_tape,
-            &c.jacobian_tape,
-            &c.output_tape,
-            &c.collision_tape,
-            &c.named_tape,
-        ];
-        tapes.extend(&c.switch_gradient_tapes);
-        for tape in tapes {
+        for tape in every_tape(c) {
             for round in 0..200 {
                 let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
                 let mut regs = sys.registers().clone();
@@ -373,7 +378,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                         )
                     };
                     assert_eq!(got, want, "observed modes");
-                    for &r in tape.roots() {
+                    for &r in &tape.roots {
                         let (a, b) = (native[r as usize], interpreted[r as usize]);
                         assert!(same(a, b), "register {r}: {a:e} native, {b:e} interpreted");
                     }
@@ -397,7 +402,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                 let want =
                     tape.interpret_lanes::<NATIVE_LANES, true>(&mut by_lane, &[0; NATIVE_LANES]);
                 assert_eq!(got, want, "observed modes in free lanes");
-                for &r in tape.roots() {
+                for &r in &tape.roots {
                     for (a, b) in lanes[r as usize].iter().zip(&by_lane[r as usize]) {
                         assert!(same(*a, *b), "lanes: {a:e} native, {b:e} interpreted");
                     }
@@ -420,16 +425,7 @@ fn every_tape_of_the_catalogue_compiles_to_machine_code() {
         "user_model_duffing_isola.toml",
     ] {
         let c = catalogue(file, &[]).model().inner.clone();
-        let mut tapes = vec![
-            &c.time_tape,
-            &c.field_tape,
-            &c.jacobian_tape,
-            &c.output_tape,
-            &c.collision_tape,
-            &c.named_tape,
-        ];
-        tapes.extend(&c.switch_gradient_tapes);
-        for (i, tape) in tapes.into_iter().enumerate() {
+        for (i, tape) in every_tape(&c).into_iter().enumerate() {
             for lanes in [1, NATIVE_LANES] {
                 for free in [false, true] {
                     assert!(
