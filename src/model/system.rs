@@ -57,6 +57,10 @@ pub trait System: Clone + Send {
     /// Why (τ, x) gives a value that is not finite: the expression that first does, if the
     /// model can say.
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String>;
+    /// Told the integrator's grid (`n` steps per period) as a trajectory starts: a model may
+    /// tabulate what depends on time alone at the grid's stage times. Results must not
+    /// depend on it beyond rounding.
+    fn tabulate(&mut self, _n: usize) {}
 }
 
 /// A state of `len` ≤ [`MAX_DIM`] numbers, held inline (so it is `Copy`), read as a slice,

@@ -102,6 +102,7 @@ impl GeneralRk4 {
 
     /// A trajectory from `x0` at τ = 0 (stopped at once if `x0` is outside the model).
     pub fn start<S: System>(&self, sys: &mut S, x0: &[f64]) -> Trajectory {
+        sys.tabulate(self.n);
         let mut x = [0.0; MAX_DIM];
         x[..x0.len()].copy_from_slice(x0);
         let mut traj = Trajectory {

@@ -133,6 +133,7 @@ impl GeneralRk4 {
         eval: &mut EquationLanes<L>,
         lanes: &mut Lanes<L>,
     ) {
+        eval.follow_table(sys);
         let dim = sys.dim();
         let mask = sys.switch_mask();
         let t: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l]));

@@ -24,7 +24,9 @@ pub(crate) enum Cond {
 
 impl Cond {
     /// Whether the condition holds in each of `L` lanes, reading each node's lanes with
-    /// `value` (one lane for a single state).
+    /// `value` (one lane for a single state). A comparison, the common condition, is
+    /// inlined; `&&` and `||` recurse.
+    #[inline(always)]
     pub(crate) fn holds<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
         match self {
             Cond::Positive { value: id, strict } => {
@@ -35,6 +37,13 @@ impl Cond {
                     s.map(|s| s >= 0.0)
                 }
             }
+            _ => self.holds_combined(value),
+        }
+    }
+
+    #[inline(never)]
+    fn holds_combined<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
+        match self {
             Cond::And(a, b) => {
                 let (a, b) = (a.holds(value), b.holds(value));
                 std::array::from_fn(|l| a[l] && b[l])
@@ -43,6 +52,7 @@ impl Cond {
                 let (a, b) = (a.holds(value), b.holds(value));
                 std::array::from_fn(|l| a[l] || b[l])
             }
+            Cond::Positive { .. } => self.holds(value),
         }
     }
 
@@ -100,6 +110,9 @@ pub(crate) struct Compiled {
     /// The nodes that vary with time alone (the forcing), run by [`Registers::load`] once
     /// per time.
     pub time_tape: Tape,
+    /// Whether every value read repeats with the forcing period, so that the time tape
+    /// can be tabulated over one ([`super::time_table::TimeTable`]).
+    pub periodic: bool,
     pub field_tape: Tape,
     /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
@@ -477,6 +490,8 @@ impl<'d> Builder<'d> {
             .filter(|&id| time_only[id as usize])
             .collect();
         let tape = |roots: &[NodeId]| Tape::new(g, roots, &time_only);
+        let read = [hot.as_slice(), &jacobian, &switch_gradients.concat()].concat();
+        let periodic = g.periodic_in_time(frequency as u16, &read);
         Ok(Compiled {
             name: def.name.clone(),
             states: def.states.clone(),
@@ -499,6 +514,7 @@ impl<'d> Builder<'d> {
             grid,
             origin,
             time_tape: Tape::new(g, &time_roots, &vec![false; g.len()]),
+            periodic,
             field_tape: tape(&field_roots),
             jacobian_tape: tape(&[derivatives.as_slice(), &jacobian].concat()),
             output_tape: tape(&[y, rate]),

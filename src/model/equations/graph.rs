@@ -262,7 +262,7 @@ impl Graph {
     }
 
     /// a^n for an integer n: small powers as products (a multiplication is cheaper than a
-    /// call), negative ones as their reciprocals.
+    /// call), small negative ones as powers of 1/a (one division shared by all).
     pub fn powi(&mut self, a: NodeId, n: i32) -> NodeId {
         match n {
             0 => self.num(1.0),
@@ -277,9 +277,10 @@ impl Graph {
                 self.mul(sq, sq)
             }
             -4..=-1 => {
+                // (1/a)^n: one division for every negative power of a
                 let one = self.num(1.0);
-                let p = self.powi(a, -n);
-                self.div(one, p)
+                let reciprocal = self.div(one, a);
+                self.powi(reciprocal, -n)
             }
             _ => match self.constant(a) {
                 Some(v) => self.num(v.powi(n)),
@@ -448,6 +449,71 @@ impl Graph {
             out.push(v);
         }
         out
+    }
+
+    /// Whether every node repeats with the forcing period 2π/ω, ω being parameter `omega`:
+    /// the time enters only as k·ω·t plus a fixed phase (k a whole number) inside sin, cos or
+    /// tan, and no `roots` (what the model's users read) is t or such a phase itself. Then
+    /// one period's values of the time-only nodes serve every period. A model using t
+    /// otherwise (`exp(-t)`, `cos(omega*t/2)`, `t*x`) is not taken to be periodic.
+    pub fn periodic_in_time(&self, omega: u16, roots: &[NodeId]) -> bool {
+        /// What a node is as a function of time.
+        #[derive(Clone, Copy, PartialEq)]
+        enum Kind {
+            /// Constant in time and fixed by the parameters, or periodic.
+            Repeating,
+            /// k·ω for a whole k ≠ 0 (fixed, and a valid factor of t).
+            WholeOmega,
+            Time,
+            /// k·ω·t + a fixed phase: periodic only inside sin, cos or tan.
+            Phase,
+        }
+        use Kind::*;
+        let varying = self.varying();
+        let whole = |id: NodeId| matches!(self.node(id), Node::Const(v) if v == v.round() && v != 0.0 && v.abs() < 1e15);
+        let mut kind: Vec<Kind> = Vec::with_capacity(self.nodes.len());
+        for node in &self.nodes {
+            let k = |i: NodeId| kind[i as usize];
+            let fixed = |i: NodeId| !varying[i as usize];
+            let this = match *node {
+                Node::Time => Time,
+                Node::Param(p) if p == omega => WholeOmega,
+                Node::Un(Func::Neg, a) if matches!(k(a), WholeOmega | Phase) => k(a),
+                Node::Un(Func::Sin | Func::Cos | Func::Tan, a) if k(a) == Phase => Repeating,
+                Node::Bin(Op2::Mul, a, b) => match (k(a), k(b)) {
+                    (WholeOmega, Time) | (Time, WholeOmega) => Phase,
+                    (WholeOmega, _) if whole(b) => WholeOmega,
+                    (_, WholeOmega) if whole(a) => WholeOmega,
+                    (Phase, _) if whole(b) => Phase,
+                    (_, Phase) if whole(a) => Phase,
+                    _ => Repeating,
+                },
+                Node::Bin(Op2::Add | Op2::Sub, a, b) => match (k(a), k(b)) {
+                    (Phase, Phase) => Phase,
+                    (Phase, _) if fixed(b) => Phase,
+                    (_, Phase) if fixed(a) => Phase,
+                    _ => Repeating,
+                },
+                _ => Repeating,
+            };
+            // any other use of t or of a phase breaks the period
+            let arguments: &[NodeId] = match *node {
+                Node::Un(_, a) | Node::Powi(a, _) => &[a],
+                Node::Bin(_, a, b) => &[a, b],
+                Node::Select(s, a, b) => &[a, b, self.switches[s as usize].value],
+                _ => &[],
+            };
+            let trig_of_phase =
+                matches!(*node, Node::Un(Func::Sin | Func::Cos | Func::Tan, a) if k(a) == Phase);
+            let consumed = matches!(this, Phase | WholeOmega) || trig_of_phase;
+            if !consumed && arguments.iter().any(|&a| matches!(k(a), Time | Phase)) {
+                return false;
+            }
+            kind.push(this);
+        }
+        roots
+            .iter()
+            .all(|&r| !matches!(kind[r as usize], Time | Phase))
     }
 }
 

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use super::EquationSystem;
 use super::build::Compiled;
 use super::tape::Registers;
+use super::time_table::TimeTable;
 use crate::model::system::{MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
@@ -19,6 +20,7 @@ pub struct EquationLanes<const L: usize> {
     state_slots: Vec<(u8, u32)>,
     time_slot: Option<u32>,
     stamp: u32,
+    table: Option<Arc<TimeTable>>,
 }
 
 impl<const L: usize> EquationLanes<L> {
@@ -31,11 +33,29 @@ impl<const L: usize> EquationLanes<L> {
             state_slots: regs.state_slots.clone(),
             time_slot: regs.time_slot,
             stamp: regs.stamp,
+            table: regs.table.clone(),
+        }
+    }
+
+    /// Takes `sys`'s table of its forcing, if it has another (after [`System::tabulate`]).
+    ///
+    /// [`System::tabulate`]: crate::model::system::System::tabulate
+    #[inline]
+    pub fn follow_table(&mut self, sys: &EquationSystem) {
+        let theirs = &sys.registers().table;
+        let same = match (&self.table, theirs) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            self.table = theirs.clone();
         }
     }
 
     /// Loads the lanes' times and states into their registers, and the time-only nodes
-    /// unless every lane's were last computed at its time (see [`Registers::load`]).
+    /// unless every lane's were last computed at its time: from the table where it has
+    /// every lane's time, else computed (see [`Registers::load`]).
     #[inline(always)]
     fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
         if let Some(slot) = self.time_slot {
@@ -43,7 +63,23 @@ impl<const L: usize> EquationLanes<L> {
             let stamp = &mut self.values[self.stamp as usize];
             if (0..L).any(|l| stamp[l].to_bits() != tau[l].to_bits()) {
                 *stamp = *tau;
-                self.inner.time_tape.run_lanes(&mut self.values, &[0; L]);
+                let rows = self.table.as_deref().and_then(|table| {
+                    let mut rows: [&[f64]; L] = [&[]; L];
+                    for (row, &t) in rows.iter_mut().zip(tau) {
+                        *row = table.row(t)?;
+                    }
+                    Some((table, rows))
+                });
+                match rows {
+                    Some((table, rows)) => {
+                        for (j, &s) in table.slots().iter().enumerate() {
+                            self.values[s as usize] = std::array::from_fn(|l| rows[l][j]);
+                        }
+                    }
+                    None => {
+                        self.inner.time_tape.run_lanes(&mut self.values, &[0; L]);
+                    }
+                }
             }
         }
         for &(i, slot) in &self.state_slots {

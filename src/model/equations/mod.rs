@@ -29,6 +29,7 @@ mod native;
 pub mod parse;
 pub mod system;
 pub mod tape;
+pub mod time_table;
 
 pub use build::EquationModel;
 pub use definition::{ModelDefinition, ParameterDefinition};

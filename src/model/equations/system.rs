@@ -1,7 +1,10 @@
 //! A compiled written model at one set of parameter values: the [`System`] the general
 //! engine integrates.
 
+use std::sync::Arc;
+
 use super::build::EquationModel;
+use super::time_table::TimeTable;
 use crate::model::ParamError;
 use crate::model::equations::tape::Registers;
 use crate::model::system::{MAX_DIM, Mode, System, Vector};
@@ -72,7 +75,8 @@ impl EquationSystem {
         &self.values
     }
 
-    /// Its registers (constants and parameter-fixed values filled in).
+    /// Its registers (constants and parameter-fixed values filled in, and the table of its
+    /// forcing once [`System::tabulate`]d).
     pub(super) fn registers(&self) -> &Registers {
         &self.regs
     }
@@ -196,10 +200,24 @@ impl System for EquationSystem {
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
         let c = &*self.model.inner;
         self.regs.load(&c.time_tape, tau, x);
+        // computed, not from a period's table: a name may hold a phase ω·t itself
+        c.time_tape.run_in(&mut self.regs.values, 0);
         c.named_tape.run_free(&mut self.regs.values);
         c.named
             .iter()
             .find(|(_, id)| !self.regs.get(*id).is_finite())
             .map(|(key, id)| format!("{key} = {}", self.regs.get(*id)))
     }
+
+    fn tabulate(&mut self, n: usize) {
+        let c = &*self.model.inner;
+        let current = self.regs.table.as_ref().map(|t| t.steps_per_period());
+        if c.periodic && !c.time_tape.is_empty() && n <= MAX_TABULATED_STEPS && current != Some(n) {
+            let table = TimeTable::new(&c.time_tape, &self.regs, self.period, n);
+            self.regs.table = Some(Arc::new(table));
+        }
+    }
 }
+
+/// Most steps per period whose forcing is tabulated (2n rows of the time-only values).
+const MAX_TABULATED_STEPS: usize = 1 << 16;

@@ -2,7 +2,10 @@
 //! state: only the nodes that vary with time or state, in dependency order, each once. Nodes
 //! fixed by the parameters are evaluated once per parameter set ([`Registers::set_params`]).
 
+use std::sync::Arc;
+
 use super::graph::{Func, Graph, Node, NodeId, Op2};
+use super::time_table::TimeTable;
 use crate::model::system::Mode;
 
 /// What an instruction does: one flat list, so that the loop dispatches once.
@@ -408,6 +411,8 @@ pub struct Registers {
     fixed: Vec<NodeId>,
     /// The register holding the time the time-only nodes were computed at (NaN: not yet).
     pub(super) stamp: u32,
+    /// A period of the time-only values, for a periodic model (see [`TimeTable`]).
+    pub(super) table: Option<Arc<TimeTable>>,
 }
 
 impl Registers {
@@ -435,6 +440,7 @@ impl Registers {
             param_slots,
             fixed,
             stamp,
+            table: None,
         }
     }
 
@@ -442,6 +448,7 @@ impl Registers {
     /// values takes its branch by its switching value's sign.
     pub fn set_params(&mut self, graph: &Graph, params: &[f64]) {
         self.values[self.stamp as usize] = f64::NAN;
+        self.table = None;
         for &(i, slot) in &self.param_slots {
             self.values[slot as usize] = params[i as usize];
         }
@@ -464,16 +471,31 @@ impl Registers {
         }
     }
 
-    /// Loads the time and state, and runs `time_tape` (the model's time-only nodes) unless
-    /// they were last computed at this very time.
+    /// Loads the time and state, and the time-only nodes (the model's `time_tape`) unless
+    /// they were last computed at this very time: from the table where it has the time, else
+    /// by running the tape.
     #[inline(always)]
     pub fn load(&mut self, time_tape: &Tape, t: f64, x: &[f64]) {
         if let Some(slot) = self.time_slot {
-            self.values[slot as usize] = t;
-            let stamp = &mut self.values[self.stamp as usize];
+            let values = &mut self.values;
+            values[slot as usize] = t;
+            let stamp = &mut values[self.stamp as usize];
             if stamp.to_bits() != t.to_bits() {
                 *stamp = t;
-                time_tape.run_in(&mut self.values, 0);
+                match self
+                    .table
+                    .as_deref()
+                    .and_then(|table| Some((table, table.row(t)?)))
+                {
+                    Some((table, row)) => {
+                        for (&s, &v) in table.slots().iter().zip(row) {
+                            values[s as usize] = v;
+                        }
+                    }
+                    None => {
+                        time_tape.run_in(values, 0);
+                    }
+                }
             }
         }
         for &(i, slot) in &self.state_slots {

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::model::Params;
+use crate::model::system::System;
 use crate::solver::general::{GeneralRk4, Trajectory};
 use crate::solver::{Resolution, Rk4};
 
@@ -435,5 +436,111 @@ fn every_tape_of_the_catalogue_compiles_to_machine_code() {
                 }
             }
         }
+    }
+}
+
+/// The paper's model with its forcing written `phi_I`, and parameter `eps` added.
+fn paper_with_forcing(phi_i: &str) -> EquationModel {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_paper.toml"
+    );
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace(
+            r#"phi_I = "phi_dc*(1 + ADR*cos(omega*t))""#,
+            &format!("phi_I = \"{phi_i}\""),
+        )
+        .replace(
+            "[model.parameters]",
+            "[model.parameters]\neps = { value = 0.0, min = -1.0, max = 1.0 }",
+        );
+    let def = ModelDefinition::from_text(&text).unwrap();
+    EquationModel::new(&def, &text).unwrap()
+}
+
+#[test]
+fn only_forcing_that_repeats_with_the_period_is_taken_as_periodic() {
+    for (phi_i, periodic) in [
+        ("phi_dc*(1 + ADR*cos(omega*t))", true),
+        (
+            "phi_dc*(1 + ADR*sin(2*omega*t + 0.3) - eps*cos(-3*(omega*t)))",
+            true,
+        ),
+        ("phi_dc*(1 + ADR*cos(omega*t - omega*t*2 + eps))", true),
+        ("phi_dc*(1 + ADR*cos(omega*t/2))", false),
+        ("phi_dc*(1 + ADR*cos(1.5*omega*t))", false),
+        ("phi_dc*(1 + ADR*cos(omega*t)) + eps*t", false),
+        ("phi_dc*(1 + ADR*cos(omega*t)*exp(-eps*t))", false),
+        ("phi_dc*(1 + ADR*cos(omega*t + lambda_I))", false),
+        ("phi_dc*(1 + ADR*cos(J*t))", false),
+        (
+            "phi_dc*(1 + ADR*cos(omega*t))*if(omega*t > 1, 1, 0.5)",
+            false,
+        ),
+    ] {
+        let m = paper_with_forcing(phi_i);
+        assert_eq!(m.inner.periodic, periodic, "{phi_i}");
+    }
+    // a phase itself read as a derivative is not periodic
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_paper.toml"
+    ))
+    .unwrap()
+    .replace(
+        r#"lambda_I = "v""#,
+        r#"lambda_I = "v + 0*omega*t + omega*t""#,
+    );
+    let def = ModelDefinition::from_text(&text).unwrap();
+    assert!(!EquationModel::new(&def, &text).unwrap().inner.periodic);
+}
+
+#[test]
+fn the_tabulated_forcing_gives_the_computed_forcings_trajectories() {
+    // `+ eps*t` with eps = 0 adds exactly nothing but makes the model aperiodic, so that its
+    // forcing is computed at every time: the two runs differ only by the rounding of
+    // cos(ω·τ) at large τ against the table's first period
+    let tabulated = paper_with_forcing("phi_dc*(1 + ADR*cos(omega*t))");
+    let computed = paper_with_forcing("phi_dc*(1 + ADR*cos(omega*t)) + eps*t");
+    assert!(tabulated.inner.periodic && !computed.inner.periodic);
+    for (omega, dx0) in [(3.7, 0.3), (1.8, 0.4), (4.2, -0.1)] {
+        let system = |m: &EquationModel| {
+            let mut values = m.defaults();
+            values[m.parameter("omega").unwrap()] = omega;
+            m.system(&values).unwrap()
+        };
+        let (mut a, mut b) = (system(&tabulated), system(&computed));
+        let rk = GeneralRk4::new(&a, &Resolution::default());
+        let x0 = [1.02 + dx0, 0.0];
+        let (mut ta, mut tb) = (rk.start(&mut a, &x0), rk.start(&mut b, &x0));
+        assert!(a.registers().table.is_some() && b.registers().table.is_none());
+        let mut worst: f64 = 0.0;
+        for _ in 0..300 {
+            rk.advance_period(&mut a, &mut ta, |_, _, _| {});
+            rk.advance_period(&mut b, &mut tb, |_, _, _| {});
+            worst = worst.max((ta.x[0] - tb.x[0]).abs().max((ta.x[1] - tb.x[1]).abs()));
+        }
+        assert!(ta.stop.is_none() && tb.stop.is_none());
+        eprintln!("ω {omega}: largest difference {worst:e}");
+        assert!(worst > 0.0 && worst < 1e-11, "ω {omega}: {worst:e}");
+        // the table's rows are the forcing computed at the first period's grid times, and
+        // serve every period
+        let table = a.registers().table.clone().unwrap();
+        let h = rk.step();
+        for k in [0usize, 1, 2, 7, 2 * rk.steps_per_period() - 1] {
+            let tau = k as f64 * h / 2.0;
+            let mut r = a.registers().clone();
+            r.table = None;
+            r.values[r.stamp as usize] = f64::NAN;
+            r.load(&tabulated.inner.time_tape, tau, &x0);
+            let row = table.row(tau).unwrap();
+            for (&slot, &v) in table.slots().iter().zip(row) {
+                assert_eq!(v, r.values[slot as usize], "k {k}");
+            }
+            assert_eq!(table.row(tau + 1000.0 * a.period()), Some(row), "k {k}");
+        }
+        // off the grid the forcing is computed
+        assert!(table.row(0.37 * h).is_none());
     }
 }
