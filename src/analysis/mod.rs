@@ -35,9 +35,9 @@ pub use progress::Progress;
 /// mixed with this build's. Changes that keep every result byte-identical keep it.
 /// 2: a drive given as (E_a, ADR) keeps them exactly, so drives rebuilt from it (family
 /// members, sweep frequencies, continuation starts) moved by up to an ulp.
-/// 3: a written model's periodic forcing read from a table of one period, its negative
-/// powers through one reciprocal: its numbers moved by rounding (≤ 2e-13 in Fig 4's).
-pub const NUMERICS_VERSION: u32 = 3;
+/// A written model's own numerics have their version too
+/// ([`crate::model::equations::NUMERICS_VERSION`]).
+pub const NUMERICS_VERSION: u32 = 2;
 
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

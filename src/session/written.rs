@@ -138,7 +138,11 @@ impl WrittenModel {
             }
             ModelUse::Nothing => values.clear(),
         }
-        serde_json::json!({ "equations": self.definition, "values": values })
+        serde_json::json!({
+            "equations": self.definition,
+            "values": values,
+            "numerics": crate::model::equations::NUMERICS_VERSION,
+        })
     }
 
     /// An error for an override that names no parameter, if any.

@@ -371,6 +371,27 @@ fn numerics_version_is_part_of_the_fingerprint() {
     );
 }
 
+/// A written model's own numerics version is in its results' fingerprint (and the built-in
+/// model's results do not depend on it).
+#[test]
+fn a_written_models_numerics_version_is_part_of_its_fingerprint() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_paper.toml"
+    ))
+    .unwrap();
+    let s = Session::parse(Path::new("s.toml"), &text).unwrap();
+    let input = s.fingerprint_input(&s.analyses[0], isola::analysis::NUMERICS_VERSION);
+    assert_eq!(
+        input["model"]["numerics"],
+        isola::model::equations::NUMERICS_VERSION,
+        "{input}"
+    );
+    let built_in = Session::parse(Path::new("s.toml"), BASIN).unwrap();
+    let input = built_in.fingerprint_input(&built_in.analyses[0], 2);
+    assert!(input["model"].get("numerics").is_none(), "{input}");
+}
+
 /// Two runs of one session started together, six times: each chunk is computed once, one run
 /// assembles, both end "done" with the uninterrupted run's CSV.
 #[test]

@@ -11,7 +11,7 @@ use super::EquationError;
 use super::definition::{ModelDefinition, expression_start, line_column};
 use super::graph::{Func, Graph, MAX_SWITCHES, NodeId, Op2, Wrt};
 use super::parse::{Ast, BinOp, CmpOp, Span, parse};
-use super::tape::Tape;
+use super::tape::{FieldIo, Tape};
 use crate::model::system::MAX_DIM;
 
 /// A condition: true where a switching-like value is positive (or zero when not strict).
@@ -114,6 +114,8 @@ pub(crate) struct Compiled {
     /// can be tabulated over one ([`super::time_table::TimeTable`]).
     pub periodic: bool,
     pub field_tape: Tape,
+    /// The field tape's states and derivatives, for its machine code to read and write.
+    pub field_io: FieldIo,
     /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
     pub output_tape: Tape,
@@ -516,6 +518,7 @@ impl<'d> Builder<'d> {
             time_tape: Tape::new(g, &time_roots, &vec![false; g.len()]),
             periodic,
             field_tape: tape(&field_roots),
+            field_io: FieldIo::new(g, &derivatives),
             jacobian_tape: tape(&[derivatives.as_slice(), &jacobian].concat()),
             output_tape: tape(&[y, rate]),
             collision_tape: tape(&collision_roots),

@@ -54,10 +54,20 @@ impl<const L: usize> EquationLanes<L> {
     }
 
     /// Loads the lanes' times and states into their registers, and the time-only nodes
-    /// unless every lane's were last computed at its time: from the table where it has
-    /// every lane's time, else computed (see [`Registers::load`]).
+    /// (see [`EquationLanes::load_time`]).
     #[inline(always)]
     fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
+        self.load_time(tau);
+        for &(i, slot) in &self.state_slots {
+            self.values[slot as usize] = x[i as usize];
+        }
+    }
+
+    /// Loads the lanes' times, and the time-only nodes unless every lane's were last
+    /// computed at its time: from the table where it has every lane's time, else computed
+    /// (see [`Registers::load_time`]).
+    #[inline(always)]
+    fn load_time(&mut self, tau: &[f64; L]) {
         if let Some(slot) = self.time_slot {
             self.values[slot as usize] = *tau;
             let stamp = &mut self.values[self.stamp as usize];
@@ -82,9 +92,6 @@ impl<const L: usize> EquationLanes<L> {
                 }
             }
         }
-        for &(i, slot) in &self.state_slots {
-            self.values[slot as usize] = x[i as usize];
-        }
     }
 
     /// dx/dτ of every lane on its own mode into `dx`; returns the modes the switching
@@ -97,13 +104,10 @@ impl<const L: usize> EquationLanes<L> {
         modes: &[Mode; L],
         dx: &mut LaneVectors<L>,
     ) -> [Mode; L] {
-        self.load(tau, x);
+        self.load_time(tau);
         let c = &*self.inner;
-        let observed = c.field_tape.run_lanes(&mut self.values, modes);
-        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
-            *d = self.values[id as usize];
-        }
-        observed
+        c.field_tape
+            .run_field_lanes(&mut self.values, modes, &c.field_io, x, dx)
     }
 
     /// Whether each lane has met a collision condition.

@@ -35,6 +35,14 @@ pub use build::EquationModel;
 pub use definition::{ModelDefinition, ParameterDefinition};
 pub use system::EquationSystem;
 
+/// The version of written models' numerics, part of their results' fingerprints beside
+/// [`crate::analysis::NUMERICS_VERSION`]: bump it with any change that alters a number a
+/// written model computes and not the built-in model's, so that only written models'
+/// stored results become stale.
+/// 2: a periodic forcing read from a table of one period, negative powers through one
+/// reciprocal: numbers moved by rounding (≤ 2e-13 in Fig 4's response).
+pub const NUMERICS_VERSION: u32 = 2;
+
 /// Why a written model cannot be used: where (the TOML key, and line and column when known)
 /// and what.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -17,11 +17,13 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use std::sync::OnceLock;
 
 use super::graph::Func;
-use super::tape::{Ins, Op};
+use super::tape::{FieldIo, Ins, Op};
 
-/// Runs a tape on registers: `(registers, modes, observed)`, one `Mode` of each per lane;
-/// lane l's register r is at `registers[r·L + l]`.
-pub type Entry = unsafe extern "C" fn(*mut f64, *const u64, *mut u64);
+/// Runs a tape on registers: `(registers, modes, observed, states, derivatives)`, one
+/// `Mode` of each per lane; lane l's register r is at `registers[r·L + l]`, its state i at
+/// `states[i·L + l]`, its derivative i at `derivatives[i·L + l]`. Only code compiled with a
+/// [`FieldIo`] reads the states and writes the derivatives (others may be given null).
+pub type Entry = unsafe extern "C" fn(*mut f64, *const u64, *mut u64, *const f64, *mut f64);
 
 /// Tapes longer than this are interpreted: compiling straight-line code grows faster than
 /// its length, and a model this large is rare.
@@ -102,13 +104,15 @@ impl Native {
 }
 
 /// Compiles `ins` (registers below `registers`) for `lanes` lanes, storing the registers
-/// `roots`; `None` if the host has no code generator or the tape is too long.
+/// `roots`, and with `io` reading the states and writing the derivatives itself; `None` if
+/// the host has no code generator or the tape is too long.
 pub fn compile(
     ins: &[Ins],
     roots: &[u32],
     registers: usize,
     lanes: usize,
     free: bool,
+    io: Option<&FieldIo>,
 ) -> Option<Native> {
     let isa = host()?;
     if ins.len() > MAX_INSTRUCTIONS || registers * lanes * 8 >= i32::MAX as usize {
@@ -116,7 +120,7 @@ pub fn compile(
     }
     let pointer = isa.pointer_type();
     let mut sig = Signature::new(isa.default_call_conv());
-    sig.params.extend([AbiParam::new(pointer); 3]);
+    sig.params.extend([AbiParam::new(pointer); 5]);
     let mut func = Function::with_name_signature(UserFuncName::default(), sig);
     let mut fctx = FunctionBuilderContext::new();
     let mut b = FunctionBuilder::new(&mut func, &mut fctx);
@@ -135,7 +139,8 @@ pub fn compile(
     b.append_block_params_for_function_params(entry);
     b.append_block_param(body, pointer);
     b.switch_to_block(entry);
-    let [regs, modes, observed_out] = b.block_params(entry).try_into().expect("three pointers");
+    let [regs, modes, observed_out, states, derivatives] =
+        b.block_params(entry).try_into().expect("five pointers");
     let zero = b.ins().iconst(pointer, 0);
     b.ins().jump(body, &[zero.into()]);
 
@@ -180,6 +185,15 @@ pub fn compile(
         *known[r as usize]
             .get_or_insert_with(|| b.ins().load(float, flags, base, r as i32 * stride))
     };
+    if let Some(io) = io {
+        // the states from the caller's vectors, into the registers too (as a load would)
+        let at = b.ins().iadd(states, lane);
+        for &(i, slot) in &io.states {
+            let x = b.ins().load(float, flags, at, i32::from(i) * stride);
+            b.ins().store(flags, x, base, slot as i32 * stride);
+            known[slot as usize] = Some(x);
+        }
+    }
     // a library call per lane
     let call_each = |b: &mut FunctionBuilder, sig, address, args: &[Value]| -> Value {
         if width == 1 {
@@ -246,6 +260,13 @@ pub fn compile(
     for &r in roots {
         let value = known[r as usize].expect("a root the tape computes");
         b.ins().store(flags, value, base, r as i32 * stride);
+    }
+    if let Some(io) = io {
+        let at = b.ins().iadd(derivatives, lane);
+        for (i, &r) in io.derivatives.iter().enumerate() {
+            let value = get(&mut b, &mut known, r);
+            b.ins().store(flags, value, at, i as i32 * stride);
+        }
     }
     let at = b.ins().iadd(observed_out, lane);
     b.ins().store(flags, observed, at, 0);

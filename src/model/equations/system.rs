@@ -118,12 +118,9 @@ impl System for EquationSystem {
     #[inline]
     fn field(&mut self, tau: f64, x: &Vector, mode: Mode, dx: &mut Vector) -> Mode {
         let c = &*self.model.inner;
-        self.regs.load(&c.time_tape, tau, x);
-        let observed = c.field_tape.run_in(&mut self.regs.values, mode);
-        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
-            *d = self.regs.get(id);
-        }
-        observed
+        self.regs.load_time(&c.time_tape, tau);
+        c.field_tape
+            .run_field(&mut self.regs.values, mode, &c.field_io, x, dx)
     }
 
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {

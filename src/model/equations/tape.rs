@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::graph::{Func, Graph, Node, NodeId, Op2};
 use super::time_table::TimeTable;
-use crate::model::system::Mode;
+use crate::model::system::{MAX_DIM, Mode, Vector};
 
 /// What an instruction does: one flat list, so that the loop dispatches once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,11 +61,36 @@ pub struct Tape {
 /// counts are interpreted.
 pub const NATIVE_LANES: usize = 8;
 
-/// A tape's machine code, per use: one lane or [`NATIVE_LANES`], held or free.
+/// A tape's machine code, per use: one lane or [`NATIVE_LANES`], held or free, and held
+/// with the field's states and derivatives read and written by the code itself.
 #[derive(Debug, Default)]
 struct Natives {
     #[cfg(target_arch = "x86_64")]
-    compiled: [std::sync::OnceLock<Option<super::native::Native>>; 4],
+    compiled: [std::sync::OnceLock<Option<super::native::Native>>; 6],
+}
+
+/// Where a field tape's states go and its derivatives come from: (state, register) pairs,
+/// and the register of each state's derivative in state order.
+#[derive(Debug, Clone)]
+pub struct FieldIo {
+    pub states: Vec<(u8, u32)>,
+    pub derivatives: Vec<u32>,
+}
+
+impl FieldIo {
+    /// The states' registers and the derivatives' of `graph`.
+    pub fn new(graph: &Graph, derivatives: &[NodeId]) -> FieldIo {
+        let states = (0..graph.len() as u32)
+            .filter_map(|id| match graph.node(id) {
+                Node::State(i) => Some((i, id)),
+                _ => None,
+            })
+            .collect();
+        FieldIo {
+            states,
+            derivatives: derivatives.to_vec(),
+        }
+    }
 }
 
 impl Tape {
@@ -182,12 +207,35 @@ impl Tape {
             NATIVE_LANES => 2,
             _ => return None,
         } + free as usize;
+        self.compiled(slot, lanes, free, None)
+    }
+
+    /// The compiled tape for `lanes` lanes, held, reading the states and writing the
+    /// derivatives `io` names (always the same `io` for one tape).
+    #[cfg(target_arch = "x86_64")]
+    pub(super) fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
+        let slot = match lanes {
+            1 => 4,
+            NATIVE_LANES => 5,
+            _ => return None,
+        };
+        self.compiled(slot, lanes, false, Some(io))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn compiled(
+        &self,
+        slot: usize,
+        lanes: usize,
+        free: bool,
+        io: Option<&FieldIo>,
+    ) -> Option<super::native::Entry> {
         self.native.compiled[slot]
             .get_or_init(|| {
+                let (ins, roots) = (&self.ins, &self.roots);
                 Tape::native_enabled()
-                    .then(|| {
-                        super::native::compile(&self.ins, &self.roots, self.registers, lanes, free)
-                    })
+                    .then(|| super::native::compile(ins, roots, self.registers, lanes, free, io))
                     .flatten()
             })
             .as_ref()
@@ -267,10 +315,59 @@ impl Tape {
             let mut observed = 0;
             // SAFETY: the code reads and writes registers below `registers` ≤ r.len()
             // (asserted above) and one mode each way
-            unsafe { entry(r.as_mut_ptr(), &mode, &mut observed) };
+            unsafe {
+                entry(
+                    r.as_mut_ptr(),
+                    &mode,
+                    &mut observed,
+                    std::ptr::null(),
+                    std::ptr::null_mut(),
+                )
+            };
             return observed;
         }
         self.interpret::<FREE>(r, mode)
+    }
+
+    /// [`Tape::run_in`] of a field tape with the states `x` loaded into their registers
+    /// first and the derivatives copied into `dx` after (one call of machine code for all).
+    #[inline]
+    pub fn run_field(
+        &self,
+        r: &mut [f64],
+        mode: Mode,
+        io: &FieldIo,
+        x: &Vector,
+        dx: &mut Vector,
+    ) -> Mode {
+        assert!(
+            r.len() >= self.registers && io.derivatives.len() <= MAX_DIM,
+            "a register file of another graph"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if let Some(entry) = self.native_field(1, io) {
+            let mut observed = 0;
+            // SAFETY: registers as in `run`; states i < MAX_DIM are read from x and
+            // derivatives i < MAX_DIM (asserted) written into dx, both MAX_DIM long
+            unsafe {
+                entry(
+                    r.as_mut_ptr(),
+                    &mode,
+                    &mut observed,
+                    x.as_ptr(),
+                    dx.as_mut_ptr(),
+                )
+            };
+            return observed;
+        }
+        for &(i, slot) in &io.states {
+            r[slot as usize] = x[i as usize];
+        }
+        let observed = self.interpret::<false>(r, mode);
+        for (d, &id) in dx.iter_mut().zip(&io.derivatives) {
+            *d = r[id as usize];
+        }
+        observed
     }
 
     /// The tape run instruction by instruction.
@@ -348,10 +445,59 @@ impl Tape {
         if let Some(entry) = self.native(L, FREE) {
             let mut observed = [0u64; L];
             // SAFETY: as in `run`, with `L` lanes of registers, modes and observed modes
-            unsafe { entry(r.as_mut_ptr().cast(), modes.as_ptr(), observed.as_mut_ptr()) };
+            unsafe {
+                entry(
+                    r.as_mut_ptr().cast(),
+                    modes.as_ptr(),
+                    observed.as_mut_ptr(),
+                    std::ptr::null(),
+                    std::ptr::null_mut(),
+                )
+            };
             return observed;
         }
         self.interpret_lanes::<L, FREE>(r, modes)
+    }
+
+    /// [`Tape::run_lanes`] of a field tape with every lane's states loaded first and its
+    /// derivatives copied out after, as [`Tape::run_field`] for one.
+    #[inline]
+    pub fn run_field_lanes<const L: usize>(
+        &self,
+        r: &mut [[f64; L]],
+        modes: &[Mode; L],
+        io: &FieldIo,
+        x: &[[f64; L]; MAX_DIM],
+        dx: &mut [[f64; L]; MAX_DIM],
+    ) -> [Mode; L] {
+        assert!(
+            r.len() >= self.registers && io.derivatives.len() <= MAX_DIM,
+            "a register file of another graph"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if let Some(entry) = self.native_field(L, io) {
+            let mut observed = [0u64; L];
+            // SAFETY: as in `run_field`, with `L` lanes of each (state i of lane l at
+            // i·L + l, as the code reads it)
+            unsafe {
+                entry(
+                    r.as_mut_ptr().cast(),
+                    modes.as_ptr(),
+                    observed.as_mut_ptr(),
+                    x.as_ptr().cast(),
+                    dx.as_mut_ptr().cast(),
+                )
+            };
+            return observed;
+        }
+        for &(i, slot) in &io.states {
+            r[slot as usize] = x[i as usize];
+        }
+        let observed = self.interpret_lanes::<L, false>(r, modes);
+        for (d, &id) in dx.iter_mut().zip(&io.derivatives) {
+            *d = r[id as usize];
+        }
+        observed
     }
 
     /// The lanes run instruction by instruction.
@@ -472,10 +618,19 @@ impl Registers {
     }
 
     /// Loads the time and state, and the time-only nodes (the model's `time_tape`) unless
-    /// they were last computed at this very time: from the table where it has the time, else
-    /// by running the tape.
+    /// they were last computed at this very time (see [`Registers::load_time`]).
     #[inline(always)]
     pub fn load(&mut self, time_tape: &Tape, t: f64, x: &[f64]) {
+        self.load_time(time_tape, t);
+        for &(i, slot) in &self.state_slots {
+            self.values[slot as usize] = x[i as usize];
+        }
+    }
+
+    /// Loads the time, and the time-only nodes unless they were last computed at this very
+    /// time: from the table where it has the time, else by running `time_tape`.
+    #[inline(always)]
+    pub fn load_time(&mut self, time_tape: &Tape, t: f64) {
         if let Some(slot) = self.time_slot {
             let values = &mut self.values;
             values[slot as usize] = t;
@@ -497,9 +652,6 @@ impl Registers {
                     }
                 }
             }
-        }
-        for &(i, slot) in &self.state_slots {
-            self.values[slot as usize] = x[i as usize];
         }
     }
 

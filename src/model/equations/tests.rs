@@ -410,6 +410,65 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                 }
             }
         }
+        // the field's machine code that reads the states and writes the derivatives itself,
+        // against the interpreter given the states by `Registers::load`
+        use crate::model::system::MAX_DIM;
+        let state = |uniform: &mut dyn FnMut() -> f64, scale: f64| {
+            let mut x = [0.0; MAX_DIM];
+            x[..dim]
+                .iter_mut()
+                .for_each(|v| *v = scale * (2.0 * uniform() - 1.0));
+            x
+        };
+        for round in 0..200 {
+            let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
+            let mode = (uniform() * u32::MAX as f64) as u64;
+            let mut dx = [[0.0; NATIVE_LANES]; MAX_DIM];
+            let mut x = [[0.0; NATIVE_LANES]; MAX_DIM];
+            let mut lanes = vec![[0.0; NATIVE_LANES]; sys.registers().values.len()];
+            let mut want = [[0.0; NATIVE_LANES]; MAX_DIM];
+            let mut want_modes = [0; NATIVE_LANES];
+            let modes: [u64; NATIVE_LANES] = std::array::from_fn(|l| mode.rotate_left(l as u32));
+            for l in 0..NATIVE_LANES {
+                let (xl, t) = (state(&mut uniform, scale), 20.0 * uniform());
+                let mut regs = sys.registers().clone();
+                regs.load_time(&c.time_tape, t);
+                for (lane, &v) in lanes.iter_mut().zip(&regs.values) {
+                    lane[l] = v;
+                }
+                let mut scalar = regs.clone();
+                let mut dxl = [0.0; MAX_DIM];
+                let got = c.field_tape.run_field(
+                    &mut scalar.values,
+                    modes[l],
+                    &c.field_io,
+                    &xl,
+                    &mut dxl,
+                );
+                regs.load(&c.time_tape, t, &xl[..dim]);
+                want_modes[l] = c.field_tape.interpret::<false>(&mut regs.values, modes[l]);
+                assert_eq!(got, want_modes[l], "observed modes");
+                for i in 0..dim {
+                    x[i][l] = xl[i];
+                    want[i][l] = regs.get(c.derivatives[i]);
+                    assert!(
+                        same(dxl[i], want[i][l]),
+                        "dx{i}: {:e} {:e}",
+                        dxl[i],
+                        want[i][l]
+                    );
+                }
+            }
+            let got = c
+                .field_tape
+                .run_field_lanes(&mut lanes, &modes, &c.field_io, &x, &mut dx);
+            assert_eq!(got, want_modes, "observed modes in lanes");
+            for i in 0..dim {
+                for l in 0..NATIVE_LANES {
+                    assert!(same(dx[i][l], want[i][l]), "lanes dx{i}");
+                }
+            }
+        }
     }
 }
 
@@ -435,6 +494,13 @@ fn every_tape_of_the_catalogue_compiles_to_machine_code() {
                     );
                 }
             }
+        }
+        for lanes in [1, NATIVE_LANES] {
+            let io = &c.field_io;
+            assert!(
+                c.field_tape.native_field(lanes, io).is_some(),
+                "{file}: field"
+            );
         }
     }
 }

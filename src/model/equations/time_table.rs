@@ -12,7 +12,7 @@ use super::tape::{Registers, Tape};
 pub struct TimeTable {
     /// n, the integrator's steps per period.
     steps_per_period: usize,
-    half_steps: u64,
+    half_steps: i64,
     /// 1/(2n).
     per_half_steps: f64,
     /// 2n/T: half-steps per unit of τ.
@@ -48,7 +48,7 @@ impl TimeTable {
         }
         TimeTable {
             steps_per_period: n,
-            half_steps: half_steps as u64,
+            half_steps: half_steps as i64,
             per_half_steps: 1.0 / half_steps as f64,
             per_half_step: 1.0 / half_step,
             slots,
@@ -75,16 +75,17 @@ impl TimeTable {
         if !(0.0..=MAX_HALF_STEPS).contains(&q) {
             return None;
         }
-        let k = (q + 0.5) as u64;
+        // signed: one instruction each way (unsigned 64-bit conversions are several)
+        let k = (q + 0.5) as i64;
         if (q - k as f64).abs() > GRID_TOLERANCE * q.max(1.0) {
             return None;
         }
-        let periods = (k as f64 * self.per_half_steps) as u64;
-        let mut i = k as i64 - (periods * self.half_steps) as i64;
+        let periods = (k as f64 * self.per_half_steps) as i64;
+        let mut i = k - periods * self.half_steps;
         if i < 0 {
-            i += self.half_steps as i64;
-        } else if i >= self.half_steps as i64 {
-            i -= self.half_steps as i64;
+            i += self.half_steps;
+        } else if i >= self.half_steps {
+            i -= self.half_steps;
         }
         let width = self.slots.len();
         let start = i as usize * width;
