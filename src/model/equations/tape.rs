@@ -312,19 +312,9 @@ impl Tape {
         );
         #[cfg(target_arch = "x86_64")]
         if let Some(entry) = self.native(1, FREE) {
-            let mut observed = 0;
             // SAFETY: the code reads and writes registers below `registers` ≤ r.len()
             // (asserted above) and one mode each way
-            unsafe {
-                entry(
-                    r.as_mut_ptr(),
-                    &mode,
-                    &mut observed,
-                    std::ptr::null(),
-                    std::ptr::null_mut(),
-                )
-            };
-            return observed;
+            return unsafe { call(entry, r, [mode], std::ptr::null(), std::ptr::null_mut()) }[0];
         }
         self.interpret::<FREE>(r, mode)
     }
@@ -346,19 +336,9 @@ impl Tape {
         );
         #[cfg(target_arch = "x86_64")]
         if let Some(entry) = self.native_field(1, io) {
-            let mut observed = 0;
             // SAFETY: registers as in `run`; states i < MAX_DIM are read from x and
             // derivatives i < MAX_DIM (asserted) written into dx, both MAX_DIM long
-            unsafe {
-                entry(
-                    r.as_mut_ptr(),
-                    &mode,
-                    &mut observed,
-                    x.as_ptr(),
-                    dx.as_mut_ptr(),
-                )
-            };
-            return observed;
+            return unsafe { call(entry, r, [mode], x.as_ptr(), dx.as_mut_ptr()) }[0];
         }
         for &(i, slot) in &io.states {
             r[slot as usize] = x[i as usize];
@@ -443,18 +423,9 @@ impl Tape {
         );
         #[cfg(target_arch = "x86_64")]
         if let Some(entry) = self.native(L, FREE) {
-            let mut observed = [0u64; L];
             // SAFETY: as in `run`, with `L` lanes of registers, modes and observed modes
-            unsafe {
-                entry(
-                    r.as_mut_ptr().cast(),
-                    modes.as_ptr(),
-                    observed.as_mut_ptr(),
-                    std::ptr::null(),
-                    std::ptr::null_mut(),
-                )
-            };
-            return observed;
+            let r = r.as_flattened_mut();
+            return unsafe { call(entry, r, *modes, std::ptr::null(), std::ptr::null_mut()) };
         }
         self.interpret_lanes::<L, FREE>(r, modes)
     }
@@ -476,19 +447,13 @@ impl Tape {
         );
         #[cfg(target_arch = "x86_64")]
         if let Some(entry) = self.native_field(L, io) {
-            let mut observed = [0u64; L];
             // SAFETY: as in `run_field`, with `L` lanes of each (state i of lane l at
             // i·L + l, as the code reads it)
-            unsafe {
-                entry(
-                    r.as_mut_ptr().cast(),
-                    modes.as_ptr(),
-                    observed.as_mut_ptr(),
-                    x.as_ptr().cast(),
-                    dx.as_mut_ptr().cast(),
-                )
-            };
-            return observed;
+            let (x, dx) = (
+                x.as_flattened().as_ptr(),
+                dx.as_flattened_mut().as_mut_ptr(),
+            );
+            return unsafe { call(entry, r.as_flattened_mut(), *modes, x, dx) };
         }
         for &(i, slot) in &io.states {
             r[slot as usize] = x[i as usize];
@@ -543,6 +508,27 @@ impl Tape {
         }
         observed
     }
+}
+
+/// Runs machine code `entry` on registers `r` with one mode per lane, and the state and
+/// derivative vectors of a field entry (null for others); returns the observed modes.
+///
+/// # Safety
+/// `entry` must address only registers below `r.len()`, `L` lanes of them, and, if it is a
+/// field entry, states and derivatives within `x` and `dx`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn call<const L: usize>(
+    entry: super::native::Entry,
+    r: &mut [f64],
+    modes: [Mode; L],
+    x: *const f64,
+    dx: *mut f64,
+) -> [Mode; L] {
+    let mut observed = [0u64; L];
+    // SAFETY: the caller's promise
+    unsafe { entry(r.as_mut_ptr(), modes.as_ptr(), observed.as_mut_ptr(), x, dx) };
+    observed
 }
 
 /// A register file for one graph: constants filled in, parameters and the nodes they fix
