@@ -37,23 +37,21 @@ impl Cond {
                     s.map(|s| s >= 0.0)
                 }
             }
-            _ => self.holds_combined(value),
+            Cond::And(a, b) => Cond::both(a, b, value, |a, b| a && b),
+            Cond::Or(a, b) => Cond::both(a, b, value, |a, b| a || b),
         }
     }
 
+    /// `a` and `b` combined lane by lane with `op` (out of line: the recursion).
     #[inline(never)]
-    fn holds_combined<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
-        match self {
-            Cond::And(a, b) => {
-                let (a, b) = (a.holds(value), b.holds(value));
-                std::array::from_fn(|l| a[l] && b[l])
-            }
-            Cond::Or(a, b) => {
-                let (a, b) = (a.holds(value), b.holds(value));
-                std::array::from_fn(|l| a[l] || b[l])
-            }
-            Cond::Positive { .. } => self.holds(value),
-        }
+    fn both<const L: usize>(
+        a: &Cond,
+        b: &Cond,
+        value: &impl Fn(NodeId) -> [f64; L],
+        op: fn(bool, bool) -> bool,
+    ) -> [bool; L] {
+        let (a, b) = (a.holds(value), b.holds(value));
+        std::array::from_fn(|l| op(a[l], b[l]))
     }
 
     fn values(&self, out: &mut Vec<NodeId>) {
@@ -95,8 +93,6 @@ pub(crate) struct Compiled {
     /// The origin of each state (fixed by the parameters).
     pub origin: Vec<NodeId>,
     pub graph: Graph,
-    /// Derivatives of the states, in state order.
-    pub derivatives: Vec<NodeId>,
     /// ∂f_i/∂x_j, row-major.
     pub jacobian: Vec<NodeId>,
     /// The amplitude's output and its rate.
@@ -114,7 +110,8 @@ pub(crate) struct Compiled {
     /// can be tabulated over one ([`super::time_table::TimeTable`]).
     pub periodic: bool,
     pub field_tape: Tape,
-    /// The field tape's states and derivatives, for its machine code to read and write.
+    /// The states' registers and their derivatives' (in state order), which the field's
+    /// machine code reads and writes.
     pub field_io: FieldIo,
     /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
@@ -518,14 +515,13 @@ impl<'d> Builder<'d> {
             time_tape: Tape::new(g, &time_roots, &vec![false; g.len()]),
             periodic,
             field_tape: tape(&field_roots),
-            field_io: FieldIo::new(g, &derivatives),
             jacobian_tape: tape(&[derivatives.as_slice(), &jacobian].concat()),
+            field_io: FieldIo::new(g, derivatives),
             output_tape: tape(&[y, rate]),
             collision_tape: tape(&collision_roots),
             named_tape: tape(&named_roots),
             switch_gradient_tapes: switch_gradients.iter().map(|r| tape(r)).collect(),
             switch_gradients,
-            derivatives,
             jacobian,
             output: [y, rate],
             amplitude: def.amplitude.get_ref().trim().to_string(),

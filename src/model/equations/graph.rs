@@ -431,6 +431,16 @@ impl Graph {
         }
     }
 
+    /// Each state variable's node: (state index, node).
+    pub fn states(&self) -> Vec<(u8, NodeId)> {
+        (0..self.len() as NodeId)
+            .filter_map(|id| match self.node(id) {
+                Node::State(i) => Some((i, id)),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// Whether a node depends on the time or a state (else it is fixed by the parameters).
     pub fn varying(&self) -> Vec<bool> {
         let mut out = Vec::with_capacity(self.nodes.len());

@@ -17,7 +17,6 @@ pub type LaneVectors<const L: usize> = [[f64; L]; MAX_DIM];
 pub struct EquationLanes<const L: usize> {
     inner: Arc<Compiled>,
     values: Vec<[f64; L]>,
-    state_slots: Vec<(u8, u32)>,
     time_slot: Option<u32>,
     stamp: u32,
     table: Option<Arc<TimeTable>>,
@@ -30,7 +29,6 @@ impl<const L: usize> EquationLanes<L> {
         EquationLanes {
             inner: sys.model().inner.clone(),
             values: regs.values.iter().map(|&v| [v; L]).collect(),
-            state_slots: regs.state_slots.clone(),
             time_slot: regs.time_slot,
             stamp: regs.stamp,
             table: regs.table.clone(),
@@ -58,7 +56,7 @@ impl<const L: usize> EquationLanes<L> {
     #[inline(always)]
     fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
         self.load_time(tau);
-        for &(i, slot) in &self.state_slots {
+        for &(i, slot) in &self.inner.field_io.states {
             self.values[slot as usize] = x[i as usize];
         }
     }

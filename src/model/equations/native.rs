@@ -186,12 +186,11 @@ pub fn compile(
             .get_or_insert_with(|| b.ins().load(float, flags, base, r as i32 * stride))
     };
     if let Some(io) = io {
-        // the states from the caller's vectors, into the registers too (as a load would)
+        // the states from the caller's vectors (not stored in the registers: every other
+        // use loads them itself)
         let at = b.ins().iadd(states, lane);
         for &(i, slot) in &io.states {
-            let x = b.ins().load(float, flags, at, i32::from(i) * stride);
-            b.ins().store(flags, x, base, slot as i32 * stride);
-            known[slot as usize] = Some(x);
+            known[slot as usize] = Some(b.ins().load(float, flags, at, i32::from(i) * stride));
         }
     }
     // a library call per lane

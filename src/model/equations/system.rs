@@ -145,7 +145,7 @@ impl System for EquationSystem {
         let n = c.states.len();
         self.regs.load(&c.time_tape, tau, x);
         c.jacobian_tape.run_in(&mut self.regs.values, mode);
-        for (d, &id) in dx.iter_mut().zip(&c.derivatives) {
+        for (d, &id) in dx.iter_mut().zip(&c.field_io.derivatives) {
             *d = self.regs.get(id);
         }
         for (row, ids) in jac.iter_mut().zip(c.jacobian.chunks(n)) {

@@ -78,17 +78,11 @@ pub struct FieldIo {
 }
 
 impl FieldIo {
-    /// The states' registers and the derivatives' of `graph`.
-    pub fn new(graph: &Graph, derivatives: &[NodeId]) -> FieldIo {
-        let states = (0..graph.len() as u32)
-            .filter_map(|id| match graph.node(id) {
-                Node::State(i) => Some((i, id)),
-                _ => None,
-            })
-            .collect();
+    /// The states' registers in `graph`, and `derivatives`.
+    pub fn new(graph: &Graph, derivatives: Vec<NodeId>) -> FieldIo {
         FieldIo {
-            states,
-            derivatives: derivatives.to_vec(),
+            states: graph.states(),
+            derivatives,
         }
     }
 }
@@ -319,8 +313,9 @@ impl Tape {
         self.interpret::<FREE>(r, mode)
     }
 
-    /// [`Tape::run_in`] of a field tape with the states `x` loaded into their registers
-    /// first and the derivatives copied into `dx` after (one call of machine code for all).
+    /// [`Tape::run_in`] of a field tape reading the states from `x` and writing the
+    /// derivatives into `dx` (one call of machine code for all; the states' registers are
+    /// left as they were by machine code, written by the interpreter).
     #[inline]
     pub fn run_field(
         &self,
@@ -553,13 +548,12 @@ impl Registers {
         let mut values = vec![0.0; graph.len() + 1];
         let stamp = graph.len() as u32;
         values[stamp as usize] = f64::NAN;
-        let (mut state_slots, mut time_slot, mut param_slots, mut fixed) =
-            (Vec::new(), None, Vec::new(), Vec::new());
+        let (mut time_slot, mut param_slots, mut fixed) = (None, Vec::new(), Vec::new());
         for id in 0..graph.len() as u32 {
             match graph.node(id) {
                 Node::Const(v) => values[id as usize] = v,
                 Node::Time => time_slot = Some(id),
-                Node::State(i) => state_slots.push((i, id)),
+                Node::State(_) => {}
                 Node::Param(i) => param_slots.push((i, id)),
                 _ if !varying[id as usize] => fixed.push(id),
                 _ => {}
@@ -567,7 +561,7 @@ impl Registers {
         }
         Registers {
             values,
-            state_slots,
+            state_slots: graph.states(),
             time_slot,
             param_slots,
             fixed,

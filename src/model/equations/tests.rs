@@ -450,7 +450,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                 assert_eq!(got, want_modes[l], "observed modes");
                 for i in 0..dim {
                     x[i][l] = xl[i];
-                    want[i][l] = regs.get(c.derivatives[i]);
+                    want[i][l] = regs.get(c.field_io.derivatives[i]);
                     assert!(
                         same(dxl[i], want[i][l]),
                         "dx{i}: {:e} {:e}",
