@@ -6,7 +6,12 @@
 use super::general::{GeneralRk4, Stop, Trajectory, Trial};
 use crate::model::equations::EquationSystem;
 use crate::model::equations::lanes::{EquationLanes, LaneVectors};
+use crate::model::equations::time_table::GridTime;
 use crate::model::system::{MAX_DIM, Mode, System, Vector};
+
+/// Steps beyond which a lane's stage times are left to the time table to place (it looks up
+/// times up to 10¹⁵ half-steps; far beyond any run).
+const MAX_COUNTED_STEPS: u64 = 1 << 40;
 
 /// `L` trajectories, each on its own clock (τ counts from the lane's own start).
 #[derive(Debug, Clone)]
@@ -16,6 +21,8 @@ pub struct Lanes<const L: usize> {
     pub mode: [Mode; L],
     /// Steps each lane has taken since it started.
     pub steps: [u64; L],
+    /// Each lane's step within the forcing period (its steps modulo the period's).
+    phase: [usize; L],
     /// Why a lane stopped; a stopped or idle lane is frozen.
     pub stop: [Option<Stop>; L],
     /// Lanes without a trajectory.
@@ -52,6 +59,7 @@ impl<const L: usize> Lanes<L> {
             dx: [[0.0; L]; MAX_DIM],
             mode: [0; L],
             steps: [0; L],
+            phase: [0; L],
             stop: std::array::from_fn(|_| None),
             idle: [true; L],
             stages: Some(Box::new(Stages {
@@ -115,6 +123,7 @@ impl GeneralRk4 {
     ) {
         let traj = self.start(sys, &x0[..sys.dim()]);
         lanes.set_lane(l, traj);
+        lanes.phase[l] = 0;
         lanes.idle[l] = false;
     }
 
@@ -123,6 +132,7 @@ impl GeneralRk4 {
         let mut traj = Trajectory::parked();
         traj.x = *rest;
         lanes.set_lane(l, traj);
+        lanes.phase[l] = 0;
         lanes.idle[l] = true;
     }
 
@@ -150,26 +160,27 @@ impl GeneralRk4 {
         let (x, k1, mode) = (&lanes.x, &lanes.dx, &lanes.mode);
         let t_half: [f64; L] = std::array::from_fn(|l| t[l] + 0.5 * h[l]);
         let t_end: [f64; L] = std::array::from_fn(|l| t[l] + h[l]);
+        let (at_half, at_end) = (self.grid_time(lanes, 1), self.grid_time(lanes, 2));
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
             }
         }
-        let mut seen = eval.field(&t_half, y, mode, k2);
+        let mut seen = eval.field(&t_half, at_half, y, mode, k2);
         let mut seen_diff: [Mode; L] = std::array::from_fn(|l| seen[l] ^ mode[l]);
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + 0.5 * h[l] * k2[i][l];
             }
         }
-        seen = eval.field(&t_half, y, mode, k3);
+        seen = eval.field(&t_half, at_half, y, mode, k3);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + h[l] * k3[i][l];
             }
         }
-        seen = eval.field(&t_end, y, mode, k4);
+        seen = eval.field(&t_end, at_end, y, mode, k4);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
         for i in 0..dim {
             for l in 0..L {
@@ -177,7 +188,7 @@ impl GeneralRk4 {
                     x[i][l] + h[l] / 6.0 * (k1[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
             }
         }
-        seen = eval.field(&t_end, end, mode, dx);
+        seen = eval.field(&t_end, at_end, end, mode, dx);
         (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
         let hit = eval.collided(&t_end, end);
         for l in 0..L {
@@ -196,6 +207,9 @@ impl GeneralRk4 {
                     finite,
                 };
                 self.advance_step_after(sys, &mut traj, Some(trial));
+                if traj.steps != lanes.steps[l] {
+                    lanes.phase[l] = self.next_phase(lanes.phase[l]);
+                }
                 lanes.set_lane(l, traj);
                 continue;
             }
@@ -204,6 +218,7 @@ impl GeneralRk4 {
                 lanes.dx[i][l] = dx[i][l];
             }
             lanes.steps[l] += 1;
+            lanes.phase[l] = self.next_phase(lanes.phase[l]);
             if hit[l] {
                 let mut state = [0.0; MAX_DIM];
                 (0..dim).for_each(|i| state[i] = end[i][l]);
@@ -214,5 +229,29 @@ impl GeneralRk4 {
             }
         }
         lanes.stages = Some(stages);
+    }
+
+    /// The step within the period after step `phase`.
+    fn next_phase(&self, phase: usize) -> usize {
+        if phase + 1 == self.steps_per_period() {
+            0
+        } else {
+            phase + 1
+        }
+    }
+
+    /// The forcing grid's time `s` half-steps into this step, if every running lane is at
+    /// the same step of its period (their clocks then differ by whole periods: one row of a
+    /// time table serves them all) and within the step counts a time table looks up.
+    fn grid_time<const L: usize>(&self, lanes: &Lanes<L>, s: usize) -> Option<GridTime> {
+        let mut running = (0..L).filter(|&l| lanes.running(l));
+        let first = running.next()?;
+        let phase = lanes.phase[first];
+        let together = running.all(|l| lanes.phase[l] == phase);
+        let counted = (0..L).all(|l| !lanes.running(l) || lanes.steps[l] < MAX_COUNTED_STEPS);
+        (together && counted).then(|| GridTime {
+            half_step: (2 * phase + s) % (2 * self.steps_per_period()),
+            steps_per_period: self.steps_per_period(),
+        })
     }
 }

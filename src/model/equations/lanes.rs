@@ -6,7 +6,7 @@ use std::sync::Arc;
 use super::EquationSystem;
 use super::build::Compiled;
 use super::tape::Registers;
-use super::time_table::TimeTable;
+use super::time_table::{GridTime, TimeTable};
 use crate::model::system::{MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
@@ -55,7 +55,7 @@ impl<const L: usize> EquationLanes<L> {
     /// (see [`EquationLanes::load_time`]).
     #[inline(always)]
     fn load(&mut self, tau: &[f64; L], x: &LaneVectors<L>) {
-        self.load_time(tau);
+        self.load_time(tau, None);
         for &(i, slot) in &self.inner.field_io.states {
             self.values[slot as usize] = x[i as usize];
         }
@@ -63,14 +63,24 @@ impl<const L: usize> EquationLanes<L> {
 
     /// Loads the lanes' times, and the time-only nodes unless every lane's were last
     /// computed at its time: from the table where it has every lane's time, else computed
-    /// (see [`Registers::load_time`]).
+    /// (see [`Registers::load_time`]). `at`: the grid time every running lane is at, if the
+    /// integrator knows it (one row for all of them, as each lane's time would find).
     #[inline(always)]
-    fn load_time(&mut self, tau: &[f64; L]) {
+    fn load_time(&mut self, tau: &[f64; L], at: Option<GridTime>) {
         if let Some(slot) = self.time_slot {
             self.values[slot as usize] = *tau;
             let stamp = &mut self.values[self.stamp as usize];
             if (0..L).any(|l| stamp[l].to_bits() != tau[l].to_bits()) {
                 *stamp = *tau;
+                if let Some(at) = at
+                    && let Some(table) = self.table.as_deref()
+                    && let Some(row) = table.row_at(at)
+                {
+                    for (&s, &value) in table.slots().iter().zip(row) {
+                        self.values[s as usize] = [value; L];
+                    }
+                    return;
+                }
                 let rows = self.table.as_deref().and_then(|table| {
                     let mut rows: [&[f64]; L] = [&[]; L];
                     for (row, &t) in rows.iter_mut().zip(tau) {
@@ -93,16 +103,18 @@ impl<const L: usize> EquationLanes<L> {
     }
 
     /// dx/dτ of every lane on its own mode into `dx`; returns the modes the switching
-    /// functions' signs select (see [`crate::model::system::System::field`]).
+    /// functions' signs select (see [`crate::model::system::System::field`]). `at`: the grid
+    /// time every running lane's τ is on, if known (see [`Self::load_time`]).
     #[inline]
     pub fn field(
         &mut self,
         tau: &[f64; L],
+        at: Option<GridTime>,
         x: &LaneVectors<L>,
         modes: &[Mode; L],
         dx: &mut LaneVectors<L>,
     ) -> [Mode; L] {
-        self.load_time(tau);
+        self.load_time(tau, at);
         let c = &*self.inner;
         c.field_tape
             .run_field_lanes(&mut self.values, modes, &c.field_io, x, dx)

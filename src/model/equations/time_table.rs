@@ -22,6 +22,14 @@ pub struct TimeTable {
     rows: Vec<f64>,
 }
 
+/// A time on the table's grid given by its count: half-step `half_step` (< 2n) of a period
+/// of `steps_per_period` steps, as an integrator that counts its steps knows it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GridTime {
+    pub half_step: usize,
+    pub steps_per_period: usize,
+}
+
 /// How far, in half-steps relative to the count of half-steps since τ = 0, a time may be
 /// from a grid time and still be it: a few roundings of τ = s·h and of its halves.
 const GRID_TOLERANCE: f64 = 16.0 * f64::EPSILON;
@@ -65,6 +73,18 @@ impl TimeTable {
     #[inline(always)]
     pub fn slots(&self) -> &[u32] {
         &self.slots
+    }
+
+    /// The row at grid time `at`, the row [`Self::row`] finds for any time within rounding of
+    /// it; `None` if this table is of another grid.
+    #[inline(always)]
+    pub fn row_at(&self, at: GridTime) -> Option<&[f64]> {
+        if at.steps_per_period != self.steps_per_period {
+            return None;
+        }
+        let width = self.slots.len();
+        let start = at.half_step * width;
+        self.rows.get(start..start + width)
     }
 
     /// The row for time `t`, if `t` is a grid time (else the values must be computed).
