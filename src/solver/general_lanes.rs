@@ -249,9 +249,16 @@ impl GeneralRk4 {
         let phase = lanes.phase[first];
         let together = running.all(|l| lanes.phase[l] == phase);
         let counted = (0..L).all(|l| !lanes.running(l) || lanes.steps[l] < MAX_COUNTED_STEPS);
+        let n = self.steps_per_period();
+        // phase < n and s ≤ 2: past the period's end at most once
+        let half_step = 2 * phase + s;
         (together && counted).then(|| GridTime {
-            half_step: (2 * phase + s) % (2 * self.steps_per_period()),
-            steps_per_period: self.steps_per_period(),
+            half_step: if half_step >= 2 * n {
+                half_step - 2 * n
+            } else {
+                half_step
+            },
+            steps_per_period: n,
         })
     }
 }
