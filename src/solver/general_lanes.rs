@@ -160,7 +160,11 @@ impl GeneralRk4 {
         let (x, k1, mode) = (&lanes.x, &lanes.dx, &lanes.mode);
         let t_half: [f64; L] = std::array::from_fn(|l| t[l] + 0.5 * h[l]);
         let t_end: [f64; L] = std::array::from_fn(|l| t[l] + h[l]);
-        let (at_half, at_end) = (self.grid_time(lanes, 1), self.grid_time(lanes, 2));
+        let shared = Self::shared_phase(lanes);
+        let (at_half, at_end) = (
+            shared.map(|p| self.grid_time(p, 1)),
+            shared.map(|p| self.grid_time(p, 2)),
+        );
         for i in 0..dim {
             for l in 0..L {
                 y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
@@ -240,25 +244,34 @@ impl GeneralRk4 {
         }
     }
 
-    /// The forcing grid's time `s` half-steps into this step, if every running lane is at
-    /// the same step of its period (their clocks then differ by whole periods: one row of a
-    /// time table serves them all) and within the step counts a time table looks up.
-    fn grid_time<const L: usize>(&self, lanes: &Lanes<L>, s: usize) -> Option<GridTime> {
-        let mut running = (0..L).filter(|&l| lanes.running(l));
-        let first = running.next()?;
-        let phase = lanes.phase[first];
-        let together = running.all(|l| lanes.phase[l] == phase);
-        let counted = (0..L).all(|l| !lanes.running(l) || lanes.steps[l] < MAX_COUNTED_STEPS);
+    /// The step of its period every running lane is at, if they agree (their clocks then
+    /// differ by whole periods: one row of a time table serves them all) and their step
+    /// counts are within what a time table looks up.
+    fn shared_phase<const L: usize>(lanes: &Lanes<L>) -> Option<usize> {
+        let mut shared = None;
+        for l in (0..L).filter(|&l| lanes.running(l)) {
+            let phase = lanes.phase[l];
+            if lanes.steps[l] >= MAX_COUNTED_STEPS || shared.is_some_and(|p| p != phase) {
+                return None;
+            }
+            shared = Some(phase);
+        }
+        shared
+    }
+
+    /// The forcing grid's time `s` (≤ 2) half-steps after the start of the period's step
+    /// `phase`.
+    fn grid_time(&self, phase: usize, s: usize) -> GridTime {
         let n = self.steps_per_period();
         // phase < n and s ≤ 2: past the period's end at most once
         let half_step = 2 * phase + s;
-        (together && counted).then(|| GridTime {
+        GridTime {
             half_step: if half_step >= 2 * n {
                 half_step - 2 * n
             } else {
                 half_step
             },
             steps_per_period: n,
-        })
+        }
     }
 }
