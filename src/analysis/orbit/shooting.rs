@@ -9,6 +9,8 @@
 //! taut membranes), Liouville's formula gives an independent check:
 //! det Φ(kT) = exp(−c̃ ∫ n_taut dτ), with the integral summed exactly over the located pieces.
 
+use std::cell::Cell;
+
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
@@ -17,6 +19,7 @@ use crate::model::Params;
 use crate::model::system::StateVec;
 use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::field::{Field, Membrane, Mode};
+use crate::solver::isa::{self, Isa};
 use crate::solver::{Collision, Tolerance};
 
 /// Augmented state: [λ_I, v, Φ₀₀, Φ₀₁, Φ₁₀, Φ₁₁].
@@ -109,6 +112,9 @@ pub struct VariationalFlow {
     field: Field,
     tol: Tolerance,
     h_max: f64,
+    /// The drive's (φ_I², φ_II²) at the last τ asked, by τ's bits: a step's last two stages,
+    /// the end of its switching scan and the next step's first stage share one τ.
+    last_phi_sq: Cell<(u64, (f64, f64))>,
 }
 
 impl VariationalFlow {
@@ -118,7 +124,20 @@ impl VariationalFlow {
             field: Field::new(params),
             tol,
             h_max: params.period() / 16.0,
+            last_phi_sq: Cell::new((f64::NAN.to_bits(), (f64::NAN, f64::NAN))),
         }
+    }
+
+    /// The drive's (φ_I², φ_II²) at τ = `t`, computed once per distinct τ in a row.
+    #[inline]
+    fn phi_sq_at(&self, t: f64) -> (f64, f64) {
+        let (bits, phi_sq) = self.last_phi_sq.get();
+        if bits == t.to_bits() {
+            return phi_sq;
+        }
+        let phi_sq = self.params.phi_sq_at(t);
+        self.last_phi_sq.set((t.to_bits(), phi_sq));
+        phi_sq
     }
 
     pub fn params(&self) -> &Params {
@@ -126,8 +145,9 @@ impl VariationalFlow {
     }
 
     /// Acceleration and its partials (∂a/∂x, ∂a/∂v) on the smooth piece `mode`.
+    #[inline(always)]
     fn accel_jacobian(&self, t: f64, x: f64, v: f64, mode: Mode) -> (f64, f64, f64) {
-        let (pi, pii) = self.params.phi_sq_at(t);
+        let (pi, pii) = self.phi_sq_at(t);
         let a = self.field.accel_in_mode(x, v, pi, pii, mode);
         let j = self.params.j();
         let c = self.params.c_tilde();
@@ -143,6 +163,7 @@ impl VariationalFlow {
         (a, ax, av)
     }
 
+    #[inline(always)]
     fn deriv(&self, t: f64, y: &Aug, mode: Mode) -> Aug {
         let (a, ax, av) = self.accel_jacobian(t, y[0], y[1], mode);
         // Φ' = [[0, 1], [ax, av]] Φ
@@ -157,6 +178,7 @@ impl VariationalFlow {
     }
 
     /// One Dormand–Prince step: the new state, its derivative and the scaled error.
+    #[inline(always)]
     fn step(&self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> (Aug, Aug, f64) {
         let mut k = [[0.0; 6]; 7];
         k[0] = *k1;
@@ -184,8 +206,9 @@ impl VariationalFlow {
 
     /// Switching functions, positive while the piece `mode` holds: p_I and p_II signed by
     /// the mode, and the room left to the frames and the Gent limits.
+    #[inline(always)]
     fn event_values(&self, t: f64, x: f64, v: f64, mode: Mode) -> [f64; 3] {
-        let (pi, pii) = self.params.phi_sq_at(t);
+        let (pi, pii) = self.phi_sq_at(t);
         let p_i = self.field.tension_of(Membrane::I, x, v, pi, pii);
         let p_ii = self.field.tension_of(Membrane::Ii, x, v, pi, pii);
         let x_ii = self.field.two_lambda_p() - x;
@@ -200,6 +223,7 @@ impl VariationalFlow {
     /// Step length σ in (lo, hi] at which the quantity `g` of the stepped state first turns
     /// negative (g(lo) ≥ 0 > g(hi)), by Illinois false position on real steps; returns the
     /// negative side.
+    #[inline(always)]
     fn locate(
         &self,
         t: f64,
@@ -219,8 +243,26 @@ impl VariationalFlow {
         crate::solver::illinois::illinois(t, (lo, hi), (g_lo, g_hi), value)
     }
 
-    /// Follows [λ_I, v] = `x0` from τ = 0 over `k` forcing periods with Φ(0) = I.
+    /// Follows [λ_I, v] = `x0` from τ = 0 over `k` forcing periods with Φ(0) = I, in the
+    /// version compiled for this process's instruction set ([`isa::chosen`]): with FMA where
+    /// the CPU has it, a `mul_add` is one instruction instead of a call, and the same bits.
     pub fn orbit(&self, x0: [f64; 2], k: usize) -> Result<PeriodFlow, Collision> {
+        match isa::chosen() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the chosen instruction set is one this CPU has, and v4 includes v3
+            Isa::X86_64V3 | Isa::X86_64V4 => unsafe { self.orbit_v3(x0, k) },
+            _ => self.orbit_body(x0, k),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
+    fn orbit_v3(&self, x0: [f64; 2], k: usize) -> Result<PeriodFlow, Collision> {
+        self.orbit_body(x0, k)
+    }
+
+    #[inline(always)]
+    fn orbit_body(&self, x0: [f64; 2], k: usize) -> Result<PeriodFlow, Collision> {
         let period = self.params.period();
         let (pi, pii) = self.params.phi_sq_at(0.0);
         if !self.field.inside(x0[0]) {
@@ -318,6 +360,7 @@ impl VariationalFlow {
             out.lambda_max = out.lambda_max.max(y_new[0]);
             out.trace_integral -= c * n_taut(mode) * h_taken;
             let reached_end = !crossed && last;
+            let t_step = t;
             t = if reached_end { t_end } else { t + h_taken };
             y = y_new;
             if crossed {
@@ -336,7 +379,13 @@ impl VariationalFlow {
             } else if !last {
                 h = hs * fac;
             }
-            k1 = self.deriv(t, &y, mode);
+            // the step's last stage is the next one's first where it ends on the same τ
+            // (C[6] = 1) in the same piece
+            k1 = if !crossed && t.to_bits() == (t_step + hs).to_bits() {
+                k7
+            } else {
+                self.deriv(t, &y, mode)
+            };
             if reached_end {
                 if j_period == k {
                     out.end = StateVec::from([y[0], y[1]]);
@@ -555,6 +604,49 @@ mod tests {
             }
         }
         assert!(o.liouville_error() < 1e-9, "{}", o.liouville_error());
+    }
+
+    /// The version compiled with FMA and AVX2 computes the baseline's bits, on orbits that go
+    /// slack (located switches, turning points) and one that hits a frame.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn every_instruction_set_gives_the_same_bits() {
+        if !Isa::X86_64V3.available() {
+            eprintln!("skipped: this CPU lacks x86-64-v3");
+            return;
+        }
+        let tol = ShootingSpec::default().tol;
+        let mut compared = 0;
+        for (adr, omega, x0, k) in [
+            (0.6, 3.7, [1.32, 0.0], 2),
+            (0.6, 1.8, [1.1, 0.2], 1),
+            (1.0, 3.6, [1.3, -0.4], 3),
+            (0.6, 3.7, [1.9, 0.0], 1),
+        ] {
+            let flow = VariationalFlow::new(&Params::paper(adr, omega).unwrap(), tol);
+            let base = flow.clone().orbit_body(x0, k);
+            // SAFETY: the CPU has x86-64-v3 (checked above)
+            let v3 = unsafe { flow.clone().orbit_v3(x0, k) };
+            match (base, v3) {
+                (Ok(a), Ok(b)) => {
+                    assert!(a.switches > 0, "{adr} {omega}: no switch met");
+                    let bits = |o: &PeriodFlow| {
+                        let mut v: Vec<u64> = o.monodromy.iter().map(|x| x.to_bits()).collect();
+                        v.extend(o.end.pair().map(f64::to_bits));
+                        v.extend([o.lambda_min, o.lambda_max, o.trace_integral].map(f64::to_bits));
+                        v
+                    };
+                    assert_eq!(bits(&a), bits(&b), "{adr} {omega} {x0:?}");
+                    compared += 1;
+                }
+                (Err(a), Err(b)) => {
+                    assert_eq!(a.tau.to_bits(), b.tau.to_bits());
+                    assert_eq!(a.lambda_i.to_bits(), b.lambda_i.to_bits());
+                }
+                (a, b) => panic!("{adr} {omega}: {a:?} against {b:?}"),
+            }
+        }
+        assert!(compared >= 3);
     }
 
     /// The paper's coexisting responses at ADR 0.6, ω_e 3.7, found by Newton from rough seeds.

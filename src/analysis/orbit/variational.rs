@@ -15,6 +15,7 @@ use crate::analysis::orbit::shooting::{PeriodFlow, Shootable, ShootingError};
 use crate::model::equations::EquationSystem;
 use crate::model::system::{MAX_DIM, Mode, StateVec, System, Vector};
 use crate::solver::dopri_tableau::{A, C, E};
+use crate::solver::isa::{self, Isa};
 use crate::solver::{Collision, Tolerance};
 
 /// The augmented state: x (n), Φ row-major (n²), ∫ tr A dτ (1); n ≤ [`MAX_DIM`].
@@ -90,6 +91,7 @@ impl<S: System> Flow<S> {
         self.n + self.n * self.n + 1
     }
 
+    #[inline(always)]
     fn deriv(&mut self, t: f64, y: &Aug, mode: Mode) -> Aug {
         let n = self.n;
         let x = state(y, n);
@@ -113,6 +115,7 @@ impl<S: System> Flow<S> {
 
     /// The state part of [`Self::step`] alone (the state does not depend on Φ, so its bits
     /// are the same): what probes locating a switch or a turning point need.
+    #[inline(always)]
     fn state_step(&mut self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> Vector {
         let n = self.n;
         let mut k = [[0.0; MAX_DIM]; 7];
@@ -137,6 +140,7 @@ impl<S: System> Flow<S> {
 
     /// One Dormand–Prince step on `mode`: the new state, its derivative and the scaled error
     /// (of the state and Φ; infinite where a value is not finite).
+    #[inline(always)]
     fn step(&mut self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> (Aug, Aug, f64) {
         let m = self.used();
         let mut k = [[0.0; AUG]; 7];
@@ -168,6 +172,7 @@ impl<S: System> Flow<S> {
 
     /// The switching functions at (t, x) on `mode`, each signed to be positive on `mode`'s
     /// side, and the bits whose sign says another piece.
+    #[inline(always)]
     fn crossed(&mut self, t: f64, x: &Vector, mode: Mode) -> (Mode, [f64; MAX_SWITCHES]) {
         let mut s = [0.0; MAX_SWITCHES];
         let seen = self.sys.switching(t, x, mode, &mut s);
@@ -285,7 +290,27 @@ impl<S: System> Flow<S> {
         (after / before).abs().ln()
     }
 
+    /// The orbit from `x0` over `k` forcing periods, in the version compiled for this
+    /// process's instruction set ([`isa::chosen`]).
     fn orbit(&mut self, x0: &[f64], k: usize) -> Result<PeriodFlow, ShootingError> {
+        match isa::chosen() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the chosen instruction set is one this CPU has, and v4 includes v3
+            Isa::X86_64V3 | Isa::X86_64V4 => unsafe { self.orbit_v3(x0, k) },
+            _ => self.orbit_body(x0, k),
+        }
+    }
+
+    /// [`Self::orbit`] with AVX2 and FMA for the engine around the model (the written model's
+    /// own code is compiled for this CPU already); the same bits.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
+    fn orbit_v3(&mut self, x0: &[f64], k: usize) -> Result<PeriodFlow, ShootingError> {
+        self.orbit_body(x0, k)
+    }
+
+    #[inline(always)]
+    fn orbit_body(&mut self, x0: &[f64], k: usize) -> Result<PeriodFlow, ShootingError> {
         let n = self.n;
         let period = self.sys.period();
         let x_start = StateVec::from_slice(x0);
