@@ -9,6 +9,7 @@ pub mod export;
 pub mod locate;
 pub mod model_section;
 pub mod output;
+pub mod preview;
 pub mod results;
 pub mod run;
 pub mod schema;

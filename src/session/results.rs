@@ -42,7 +42,7 @@ pub struct ResponsePoint {
 }
 
 impl ResponsePoint {
-    fn from_response(r: &Response) -> Self {
+    pub(crate) fn from_response(r: &Response) -> Self {
         let mut p = Self::from_steady(r.omega, &r.steady);
         p.hidden = r.hidden;
         p.branch = r.branch;
@@ -119,6 +119,24 @@ pub struct AttractorRow {
     pub cells: usize,
     pub fraction: f64,
     pub start: Option<[f64; 2]>,
+}
+
+impl AttractorRow {
+    /// The rows of `table`, each attractor's share counted over `cells` cells.
+    pub(crate) fn of_table(table: &AttractorTable, cells: usize) -> Vec<AttractorRow> {
+        table
+            .attractors
+            .iter()
+            .map(|a| AttractorRow {
+                id: a.id,
+                response_type: a.response.response_type(),
+                amplitude: a.response.amplitude,
+                cells: a.count,
+                fraction: a.count as f64 / cells as f64,
+                start: a.response.poincare.first().copied(),
+            })
+            .collect()
+    }
 }
 
 /// A basin map: `labels[i_dx · n_v + i_v]`, `None` for cells not computed yet.
@@ -563,18 +581,7 @@ impl ResultReader {
                     dx: spec.dx.values(),
                     v: spec.v.values(),
                     labels: labels.clone(),
-                    attractors: table
-                        .attractors
-                        .iter()
-                        .map(|a| AttractorRow {
-                            id: a.id,
-                            response_type: a.response.response_type(),
-                            amplitude: a.response.amplitude,
-                            cells: a.count,
-                            fraction: a.count as f64 / done as f64,
-                            start: a.response.poincare.first().copied(),
-                        })
-                        .collect(),
+                    attractors: AttractorRow::of_table(table, done),
                 })
             }
             (Partial::Response(per_omega), Settings::Hunt(_)) => ResultView::Hunt(HuntView {

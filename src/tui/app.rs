@@ -12,7 +12,7 @@ use isola::analysis::orbit::scalogram::Scalogram;
 use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec};
 use isola::figure;
 use isola::session::output::{Protected, check_target};
-use isola::session::results::{ResultStatus, ResultView};
+use isola::session::results::{BasinView, ResultStatus, ResultView};
 use isola::session::run::Outcome;
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
@@ -159,6 +159,9 @@ pub struct App {
     /// Scalograms by analysis name, and the job computing one.
     pub scalograms: HashMap<String, Scalogram>,
     scalogram_jobs: HashMap<usize, String>,
+    /// Coarse first pictures by analysis name, and the job computing one.
+    previews: HashMap<String, Preview>,
+    preview_jobs: HashMap<usize, String>,
     pub show_scalogram: bool,
     pub zoom: bool,
     /// The user moved the plot cursor since the view was first drawn.
@@ -213,6 +216,8 @@ impl App {
             picked: None,
             scalograms: HashMap::new(),
             scalogram_jobs: HashMap::new(),
+            previews: HashMap::new(),
+            preview_jobs: HashMap::new(),
             show_scalogram: false,
             zoom: false,
             help_scroll: 0,
@@ -295,6 +300,40 @@ impl App {
         self.stored
             .get(self.selected)
             .and_then(|r| r.view.as_deref())
+            .or_else(|| self.preview().map(|p| &p.blank))
+    }
+
+    /// The selected analysis' coarse first picture, while it is for the current settings and
+    /// no complete result is stored.
+    fn preview(&self) -> Option<&Preview> {
+        let entry = self.session.analyses.get(self.selected)?;
+        let preview = self.previews.get(&entry.name)?;
+        (self.status_of(self.selected) != ResultStatus::Complete
+            && preview.fingerprint == self.session.fingerprint(entry))
+        .then_some(preview)
+    }
+
+    /// Starts the coarse first picture of analysis `name` (a basin or a frequency response
+    /// without a complete result), drawn under its result until that is done.
+    fn start_preview(&mut self, name: &str) {
+        let Some(i) = self.session.analysis_index(name) else {
+            return;
+        };
+        let kind_has_one = matches!(
+            self.session.analyses[i].settings,
+            Settings::Basin(_) | Settings::FrequencyResponse(_)
+        );
+        if !kind_has_one || self.status_of(i) == ResultStatus::Complete {
+            return;
+        }
+        let id = self.jobs.push(
+            format!("{name} (preview)"),
+            Work::Preview {
+                session: self.snapshot.clone(),
+                name: name.to_string(),
+            },
+        );
+        self.preview_jobs.insert(id, name.to_string());
     }
 
     pub fn status_of(&self, i: usize) -> ResultStatus {
@@ -323,6 +362,21 @@ impl App {
                     }
                     Ok(_) => {}
                     Err(e) => self.say(format!("scalogram of {name}: {e}"), true),
+                }
+                continue;
+            }
+            if let Some(name) = self.preview_jobs.remove(&finished.id) {
+                match finished.result {
+                    Ok(Output::Preview { fingerprint, view }) => {
+                        let seconds = self.jobs.entries.iter().find(|e| e.id == finished.id);
+                        if let Some(JobState::Done { seconds }) = seconds.map(|e| &e.state) {
+                            tracing::info!(analysis = name, seconds, "coarse preview drawn");
+                        }
+                        self.previews.insert(name, Preview::new(fingerprint, *view));
+                    }
+                    Ok(_) | Err(isola::jobs::JobError::Cancelled) => {}
+                    // the analysis itself says why it cannot run
+                    Err(e) => tracing::warn!(analysis = name, "no preview: {e}"),
                 }
                 continue;
             }
@@ -672,9 +726,13 @@ impl App {
     }
 
     /// What is drawn muted under the selected analysis' plot, and what it is called: the
-    /// previous settings' complete result while a partial one of the current settings is
-    /// shown, else the compared analysis' result.
+    /// coarse first picture of the current settings, or the previous settings' complete
+    /// result, while a partial one of the current settings is shown; else the compared
+    /// analysis' result.
     pub fn underlay(&self) -> Option<(&ResultView, String)> {
+        if let Some(preview) = self.preview() {
+            return Some((&preview.picture, "a coarse preview, until done".into()));
+        }
         let stored = self.stored.get(self.selected)?;
         if matches!(stored.status, ResultStatus::Partial { .. })
             && let Some(previous) = stored.previous.as_deref()
@@ -1124,6 +1182,8 @@ impl App {
             self.say(format!("{name} is already running"), true);
             return;
         }
+        // the preview first: the analysis waits the few tens of milliseconds it takes
+        self.start_preview(&name);
         self.jobs.push(
             name.clone(),
             Work::Analysis {
@@ -1133,15 +1193,16 @@ impl App {
         );
         self.job_row = self.jobs.entries.len() - 1;
         self.tick();
-        // started at once if nothing else ran; otherwise it waits its turn
+        // started at once if nothing else ran (after its preview, a few tens of milliseconds);
+        // otherwise it waits its turn
         let ahead = self
             .jobs
             .entries
             .iter()
-            .filter(|e| e.is_active() && e.analysis.as_deref() != Some(name.as_str()))
+            .filter(|e| e.is_active() && !e.preview && e.analysis.as_deref() != Some(name.as_str()))
             .count();
-        let running =
-            self.jobs.entries.iter().any(|e| {
+        let running = ahead == 0
+            || self.jobs.entries.iter().any(|e| {
                 e.state == JobState::Running && e.analysis.as_deref() == Some(name.as_str())
             });
         if running {
@@ -1822,4 +1883,31 @@ fn file_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+/// A coarse first picture of an analysis ([`preview::coarse`]), for the settings of its
+/// fingerprint, and an empty result on its grid to draw it under before any chunk is done.
+struct Preview {
+    fingerprint: String,
+    picture: ResultView,
+    blank: ResultView,
+}
+
+impl Preview {
+    fn new(fingerprint: String, picture: ResultView) -> Self {
+        let blank = match &picture {
+            ResultView::Basin(b) => ResultView::Basin(BasinView {
+                dx: b.dx.clone(),
+                v: b.v.clone(),
+                labels: vec![None; b.labels.len()],
+                attractors: Vec::new(),
+            }),
+            _ => ResultView::Response(Vec::new()),
+        };
+        Preview {
+            fingerprint,
+            picture,
+            blank,
+        }
+    }
 }

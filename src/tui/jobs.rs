@@ -11,7 +11,8 @@ use isola::jobs::{Job, JobError, Priority};
 use isola::model::Params;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
-use isola::session::results::HistoryView;
+use isola::session::preview;
+use isola::session::results::{HistoryView, ResultView};
 use isola::session::run::{Outcome, Shard, run_analysis};
 
 /// What a job computes.
@@ -25,6 +26,8 @@ pub enum Work {
     },
     /// The scalogram of a chirp's response.
     Scalogram { lambda: Vec<f64>, dt: f64 },
+    /// The coarse first picture of analysis `name` (a basin or a frequency response).
+    Preview { session: Arc<Session>, name: String },
 }
 
 /// What a finished job gives back.
@@ -36,6 +39,11 @@ pub enum Output {
         view: Box<HistoryView>,
     },
     Scalogram(Scalogram),
+    /// A coarse picture, for the settings of this fingerprint.
+    Preview {
+        fingerprint: String,
+        view: Box<ResultView>,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +63,8 @@ pub struct JobEntry {
     pub analysis: Option<String>,
     pub state: JobState,
     pub progress: Arc<Progress>,
+    /// A preview: analyses wait for it (it is short, and drawn first).
+    pub preview: bool,
     started: Option<Instant>,
     work: Option<Work>,
     job: Option<Job<Output, ()>>,
@@ -123,12 +133,14 @@ impl JobList {
             Work::Analysis { name, .. } => Some(name.clone()),
             _ => None,
         };
+        let preview = matches!(work, Work::Preview { .. });
         self.entries.push(JobEntry {
             id,
             label,
             analysis,
             state: JobState::Queued,
             progress: Arc::new(Progress::new(0)),
+            preview,
             started: None,
             work: Some(work),
             job: None,
@@ -148,6 +160,11 @@ impl JobList {
 
     pub fn any_active(&self) -> bool {
         self.entries.iter().any(JobEntry::is_active)
+    }
+
+    /// A preview is queued or running: worth polling for more often than once a frame.
+    pub fn preview_active(&self) -> bool {
+        self.entries.iter().any(|e| e.preview && e.is_active())
     }
 
     /// Asks job `id` to stop (a queued job is dropped at once).
@@ -210,7 +227,7 @@ impl JobList {
         let analysis_running = self
             .entries
             .iter()
-            .any(|e| e.job.is_some() && e.analysis.is_some());
+            .any(|e| e.job.is_some() && (e.analysis.is_some() || e.preview));
         let threads = self.threads;
         let mut may_start_analysis = !analysis_running;
         for e in &mut self.entries {
@@ -228,7 +245,7 @@ impl JobList {
                     e.job = Some(job);
                     e.state = JobState::Running;
                     e.started = Some(now);
-                    if is_analysis {
+                    if is_analysis || e.preview {
                         may_start_analysis = false;
                     }
                 }
@@ -239,9 +256,14 @@ impl JobList {
     }
 }
 
-/// Workers run in the background: the UI thread must get a core the moment a key arrives.
+/// Workers run in the background, so that the UI thread gets a core the moment a key
+/// arrives; a preview (a few tens of milliseconds) runs ahead of them at normal priority.
 fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
-    Job::spawn_with(threads, Priority::Background, move |ctx| match work {
+    let priority = match work {
+        Work::Preview { .. } => Priority::Normal,
+        _ => Priority::Background,
+    };
+    Job::spawn_with(threads, priority, move |ctx| match work {
         Work::Analysis { session, name } => {
             let entry = session
                 .analysis(&name)
@@ -272,6 +294,19 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
                 .map_err(|e| JobError::Failed(e.to_string()))?;
             ctx.progress.add(1);
             Ok(Output::Scalogram(s))
+        }
+        Work::Preview { session, name } => {
+            let entry = session
+                .analysis(&name)
+                .ok_or_else(|| JobError::Failed(format!("no analysis '{name}'")))?;
+            let view = preview::coarse(&session, entry, &ctx.progress)
+                .ok_or_else(|| JobError::Failed(format!("no preview of {name}")))?;
+            ctx.check_cancel()?;
+            let view = view.map_err(|e| JobError::Failed(format!("{e:#}")))?;
+            Ok(Output::Preview {
+                fingerprint: session.fingerprint(entry),
+                view: Box::new(view),
+            })
         }
     })
 }

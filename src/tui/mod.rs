@@ -149,9 +149,14 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
             last_draw = Instant::now();
         }
         key_pressed = false;
-        let wait = frame_time
-            .saturating_sub(last_draw.elapsed())
-            .max(Duration::from_millis(5));
+        // a preview is drawn the moment it is done, not at the next frame
+        let wait = if app.jobs.preview_active() {
+            Duration::from_millis(5)
+        } else {
+            frame_time
+                .saturating_sub(last_draw.elapsed())
+                .max(Duration::from_millis(5))
+        };
         if event::poll(wait)? {
             match event::read()? {
                 Event::Key(key) if key.kind == KeyEventKind::Press => {

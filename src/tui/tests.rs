@@ -1098,8 +1098,15 @@ fn a_running_job_cancels_and_quitting_asks_first() {
     let mut app = app(&path, ColorMode::Truecolor);
     key(&mut app, KeyCode::Down);
     key(&mut app, KeyCode::Char('r'));
+    // the basin's job (its coarse preview is queued first)
+    let job = app
+        .jobs
+        .entries
+        .iter()
+        .position(|e| e.analysis.is_some())
+        .unwrap();
     let start = Instant::now();
-    while app.jobs.entries[0].progress.get().0 < 2000 {
+    while app.jobs.entries[job].progress.get().0 < 2000 {
         app.tick();
         std::thread::sleep(Duration::from_millis(5));
         assert!(start.elapsed() < Duration::from_secs(30));
@@ -1121,7 +1128,7 @@ fn a_running_job_cancels_and_quitting_asks_first() {
         "cancel took {:?}",
         asked.elapsed()
     );
-    assert_eq!(app.jobs.entries[0].state, JobState::Cancelled);
+    assert_eq!(app.jobs.entries[job].state, JobState::Cancelled);
     // what finished is kept: the reader shows a partial result
     assert!(matches!(app.status_of(1), ResultStatus::Partial { done, .. } if done > 0));
     key(&mut app, KeyCode::Char('q'));
@@ -1374,7 +1381,7 @@ fn a_rerun_keeps_the_previous_result_beside_the_new_one() {
     watch_until(&mut app, 1, |s| matches!(s, ResultStatus::Partial { .. }));
     let screen = draw(&app, 120, 40);
     assert!(
-        screen.contains("faded: the previous settings' basin"),
+        screen.contains("faded: the previous settings, until done"),
         "{screen}"
     );
     // once complete, only the new result is drawn
@@ -1447,4 +1454,77 @@ fn the_config_file_sets_theme_colours_and_keys() {
     std::fs::write(&config, "colour = \"16\"\n").unwrap();
     let e = super::build_app(&args).err().unwrap();
     assert!(format!("{e:#}").contains("colour"), "{e:#}");
+}
+
+/// `r` on a basin draws a coarse picture first (every 4th Δλ and 5th v of this 41 × 51 grid,
+/// integrated to full convergence in memory), faded under the cells not done and named so; at
+/// its starts it shows the attractors the full result finds there; once the result is complete
+/// it is gone.
+#[test]
+fn a_run_draws_a_coarse_preview_first() {
+    const BASIN: &str = "schema = 1\n[model]\nadr = 0.6\ne_a = 0.04\nomega = 3.7\n\
+        [[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\n\
+        dx = { min = -0.8, max = 0.8, points = 41 }\nv = { min = -1.0, max = 1.0, points = 51 }\n";
+    let (_dir, path) = fixture("preview", BASIN);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let started = Instant::now();
+    key(&mut app, KeyCode::Char('r'));
+    let preview = loop {
+        app.tick();
+        if let Some((ResultView::Basin(b), label)) = app.underlay()
+            && label.contains("coarse preview")
+        {
+            break b.clone();
+        }
+        assert!(started.elapsed() < Duration::from_secs(30), "no preview");
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    eprintln!(
+        "preview after {:.0} ms",
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    assert_eq!((preview.dx.len(), preview.v.len()), (41, 51));
+    assert!(
+        preview.labels.iter().all(Option::is_some),
+        "a complete picture"
+    );
+    let screen = draw(&app, 120, 40);
+    if app.status_of(0) != ResultStatus::Complete {
+        assert!(screen.contains("faded: a coarse preview"), "{screen}");
+    }
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(app.underlay().is_none(), "the preview outlived the result");
+    assert!(!draw(&app, 120, 40).contains("coarse preview"));
+    let Some(ResultView::Basin(full)) = app.view() else {
+        panic!("no basin drawn");
+    };
+    // the starts of the preview: the same attractors
+    let attractor = |b: &isola::session::results::BasinView, cell: usize| {
+        let a = &b.attractors[b.labels[cell].unwrap()];
+        (a.response_type.clone(), a.amplitude)
+    };
+    let mut compared = 0;
+    for ix in (0..41).step_by(4) {
+        for iv in (0..51).step_by(5) {
+            let cell = ix * 51 + iv;
+            let ((t_p, a_p), (t_f, a_f)) = (attractor(&preview, cell), attractor(full, cell));
+            assert_eq!(t_p, t_f, "cell ({ix}, {iv})");
+            match (a_p, a_f) {
+                (Some(p), Some(f)) => assert!((p - f).abs() < 1e-6, "({ix}, {iv}): {p} {f}"),
+                (p, f) => assert_eq!(p.is_some(), f.is_some(), "cell ({ix}, {iv})"),
+            }
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, 121);
+    let kinds: std::collections::BTreeSet<_> = preview
+        .attractors
+        .iter()
+        .map(|a| a.response_type.clone())
+        .collect();
+    assert!(
+        kinds.len() >= 2,
+        "the preview finds the coexisting responses: {kinds:?}"
+    );
 }

@@ -221,7 +221,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     // the previous settings' complete result under a partial one until it completes, or a
     // compared analysis' result
     let underlay = app.underlay();
-    let previous = underlay.as_ref().map(|(v, _)| *v);
+    let previous = underlay.as_ref().map(|(v, label)| (*v, label.as_str()));
     let with_previous = |mut plot: plots::frame::XyPlot| {
         if let Some((view, label)) = &underlay {
             plots::previous::beneath(&mut plot, view, label, t);
@@ -254,7 +254,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         ResultView::Continuation(c) => plots::continued::plot(c, &ctx).render(inner, buf),
         ResultView::Map(m) => {
             let previous = match previous {
-                Some(ResultView::Map(p)) => Some(p),
+                Some((ResultView::Map(p), label)) => Some((p, label)),
                 _ => None,
             };
             plots::map::draw(m, previous, &ctx, inner, buf)
@@ -269,7 +269,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         }
         ResultView::Basin(b) => {
             let previous = match previous {
-                Some(ResultView::Basin(p)) => Some(p),
+                Some((ResultView::Basin(p), label)) => Some((p, label)),
                 _ => None,
             };
             plots::basin::draw(b, previous, lambda_p, &ctx, inner, buf)

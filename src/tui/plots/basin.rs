@@ -30,10 +30,11 @@ fn glyph(id: usize) -> &'static str {
 }
 
 /// Draws the basin with the cursor's cell marked and read out; the cells not computed yet
-/// show `previous` (the settings before, on the same grid) faded.
+/// show `previous` (the settings before, or a coarse preview, on the same grid, with what it
+/// is called) faded.
 pub fn draw(
     b: &BasinView,
-    previous: Option<&BasinView>,
+    previous: Option<(&BasinView, &str)>,
     lambda_p: f64,
     ctx: &PlotContext,
     area: ratatui::layout::Rect,
@@ -45,7 +46,12 @@ pub fn draw(
     let colors: Vec<Color> = (0..b.attractors.len())
         .map(|id| attractor_color(b, id, theme))
         .collect();
-    let previous = previous.filter(|p| p.dx == b.dx && p.v == b.v && !theme.monochrome);
+    let (previous, faded_label) = match previous {
+        Some((p, label)) if p.dx == b.dx && p.v == b.v && !theme.monochrome => {
+            (Some(p), Some(label))
+        }
+        _ => (None, None),
+    };
     let faded: Vec<Color> = previous.map_or(Vec::new(), |p| {
         (0..p.attractors.len())
             .map(|id| theme.dim(attractor_color(p, id, theme)))
@@ -133,7 +139,7 @@ pub fn draw(
             done,
             b.labels.len(),
             "cells",
-            previous.map(|_| "basin"),
+            faded_label,
             theme,
         ));
     }

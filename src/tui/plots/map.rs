@@ -22,7 +22,7 @@ const PD_CURVE: &str = "×";
 /// (the settings before, on the same grid) faded.
 pub fn draw(
     m: &MapView,
-    previous: Option<&MapView>,
+    previous: Option<(&MapView, &str)>,
     ctx: &PlotContext,
     area: ratatui::layout::Rect,
     buf: &mut ratatui::buffer::Buffer,
@@ -32,8 +32,12 @@ pub fn draw(
     let cell = |ix: usize, iy: usize| m.rows.get(iy)?.as_ref()?.get(ix);
     let level = |n: usize| n.min(3);
     let count_color = |n: usize| theme.ramp(level(n) as f64 / 3.0);
-    let previous =
-        previous.filter(|p| p.omegas == m.omegas && p.values == m.values && !theme.monochrome);
+    let (previous, faded_label) = match previous {
+        Some((p, label)) if p.omegas == m.omegas && p.values == m.values && !theme.monochrome => {
+            (Some(p), Some(label))
+        }
+        _ => (None, None),
+    };
     let earlier = |ix: usize, iy: usize| previous?.rows.get(iy)?.as_ref()?.get(ix);
     let color_of = |ix: usize, iy: usize| match cell(ix, iy) {
         Some(c) => Some(count_color(c.stable)),
@@ -158,7 +162,7 @@ pub fn draw(
             done,
             m.rows.len(),
             "rows",
-            previous.map(|_| "map"),
+            faded_label,
             theme,
         ));
     }

@@ -59,8 +59,8 @@ pub fn beneath(plot: &mut XyPlot, previous: &ResultView, label: &str, theme: &Th
     plot.footer.insert(at, legend(label, theme));
 }
 
-/// The footer line of a grid still computing: `done` of `total` `cells` so far, and, if the
-/// previous settings' `what` shows faded in the rest, that it does.
+/// The footer line of a grid still computing: `done` of `total` `cells` so far, and, if
+/// something shows faded in the rest (the previous settings' result, a coarse preview), what.
 pub fn so_far(
     done: usize,
     total: usize,
@@ -68,9 +68,7 @@ pub fn so_far(
     faded: Option<&str>,
     theme: &Theme,
 ) -> Line<'static> {
-    let faded = faded.map_or(String::new(), |what| {
-        format!("; faded: the previous settings' {what}")
-    });
+    let faded = faded.map_or(String::new(), |what| format!("; faded: {what}"));
     Line::styled(
         format!("{done} of {total} {cells} so far{faded}"),
         theme.muted(),

@@ -1,0 +1,220 @@
+//! A coarse first picture of a basin or a frequency response, for the workbench to draw at
+//! once while the full result is computed: about [`BUDGET`] trajectories, each integrated to
+//! full convergence (no early stop, no seeding or sweeps), in memory. A basin's grid is
+//! thinned alike along both axes, a response's starts to about every [`STRIDE`]th point a side
+//! and then its ω to fit the budget; ends are kept, and every k-th point is taken exactly where
+//! a k near the wanted stride divides the axis' steps (so the preview's starts are starts of the
+//! full grid). It is never stored and never shown as
+//! the result: the workbench draws it muted, under the result as it comes, and names it a
+//! preview.
+
+use std::sync::atomic::AtomicBool;
+
+use rayon::prelude::*;
+
+use super::results::{AttractorRow, BasinView, ResponsePoint, ResultView};
+use super::schema::{AnalysisEntry, Session, Settings};
+use super::written::ModelPoint;
+use crate::analysis::global::basin::BasinSpec;
+use crate::analysis::global::frequency_response::{FrequencyResponseSpec, ResponsePlan};
+use crate::analysis::grid::Axis;
+use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
+use crate::analysis::{AnalysisError, Oscillator, Progress};
+
+/// Trajectories in a preview, about: a few tens of milliseconds on two cores for the paper's
+/// model.
+pub const BUDGET: usize = 200;
+/// A response's starts: about one in this many a side.
+pub const STRIDE: usize = 8;
+/// Starts integrated together (the lanes of the integrator), and handed to a core at a time.
+const CELLS_PER_TASK: usize = 8;
+
+/// The coarse picture of `entry` (a basin or a frequency response), on the full grid of its
+/// settings; `None` for the other kinds.
+pub fn coarse(
+    session: &Session,
+    entry: &AnalysisEntry,
+    progress: &Progress,
+) -> Option<anyhow::Result<ResultView>> {
+    if !matches!(
+        entry.settings,
+        Settings::Basin(_) | Settings::FrequencyResponse(_)
+    ) {
+        return None;
+    }
+    let named = |e: AnalysisError| anyhow::anyhow!("{}: {e}", entry.name);
+    Some(match session.point(Some(entry)) {
+        Ok(ModelPoint::BuiltIn(params)) => on(&params, &entry.settings, progress).map_err(named),
+        Ok(ModelPoint::Written(sys)) => on(&sys, &entry.settings, progress).map_err(named),
+        Err(e) => Err(anyhow::anyhow!("{}: {e}", entry.name)),
+    })
+}
+
+/// `axis` with about every `stride`-th point, its ends kept: every k-th point for the k in
+/// [stride/2, 2·stride] nearest `stride` that divides its steps and gives no more points than
+/// the stride itself would, else evenly spaced.
+fn thinned(axis: &Axis, stride: usize) -> Axis {
+    if axis.points <= 2 || stride <= 1 {
+        return *axis;
+    }
+    let steps = axis.points - 1;
+    let plain = steps.div_ceil(stride) + 1;
+    let exact = (stride.div_ceil(2)..=2 * stride)
+        .filter(|&k| steps.is_multiple_of(k) && steps / k < plain)
+        .min_by_key(|k| k.abs_diff(stride));
+    let points = exact.map_or(plain, |k| steps / k + 1);
+    Axis::new(axis.min, axis.max, points)
+}
+
+/// The stride that brings `count` trajectories within [`BUDGET`] when applied along `axes`
+/// axes alike.
+fn stride_for(count: usize, axes: u32) -> usize {
+    let shrink = count.div_ceil(BUDGET);
+    (1..).find(|s: &usize| s.pow(axes) >= shrink).unwrap_or(1)
+}
+
+/// The index on `coarse` nearest to `value`.
+fn nearest(coarse: &Axis, value: f64) -> usize {
+    if coarse.points <= 1 || coarse.max == coarse.min {
+        return 0;
+    }
+    let at = (value - coarse.min) / (coarse.max - coarse.min) * (coarse.points - 1) as f64;
+    (at.round().max(0.0) as usize).min(coarse.points - 1)
+}
+
+fn on<O: Oscillator>(
+    osc: &O,
+    settings: &Settings,
+    progress: &Progress,
+) -> Result<ResultView, AnalysisError> {
+    match settings {
+        Settings::Basin(spec) => basin_picture(osc, spec, progress),
+        Settings::FrequencyResponse(spec) => response_picture(osc, spec, progress),
+        _ => unreachable!("checked by `coarse`"),
+    }
+}
+
+/// Every cell of the full grid takes the label of the nearest coarse start.
+fn basin_picture<O: Oscillator>(
+    osc: &O,
+    spec: &BasinSpec,
+    progress: &Progress,
+) -> Result<ResultView, AnalysisError> {
+    spec.validate()?;
+    let stride = stride_for(spec.dx.points * spec.v.points, 2);
+    let (coarse_dx, coarse_v) = (thinned(&spec.dx, stride), thinned(&spec.v, stride));
+    let starts: Vec<O::State> = (0..coarse_dx.points * coarse_v.points)
+        .map(|c| {
+            let (i, j) = (c / coarse_v.points, c % coarse_v.points);
+            osc.grid_start([coarse_dx.at(i), coarse_v.at(j)])
+        })
+        .collect();
+    progress.grow_total(starts.len());
+    let cancel: &AtomicBool = progress.cancel_flag();
+    // a few starts per task, not the basin's chunks of 512: a coarse grid is one or two of those
+    let outcomes = starts
+        .par_chunks(CELLS_PER_TASK)
+        .map(|c| osc.steady_states(c, &spec.steady, None, cancel, |_| progress.add(1)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut table = AttractorTable::default();
+    let coarse_labels: Vec<usize> = outcomes
+        .iter()
+        .flatten()
+        .map(|s| table.classify(s, SAME_POINT_TOL))
+        .collect();
+    let (dx, v) = (spec.dx.values(), spec.v.values());
+    let labels = dx
+        .iter()
+        .flat_map(|&x| {
+            let ix = nearest(&coarse_dx, x);
+            v.iter().map(move |&y| (ix, nearest(&coarse_v, y)))
+        })
+        .map(|(ix, iv)| coarse_labels.get(ix * coarse_v.points + iv).copied())
+        .collect();
+    let attractors = AttractorRow::of_table(&table, coarse_labels.len().max(1));
+    Ok(ResultView::Basin(BasinView {
+        dx,
+        v,
+        labels,
+        attractors,
+    }))
+}
+
+/// The responses reached from the thinned grid of starts at the thinned ω.
+fn response_picture<O: Oscillator>(
+    osc: &O,
+    spec: &FrequencyResponseSpec,
+    progress: &Progress,
+) -> Result<ResultView, AnalysisError> {
+    let (dx, v) = (thinned(&spec.dx, STRIDE), thinned(&spec.v, STRIDE));
+    let omega = thinned(
+        &spec.omega,
+        stride_for(spec.omega.points * dx.points * v.points, 1),
+    );
+    let coarse = FrequencyResponseSpec {
+        omega,
+        dx,
+        v,
+        early_stop: false,
+        seed_neighbours: false,
+        sweeps: false,
+        ..spec.clone()
+    };
+    let plan = ResponsePlan::new(osc, &coarse)?;
+    let per_omega = (0..coarse.omega.points)
+        .into_par_iter()
+        .map(|i| plan.grid_at(i, progress))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(ResultView::Response(
+        per_omega
+            .iter()
+            .flatten()
+            .map(ResponsePoint::from_response)
+            .collect(),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_thinned_axis_keeps_its_ends_and_every_kth_point_where_k_divides_its_steps() {
+        let dx = thinned(&Axis::new(-0.8, 0.8, 201), 8);
+        assert_eq!((dx.min, dx.max, dx.points), (-0.8, 0.8, 26));
+        assert!((dx.step() - 8.0 * 0.008).abs() < 1e-15);
+        // 250 steps: every 10th; 14: every 7th; 50: every 10th; 17 (prime, beyond twice 8):
+        // about every 8th
+        assert_eq!(thinned(&Axis::new(-1.0, 1.0, 251), 8).points, 26);
+        assert_eq!(thinned(&Axis::new(-1.0, 1.0, 15), 8).points, 3);
+        assert_eq!(thinned(&Axis::new(-1.0, 1.0, 51), 8).points, 6);
+        assert_eq!(thinned(&Axis::new(-1.0, 1.0, 18), 8).points, 4);
+        assert_eq!(thinned(&Axis::new(0.0, 1.0, 2), 8).points, 2);
+        assert_eq!(thinned(&Axis::new(0.0, 1.0, 1), 8).points, 1);
+        assert_eq!(thinned(&Axis::new(0.0, 1.0, 9), 1).points, 9);
+        // every full-grid value maps to the nearest coarse point, ends to ends
+        let full = Axis::new(-0.8, 0.8, 201);
+        assert_eq!(nearest(&dx, full.at(0)), 0);
+        assert_eq!(nearest(&dx, full.at(200)), 25);
+        assert_eq!(nearest(&dx, full.at(8)), 1);
+        assert_eq!(nearest(&dx, full.at(11)), 1);
+        assert_eq!(nearest(&dx, full.at(13)), 2);
+    }
+
+    /// The paper's grids come within the budget: Fig 6A's basin 11 × 11 starts, Fig 4's
+    /// response 3 × 3 starts at 21 ω; a small grid is taken whole.
+    #[test]
+    fn the_papers_grids_fit_the_budget() {
+        let s = stride_for(201 * 251, 2);
+        let (dx, v) = (
+            thinned(&Axis::new(-0.8, 0.8, 201), s),
+            thinned(&Axis::new(-1.0, 1.0, 251), s),
+        );
+        assert_eq!((s, dx.points, v.points), (16, 11, 11));
+        let omega = thinned(&Axis::new(0.2, 6.0, 117), stride_for(117 * 9, 1));
+        assert_eq!(omega.points, 21);
+        assert!(omega.points * 9 <= BUDGET);
+        assert_eq!(stride_for(41 * 51, 2), 4);
+        assert_eq!(stride_for(200, 2), 1);
+    }
+}
