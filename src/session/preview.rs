@@ -29,6 +29,28 @@ pub const STRIDE: usize = 8;
 /// Starts integrated together (the lanes of the integrator), and handed to a core at a time.
 const CELLS_PER_TASK: usize = 8;
 
+/// The settings of the kinds that have a preview.
+#[derive(Clone, Copy)]
+enum Kind<'a> {
+    Basin(&'a BasinSpec),
+    Response(&'a FrequencyResponseSpec),
+}
+
+impl<'a> Kind<'a> {
+    fn of(settings: &'a Settings) -> Option<Self> {
+        match settings {
+            Settings::Basin(spec) => Some(Kind::Basin(spec)),
+            Settings::FrequencyResponse(spec) => Some(Kind::Response(spec)),
+            _ => None,
+        }
+    }
+}
+
+/// True for the kinds [`coarse`] draws: basins and frequency responses.
+pub fn available(settings: &Settings) -> bool {
+    Kind::of(settings).is_some()
+}
+
 /// The coarse picture of `entry` (a basin or a frequency response), on the full grid of its
 /// settings; `None` for the other kinds.
 pub fn coarse(
@@ -36,16 +58,11 @@ pub fn coarse(
     entry: &AnalysisEntry,
     progress: &Progress,
 ) -> Option<anyhow::Result<ResultView>> {
-    if !matches!(
-        entry.settings,
-        Settings::Basin(_) | Settings::FrequencyResponse(_)
-    ) {
-        return None;
-    }
+    let kind = Kind::of(&entry.settings)?;
     let named = |e: AnalysisError| anyhow::anyhow!("{}: {e}", entry.name);
     Some(match session.point(Some(entry)) {
-        Ok(ModelPoint::BuiltIn(params)) => on(&params, &entry.settings, progress).map_err(named),
-        Ok(ModelPoint::Written(sys)) => on(&sys, &entry.settings, progress).map_err(named),
+        Ok(ModelPoint::BuiltIn(params)) => picture(&params, kind, progress).map_err(named),
+        Ok(ModelPoint::Written(sys)) => picture(&sys, kind, progress).map_err(named),
         Err(e) => Err(anyhow::anyhow!("{}: {e}", entry.name)),
     })
 }
@@ -82,15 +99,14 @@ fn nearest(coarse: &Axis, value: f64) -> usize {
     (at.round().max(0.0) as usize).min(coarse.points - 1)
 }
 
-fn on<O: Oscillator>(
+fn picture<O: Oscillator>(
     osc: &O,
-    settings: &Settings,
+    kind: Kind,
     progress: &Progress,
 ) -> Result<ResultView, AnalysisError> {
-    match settings {
-        Settings::Basin(spec) => basin_picture(osc, spec, progress),
-        Settings::FrequencyResponse(spec) => response_picture(osc, spec, progress),
-        _ => unreachable!("checked by `coarse`"),
+    match kind {
+        Kind::Basin(spec) => basin_picture(osc, spec, progress),
+        Kind::Response(spec) => response_picture(osc, spec, progress),
     }
 }
 

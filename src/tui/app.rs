@@ -319,11 +319,8 @@ impl App {
         let Some(i) = self.session.analysis_index(name) else {
             return;
         };
-        let kind_has_one = matches!(
-            self.session.analyses[i].settings,
-            Settings::Basin(_) | Settings::FrequencyResponse(_)
-        );
-        if !kind_has_one || self.status_of(i) == ResultStatus::Complete {
+        let has_one = isola::session::preview::available(&self.session.analyses[i].settings);
+        if !has_one || self.status_of(i) == ResultStatus::Complete {
             return;
         }
         let id = self.jobs.push(

@@ -46,12 +46,9 @@ pub fn draw(
     let colors: Vec<Color> = (0..b.attractors.len())
         .map(|id| attractor_color(b, id, theme))
         .collect();
-    let (previous, faded_label) = match previous {
-        Some((p, label)) if p.dx == b.dx && p.v == b.v && !theme.monochrome => {
-            (Some(p), Some(label))
-        }
-        _ => (None, None),
-    };
+    let previous = previous.filter(|(p, _)| p.dx == b.dx && p.v == b.v && !theme.monochrome);
+    let faded_label = previous.map(|(_, label)| label);
+    let previous = previous.map(|(p, _)| p);
     let faded: Vec<Color> = previous.map_or(Vec::new(), |p| {
         (0..p.attractors.len())
             .map(|id| theme.dim(attractor_color(p, id, theme)))

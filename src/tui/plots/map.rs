@@ -32,12 +32,10 @@ pub fn draw(
     let cell = |ix: usize, iy: usize| m.rows.get(iy)?.as_ref()?.get(ix);
     let level = |n: usize| n.min(3);
     let count_color = |n: usize| theme.ramp(level(n) as f64 / 3.0);
-    let (previous, faded_label) = match previous {
-        Some((p, label)) if p.omegas == m.omegas && p.values == m.values && !theme.monochrome => {
-            (Some(p), Some(label))
-        }
-        _ => (None, None),
-    };
+    let previous =
+        previous.filter(|(p, _)| p.omegas == m.omegas && p.values == m.values && !theme.monochrome);
+    let faded_label = previous.map(|(_, label)| label);
+    let previous = previous.map(|(p, _)| p);
     let earlier = |ix: usize, iy: usize| previous?.rows.get(iy)?.as_ref()?.get(ix);
     let color_of = |ix: usize, iy: usize| match cell(ix, iy) {
         Some(c) => Some(count_color(c.stable)),
