@@ -12,6 +12,7 @@
 //! only slows Newton, not the point it converges to).
 
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::continuation::branch::{
@@ -342,18 +343,26 @@ impl<M: Continuable> Curve<'_, M> {
     /// The flow at `y` and the Jacobian of the residual there.
     fn evaluate(&self, y: &DVector<f64>) -> Result<Solved, Failure> {
         let n = self.n;
-        let flow = self.flow(y)?;
-        let mut jac = DMatrix::zeros(n + 1, n + 2);
-        for c in 0..n + 2 {
-            let d = DIFFERENCE_STEP * y[c].abs().max(1.0);
-            let mut up = y.clone();
-            let mut down = y.clone();
+        // y, then each column's two sides: orbits computed side by side (each exactly as
+        // alone), their failures taken in this order
+        let steps: Vec<f64> = (0..n + 2)
+            .map(|c| DIFFERENCE_STEP * y[c].abs().max(1.0))
+            .collect();
+        let mut at = vec![y.clone()];
+        for (c, &d) in steps.iter().enumerate() {
+            let (mut up, mut down) = (y.clone(), y.clone());
             up[c] += d;
             down[c] -= d;
-            let (ru, rd) = (
-                self.residual(&up, &self.flow(&up)?),
-                self.residual(&down, &self.flow(&down)?),
-            );
+            at.extend([up, down]);
+        }
+        let flows: Vec<Result<PeriodFlow, Failure>> = at.par_iter().map(|y| self.flow(y)).collect();
+        let mut flows = flows.into_iter();
+        let mut next = || flows.next().expect("an orbit for each point");
+        let flow = next()?;
+        let mut jac = DMatrix::zeros(n + 1, n + 2);
+        for (c, &d) in steps.iter().enumerate() {
+            let (up, down) = (&at[1 + 2 * c], &at[2 + 2 * c]);
+            let (ru, rd) = (self.residual(up, &next()?), self.residual(down, &next()?));
             jac.set_column(c, &((ru - rd) / (2.0 * d)));
         }
         // the state columns of P^k(x) − x exactly, from the variational equations

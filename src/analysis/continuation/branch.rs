@@ -488,13 +488,18 @@ impl<'a, M: Continuable> Problem<'a, M> {
         let p = self.params_at(mu).ok_or(Failure::Diverged)?;
         let x = &y.as_slice()[..n];
         let tol = self.spec.shooting.tol;
-        let flow = p.period_flow(x, self.k, tol)?;
         let d = 1e-6 * mu.abs().max(1.0);
         let side = |mu: f64| {
             let q = self.params_at(mu)?;
             q.period_flow(x, self.k, tol).ok().map(|f| f.end)
         };
-        let dp: Vec<f64> = match (side(mu + d), side(mu - d)) {
+        // the three orbits side by side (each exactly as alone)
+        let (flow, (up, down)) = rayon::join(
+            || p.period_flow(x, self.k, tol),
+            || rayon::join(|| side(mu + d), || side(mu - d)),
+        );
+        let flow = flow?;
+        let dp: Vec<f64> = match (up, down) {
             (Some(a), Some(b)) => (0..n).map(|i| (a[i] - b[i]) / (2.0 * d)).collect(),
             (Some(a), None) => (0..n).map(|i| (a[i] - flow.end[i]) / d).collect(),
             (None, Some(b)) => (0..n).map(|i| (flow.end[i] - b[i]) / d).collect(),
