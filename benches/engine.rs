@@ -159,7 +159,7 @@ fn classify(c: &mut Criterion) {
         .collect();
     let never = AtomicBool::new(false);
     g.bench_function("fig6a_grid_8x8_lanes", |b| {
-        b.iter(|| steady_states(&p, &ics, &spec, None, &never, |_| {}).unwrap())
+        b.iter(|| steady_states(&p, &ics, &spec, None, &never, &mut |_| {}).unwrap())
     });
     g.finish();
 }

@@ -130,7 +130,7 @@ fn basin_picture<O: Oscillator>(
     // a few starts per task, not the basin's chunks of 512: a coarse grid is one or two of those
     let outcomes = starts
         .par_chunks(CELLS_PER_TASK)
-        .map(|c| osc.steady_states(c, &spec.steady, None, cancel, |_| progress.add(1)))
+        .map(|c| osc.steady_states(c, &spec.steady, None, cancel, &mut |_| progress.add(1)))
         .collect::<Result<Vec<_>, _>>()?;
     let mut table = AttractorTable::default();
     let coarse_labels: Vec<usize> = outcomes

@@ -195,7 +195,7 @@ impl<'a, O: Oscillator> BasinPlan<'a, O> {
             &self.spec.steady,
             known.as_mut(),
             progress.cancel_flag(),
-            |_| progress.add(1),
+            &mut |_| progress.add(1),
         )
     }
 
@@ -243,7 +243,15 @@ fn seed_attractors<O: Oscillator>(
     let sample: Vec<O::State> = cells.into_iter().map(|c| ics[c]).collect();
     let outcomes: Vec<SteadyState> = sample
         .par_chunks(LANES)
-        .map(|part| params.steady_states(part, &spec.steady, None, progress.cancel_flag(), |_| {}))
+        .map(|part| {
+            params.steady_states(
+                part,
+                &spec.steady,
+                None,
+                progress.cancel_flag(),
+                &mut |_| {},
+            )
+        })
         .collect::<Result<Vec<Vec<_>>, _>>()?
         .concat();
     known.learn_all(&outcomes, SAME_POINT_TOL, Verification::Covered);

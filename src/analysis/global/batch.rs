@@ -170,7 +170,7 @@ pub fn steady_states(
     spec: &SteadyStateSpec,
     known: Option<&mut KnownAttractors>,
     cancel: &AtomicBool,
-    on_done: impl FnMut(usize),
+    on_done: &mut dyn FnMut(usize),
 ) -> Option<Vec<SteadyState>> {
     // a handful of states (a frequency response's seeds) runs in narrower lanes
     match ics.len() {
@@ -187,7 +187,7 @@ fn in_lanes<const L: usize>(
     spec: &SteadyStateSpec,
     mut known: Option<&mut KnownAttractors>,
     cancel: &AtomicBool,
-    mut on_done: impl FnMut(usize),
+    on_done: &mut dyn FnMut(usize),
 ) -> Option<Vec<SteadyState>> {
     let rk = Rk4::new(params, &spec.resolution);
     let h = rk.step();
@@ -341,7 +341,7 @@ mod tests {
         let spec = SteadyStateSpec::default();
         let ics = grid(6, p.lambda_p());
         let never = AtomicBool::new(false);
-        let batch = steady_states(&p, &ics, &spec, None, &never, |_| {}).unwrap();
+        let batch = steady_states(&p, &ics, &spec, None, &never, &mut |_| {}).unwrap();
         for (ic, b) in ics.iter().zip(&batch) {
             let one = steady_state(&p, ic[0], ic[1], &spec);
             assert_eq!(&one, b, "from {ic:?}");
@@ -357,13 +357,13 @@ mod tests {
         let spec = SteadyStateSpec::default();
         let ics = grid(8, p.lambda_p());
         let never = AtomicBool::new(false);
-        let plain = steady_states(&p, &ics, &spec, None, &never, |_| {}).unwrap();
+        let plain = steady_states(&p, &ics, &spec, None, &never, &mut |_| {}).unwrap();
         let mut known = KnownAttractors::new(&p, &spec.resolution, 0.1);
         for s in &plain {
             known.learn(s, 1e-6);
         }
         assert!(known.responses.len() >= 2);
-        let fast = steady_states(&p, &ics, &spec, Some(&mut known), &never, |_| {}).unwrap();
+        let fast = steady_states(&p, &ics, &spec, Some(&mut known), &never, &mut |_| {}).unwrap();
         let (mut periods_plain, mut periods_fast) = (0, 0);
         for (a, b) in plain.iter().zip(&fast) {
             assert_eq!(a.class, b.class);
@@ -386,7 +386,15 @@ mod tests {
         let cancel = AtomicBool::new(true);
         let ics = grid(4, p.lambda_p());
         assert!(
-            steady_states(&p, &ics, &SteadyStateSpec::default(), None, &cancel, |_| {}).is_none()
+            steady_states(
+                &p,
+                &ics,
+                &SteadyStateSpec::default(),
+                None,
+                &cancel,
+                &mut |_| {}
+            )
+            .is_none()
         );
     }
 }

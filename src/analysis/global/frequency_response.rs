@@ -337,7 +337,7 @@ impl<'a, O: Oscillator> ResponsePlan<'a, O> {
             &spec.steady,
             known.as_mut(),
             progress.cancel_flag(),
-            |_| progress.add(1),
+            &mut |_| progress.add(1),
         )?;
         let mut found: Vec<Response> = Vec::new();
         for s in outcomes {
@@ -475,7 +475,8 @@ fn seed_from<O: Oscillator>(
         known.learn_all(&found, SAME_POINT_TOL, Verification::OneReturn);
         Some(known)
     });
-    let outcomes = params.steady_states(&seeds, &spec.steady, known.as_mut(), cancel, |_| {})?;
+    let outcomes =
+        params.steady_states(&seeds, &spec.steady, known.as_mut(), cancel, &mut |_| {})?;
     let mut new = 0;
     for s in outcomes {
         if s.class == Class::Periodic && !per_omega[i].iter().any(|r| same_response(&r.steady, &s))

@@ -106,7 +106,7 @@ fn lanes_give_each_start_the_scalar_result_bit_for_bit() {
     starts.push(sys.grid_start([5.0, 0.0]));
     let never = AtomicBool::new(false);
     let in_lanes = sys
-        .steady_states(&starts, &spec, None, &never, |_| {})
+        .steady_states(&starts, &spec, None, &never, &mut |_| {})
         .unwrap();
     let mut scalar = sys.clone();
     for (start, lane) in starts.iter().zip(&in_lanes) {

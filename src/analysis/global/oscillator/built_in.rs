@@ -59,7 +59,7 @@ impl Oscillator for Params {
         spec: &SteadyStateSpec,
         known: Option<&mut KnownAttractors>,
         cancel: &AtomicBool,
-        on_done: impl FnMut(usize),
+        on_done: &mut dyn FnMut(usize),
     ) -> Result<Vec<SteadyState>, AnalysisError> {
         steady_states(self, starts, spec, known, cancel, on_done).ok_or(AnalysisError::Cancelled)
     }

@@ -53,7 +53,7 @@ pub trait Oscillator: Clone + Send + Sync + Sized {
         spec: &SteadyStateSpec,
         known: Option<&mut KnownAttractors>,
         cancel: &AtomicBool,
-        on_done: impl FnMut(usize),
+        on_done: &mut dyn FnMut(usize),
     ) -> Result<Vec<SteadyState>, AnalysisError>;
     /// An empty table of known attractors with capture regions at most `capture` across, if
     /// this model can verify them (else trajectories run to full convergence).

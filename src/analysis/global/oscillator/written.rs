@@ -223,7 +223,7 @@ impl Oscillator for EquationSystem {
         spec: &SteadyStateSpec,
         known: Option<&mut KnownAttractors>,
         cancel: &AtomicBool,
-        on_done: impl FnMut(usize),
+        on_done: &mut dyn FnMut(usize),
     ) -> Result<Vec<SteadyState>, AnalysisError> {
         match starts.len() {
             0..=4 => in_lanes::<4>(self, starts, spec, known, cancel, on_done),
@@ -273,7 +273,7 @@ fn in_lanes<const L: usize>(
     spec: &SteadyStateSpec,
     mut known: Option<&mut KnownAttractors>,
     cancel: &AtomicBool,
-    mut on_done: impl FnMut(usize),
+    on_done: &mut dyn FnMut(usize),
 ) -> Result<Vec<SteadyState>, AnalysisError> {
     let mut sys = sys.clone();
     let grid = sys.model().grid();
