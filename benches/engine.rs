@@ -27,7 +27,7 @@ fn run_lanes<const L: usize>(rk: &Rk4, isa: Isa, dx: f64) -> f64 {
     let v: [f64; L] = std::array::from_fn(|i| 0.01 * i as f64 / L as f64);
     let mut lanes = rk.start(x, v);
     for _ in 0..PERIODS {
-        rk.advance_period_in(isa, &mut lanes, |_, _, _| {});
+        rk.advance_period_in(isa, &mut lanes, None);
     }
     lanes.x.iter().sum()
 }
@@ -91,7 +91,7 @@ fn written_model_steps(c: &mut Criterion) {
         b.iter(|| {
             let mut traj = general.start(&mut sys, &[black_box(p.lambda_p() - 0.005), 0.0]);
             for _ in 0..PERIODS {
-                general.advance_period(&mut sys, &mut traj, |_, _, _| {});
+                general.advance_period(&mut sys, &mut traj, None);
             }
             traj.x[0]
         })

@@ -119,15 +119,10 @@ impl Rk4 {
         lanes
     }
 
-    /// Advances every lane one forcing period. After each step `observe(k, before, after)`
-    /// sees step `k`'s end points as (x, v, a) arrays, for recording; pass `|_, _, _| {}` to
-    /// skip. Runs the version compiled for this process's instruction set ([`isa::chosen`]).
+    /// Advances every lane one forcing period. After each step `observe(k, before, after)`,
+    /// if given, sees step `k`'s end points as (x, v, a) arrays, for recording. Runs the version compiled for this process's instruction set ([`isa::chosen`]).
     #[inline]
-    pub fn advance_period<const L: usize>(
-        &self,
-        lanes: &mut Lanes<L>,
-        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
-    ) {
+    pub fn advance_period<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // SAFETY: the chosen instruction set is one this CPU has
         unsafe { self.advance_period_unchecked(isa::chosen(), lanes, observe) }
     }
@@ -141,7 +136,7 @@ impl Rk4 {
         &self,
         isa: Isa,
         lanes: &mut Lanes<L>,
-        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+        observe: Observer<'_, L>,
     ) {
         assert!(
             isa.available(),
@@ -162,7 +157,7 @@ impl Rk4 {
         &self,
         isa: Isa,
         lanes: &mut Lanes<L>,
-        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+        observe: Observer<'_, L>,
     ) {
         match isa {
             // SAFETY: the caller guarantees the CPU has the instructions
@@ -178,11 +173,7 @@ impl Rk4 {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
-    fn advance_period_v3<const L: usize>(
-        &self,
-        lanes: &mut Lanes<L>,
-        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
-    ) {
+    fn advance_period_v3<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // a closure here has these instructions too
         self.advance_period_body(lanes, observe, |k, start, unsplit| {
             self.split_step_v3(k, start, unsplit)
@@ -199,11 +190,7 @@ impl Rk4 {
     #[target_feature(
         enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c,avx512f,avx512bw,avx512cd,avx512dq,avx512vl"
     )]
-    fn advance_period_v4<const L: usize>(
-        &self,
-        lanes: &mut Lanes<L>,
-        observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
-    ) {
+    fn advance_period_v4<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // a closure here has these instructions too
         self.advance_period_body(lanes, observe, |k, start, unsplit| {
             self.split_step_v4(k, start, unsplit)
@@ -230,7 +217,7 @@ impl Rk4 {
     fn advance_period_body<const L: usize>(
         &self,
         lanes: &mut Lanes<L>,
-        mut observe: impl FnMut(usize, &StepEnds<L>, &StepEnds<L>),
+        mut observe: Observer<'_, L>,
         split: impl Fn(usize, StepStart, StepEnd) -> StepEnd3,
     ) {
         let (h, f) = (self.h, &self.field);
@@ -310,12 +297,14 @@ impl Rk4 {
                     }
                 }
             }
-            let after = StepEnds {
-                x: lanes.x,
-                v: lanes.v,
-                a: lanes.a,
-            };
-            observe(k, &before, &after);
+            if let Some(observe) = observe.as_deref_mut() {
+                let after = StepEnds {
+                    x: lanes.x,
+                    v: lanes.v,
+                    a: lanes.a,
+                };
+                observe(k, &before, &after);
+            }
         }
         lanes.period += 1;
     }
@@ -560,6 +549,11 @@ pub struct StepEnds<const L: usize> {
     pub a: [f64; L],
 }
 
+/// What sees each step's end points `(k, before, after)`, if anything (a `dyn`, so that the
+/// integrator is compiled once per lane count, not once per caller).
+pub type Observer<'a, const L: usize> =
+    Option<&'a mut dyn FnMut(usize, &StepEnds<L>, &StepEnds<L>)>;
+
 /// The point where `g` turns negative in (lo, hi], from g(lo) and g(hi) < 0 (if g(lo) < 0
 /// too, lo itself): regula falsi with the Anderson–Björck correction, stopped when successive
 /// estimates agree to [`SWITCH_TOLERANCE`] of the step. A switch misplaced by δ costs only
@@ -610,7 +604,7 @@ mod tests {
         let v0 = [0.0, 0.0, 3.0, -0.5];
         let mut batch = rk.start(x0, v0);
         for _ in 0..50 {
-            rk.advance_period(&mut batch, |_, _, _| {});
+            rk.advance_period(&mut batch, None);
         }
         assert!(
             batch.collision[2].is_some(),
@@ -619,7 +613,7 @@ mod tests {
         for i in [0, 1, 3] {
             let mut one = rk.start([x0[i]], [v0[i]]);
             for _ in 0..50 {
-                rk.advance_period(&mut one, |_, _, _| {});
+                rk.advance_period(&mut one, None);
             }
             assert!(one.collision[0].is_none());
             assert_eq!(one.x[0].to_bits(), batch.x[i].to_bits(), "lane {i}");
@@ -639,14 +633,18 @@ mod tests {
             let mut lanes = rk.start(x0, v0);
             let (mut switches, mut mode) = (0, [Mode::default(); 8]);
             for _ in 0..60 {
-                rk.advance_period_in(isa, &mut lanes, |k, _, end| {
-                    let (phi_i, phi_ii) = rk.table.at(2 * k + 2);
-                    for (i, mode) in mode.iter_mut().enumerate() {
-                        let (_, m) = rk.field.accel(end.x[i], end.v[i], phi_i, phi_ii);
-                        switches += usize::from(m != *mode);
-                        *mode = m;
-                    }
-                });
+                rk.advance_period_in(
+                    isa,
+                    &mut lanes,
+                    Some(&mut |k, _, end| {
+                        let (phi_i, phi_ii) = rk.table.at(2 * k + 2);
+                        for (i, mode) in mode.iter_mut().enumerate() {
+                            let (_, m) = rk.field.accel(end.x[i], end.v[i], phi_i, phi_ii);
+                            switches += usize::from(m != *mode);
+                            *mode = m;
+                        }
+                    }),
+                );
             }
             (lanes, switches)
         };

@@ -221,15 +221,18 @@ fn in_lanes<const L: usize>(
             .iter()
             .any(|s| matches!(s, LaneState::Recording { .. }));
         if recording {
-            rk.advance_period(&mut lanes, |_, b, e| {
-                for (i, s) in state.iter_mut().enumerate() {
-                    if let LaneState::Recording { rec, .. } = s {
-                        rec.add_step(b.x[i], b.v[i], e.x[i], e.v[i], h);
+            rk.advance_period(
+                &mut lanes,
+                Some(&mut |_, b, e| {
+                    for (i, s) in state.iter_mut().enumerate() {
+                        if let LaneState::Recording { rec, .. } = s {
+                            rec.add_step(b.x[i], b.v[i], e.x[i], e.v[i], h);
+                        }
                     }
-                }
-            });
+                }),
+            );
         } else {
-            rk.advance_period(&mut lanes, |_, _, _| {});
+            rk.advance_period(&mut lanes, None);
         }
         // lanes, their states and the results are updated together by index
         #[allow(clippy::needless_range_loop)]

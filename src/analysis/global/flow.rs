@@ -64,7 +64,7 @@ fn iterate_built_in(
             }
             let mut lanes = rk.start(x, v);
             for _ in 0..periods {
-                rk.advance_period(&mut lanes, |_, _, _| {});
+                rk.advance_period(&mut lanes, None);
             }
             let ends: Vec<Option<[f64; 2]>> = batch
                 .iter()

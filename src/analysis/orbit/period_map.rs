@@ -90,16 +90,19 @@ impl Rk4PeriodMap {
 impl PeriodMap for Rk4PeriodMap {
     fn advance(&mut self) -> Result<[f64; 2], Collision> {
         self.point()?;
-        self.rk4.advance_period(&mut self.lanes, |_, _, _| {});
+        self.rk4.advance_period(&mut self.lanes, None);
         self.point()
     }
 
     fn advance_recording(&mut self, rec: &mut OrbitRecord) -> Result<[f64; 2], Collision> {
         self.point()?;
         let h = self.rk4.step();
-        self.rk4.advance_period(&mut self.lanes, |_, b, e| {
-            rec.add_step(b.x[0], b.v[0], e.x[0], e.v[0], h);
-        });
+        self.rk4.advance_period(
+            &mut self.lanes,
+            Some(&mut |_, b, e| {
+                rec.add_step(b.x[0], b.v[0], e.x[0], e.v[0], h);
+            }),
+        );
         self.point()
     }
 

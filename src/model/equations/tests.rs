@@ -55,7 +55,7 @@ fn the_written_paper_model_follows_the_built_in_to_1e_9() {
         let mut traj = rk.start(&mut sys, &x0);
         let mut worst: f64 = 0.0;
         for _ in 0..400 {
-            built_in.advance_period(&mut lanes, |_, _, _| {});
+            built_in.advance_period(&mut lanes, None);
             rk.advance_period(&mut sys, &mut traj, |_, _, _| {});
             let d = (lanes.x[0] - traj.x[0])
                 .abs()
