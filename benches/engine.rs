@@ -91,7 +91,7 @@ fn written_model_steps(c: &mut Criterion) {
         b.iter(|| {
             let mut traj = general.start(&mut sys, &[black_box(p.lambda_p() - 0.005), 0.0]);
             for _ in 0..PERIODS {
-                general.advance_period(&mut sys, &mut traj, None);
+                general.advance_period(&mut sys, &mut traj, |_, _, _| {});
             }
             traj.x[0]
         })
