@@ -120,7 +120,8 @@ impl Rk4 {
     }
 
     /// Advances every lane one forcing period. After each step `observe(k, before, after)`,
-    /// if given, sees step `k`'s end points as (x, v, a) arrays, for recording. Runs the version compiled for this process's instruction set ([`isa::chosen`]).
+    /// if given, sees step `k`'s end points as (x, v, a) arrays, for recording. Runs the
+    /// version compiled for this process's instruction set ([`isa::chosen`]).
     #[inline]
     pub fn advance_period<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // SAFETY: the chosen instruction set is one this CPU has

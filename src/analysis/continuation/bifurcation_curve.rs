@@ -344,7 +344,7 @@ impl<M: Continuable> Curve<'_, M> {
     fn evaluate(&self, y: &DVector<f64>) -> Result<Solved, Failure> {
         let n = self.n;
         // y, then each column's two sides: orbits computed side by side (each exactly as
-        // alone), their failures taken in this order
+        // alone), the first failure in this order returned
         let steps: Vec<f64> = (0..n + 2)
             .map(|c| DIFFERENCE_STEP * y[c].abs().max(1.0))
             .collect();
@@ -355,16 +355,20 @@ impl<M: Continuable> Curve<'_, M> {
             down[c] -= d;
             at.extend([up, down]);
         }
-        let flows: Vec<Result<PeriodFlow, Failure>> = at.par_iter().map(|y| self.flow(y)).collect();
-        let mut flows = flows.into_iter();
-        let mut next = || flows.next().expect("an orbit for each point");
-        let flow = next()?;
+        let mut flows: Vec<PeriodFlow> = at
+            .par_iter()
+            .map(|y| self.flow(y))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect::<Result<_, _>>()?;
         let mut jac = DMatrix::zeros(n + 1, n + 2);
         for (c, &d) in steps.iter().enumerate() {
-            let (up, down) = (&at[1 + 2 * c], &at[2 + 2 * c]);
-            let (ru, rd) = (self.residual(up, &next()?), self.residual(down, &next()?));
+            let (up, down) = (1 + 2 * c, 2 + 2 * c);
+            let ru = self.residual(&at[up], &flows[up]);
+            let rd = self.residual(&at[down], &flows[down]);
             jac.set_column(c, &((ru - rd) / (2.0 * d)));
         }
+        let flow = flows.swap_remove(0);
         // the state columns of P^k(x) − x exactly, from the variational equations
         let m = &flow.monodromy;
         for r in 0..n {
