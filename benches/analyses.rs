@@ -1,4 +1,4 @@
-//! The paper's global workloads, on all cores: `cargo bench --bench analyses`.
+//! The paper's global workloads, on all cores: `cargo bench --features bench --bench analyses`.
 //! - Fig 6A basin: 201 × 251 initial states at ADR 0.6, ω_e 3.7.
 //! - Fig 4 frequency response: ω_e 0.2–6 by 0.05, 15 × 15 initial states each, ADR 0.6,
 //!   with neighbour seeding and the two stepped sweeps.

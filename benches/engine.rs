@@ -1,5 +1,5 @@
 //! Engine benchmarks: RK4 steps per second per core, and the time to classify an orbit
-//! from basin-grid initial states. `cargo bench --bench engine`.
+//! from basin-grid initial states. `cargo bench --features bench --bench engine`.
 
 use std::hint::black_box;
 use std::time::Duration;

@@ -18,7 +18,7 @@ mod raster;
 pub mod report;
 mod response;
 mod sweep;
-mod text;
+pub mod text;
 
 use std::cell::RefCell;
 use std::error::Error;

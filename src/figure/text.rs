@@ -17,7 +17,7 @@ use super::FONT_BYTES;
 const X_HEIGHT: f64 = 1120.0 / 2048.0;
 
 /// The shipped font, parsed once.
-pub(super) fn face() -> &'static FontRef<'static> {
+pub fn face() -> &'static FontRef<'static> {
     static FACE: OnceLock<FontRef<'static>> = OnceLock::new();
     FACE.get_or_init(|| {
         // the bytes are a TrueType font checked in: a failure here is a broken checkout

@@ -84,6 +84,16 @@ impl Rk4 {
         }
     }
 
+    /// The right-hand side it integrates.
+    pub fn field(&self) -> &Field {
+        &self.field
+    }
+
+    /// The forcing tabulated at its steps and half-steps.
+    pub fn table(&self) -> &DriveTable {
+        &self.table
+    }
+
     pub fn params(&self) -> &Params {
         &self.params
     }
@@ -589,99 +599,4 @@ fn crossing(g: impl Fn(f64) -> f64, (lo, g_lo): (f64, f64), (hi, g_hi): (f64, f6
         }
     }
     b
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Batching never changes a trajectory: each lane of a batch ends bit for bit where the
-    /// same state run alone ends, including next to a lane that collides and is frozen.
-    #[test]
-    fn lanes_are_independent_and_bitwise_reproducible() {
-        let p = Params::baseline();
-        let rk = Rk4::new(&p, &Resolution::default());
-        let x0 = [1.02, 1.32, 1.02 + 0.8, 0.7];
-        let v0 = [0.0, 0.0, 3.0, -0.5];
-        let mut batch = rk.start(x0, v0);
-        for _ in 0..50 {
-            rk.advance_period(&mut batch, None);
-        }
-        assert!(
-            batch.collision[2].is_some(),
-            "lane 2 is thrown into the frame"
-        );
-        for i in [0, 1, 3] {
-            let mut one = rk.start([x0[i]], [v0[i]]);
-            for _ in 0..50 {
-                rk.advance_period(&mut one, None);
-            }
-            assert!(one.collision[0].is_none());
-            assert_eq!(one.x[0].to_bits(), batch.x[i].to_bits(), "lane {i}");
-            assert_eq!(one.v[0].to_bits(), batch.v[i].to_bits(), "lane {i}");
-        }
-    }
-
-    /// Every instruction set computes the same bits, on orbits that switch between taut and
-    /// slack (split steps) and in a lane that collides.
-    #[test]
-    fn every_instruction_set_computes_the_same_bits() {
-        let p = Params::baseline();
-        let rk = Rk4::new(&p, &Resolution::default());
-        let x0 = [1.02, 1.32, 1.02 + 0.8, 0.7, 1.1, 1.5, 0.9, 1.25];
-        let v0 = [0.0, 0.0, 3.0, -0.5, 0.2, -0.1, 0.05, 0.0];
-        let run = |isa: Isa| {
-            let mut lanes = rk.start(x0, v0);
-            let (mut switches, mut mode) = (0, [Mode::default(); 8]);
-            for _ in 0..60 {
-                rk.advance_period_in(
-                    isa,
-                    &mut lanes,
-                    Some(&mut |k, _, end| {
-                        let (phi_i, phi_ii) = rk.table.at(2 * k + 2);
-                        for (i, mode) in mode.iter_mut().enumerate() {
-                            let (_, m) = rk.field.accel(end.x[i], end.v[i], phi_i, phi_ii);
-                            switches += usize::from(m != *mode);
-                            *mode = m;
-                        }
-                    }),
-                );
-            }
-            (lanes, switches)
-        };
-        let (reference, switches) = run(Isa::Baseline);
-        assert!(switches > 200, "the orbits switch ({switches} switches)");
-        assert!(reference.collision[2].is_some());
-        let available: Vec<Isa> = Isa::ALL.into_iter().filter(|isa| isa.available()).collect();
-        for isa in &available[1..] {
-            let (lanes, _) = run(*isa);
-            for i in 0..8 {
-                assert_eq!(
-                    lanes.x[i].to_bits(),
-                    reference.x[i].to_bits(),
-                    "{isa:?} lane {i}"
-                );
-                assert_eq!(
-                    lanes.v[i].to_bits(),
-                    reference.v[i].to_bits(),
-                    "{isa:?} lane {i}"
-                );
-                assert_eq!(
-                    lanes.collision[i], reference.collision[i],
-                    "{isa:?} lane {i}"
-                );
-            }
-        }
-        eprintln!("compared {available:?}");
-    }
-
-    /// A start outside the model is a collision at τ = 0, not a NaN.
-    #[test]
-    fn start_outside_the_model_is_a_collision() {
-        let rk = Rk4::new(&Params::baseline(), &Resolution::default());
-        let lanes = rk.start([-0.1, f64::NAN], [0.0, 0.0]);
-        assert_eq!(lanes.collision[0].unwrap().tau, 0.0);
-        assert!(lanes.collision[1].is_some());
-        assert!(!lanes.any_alive());
-    }
 }

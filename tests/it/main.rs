@@ -21,3 +21,4 @@ mod signals;
 mod store;
 mod sweep_findings;
 mod tui_pty;
+mod unit;

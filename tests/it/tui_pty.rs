@@ -166,11 +166,13 @@ fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_bac
     assert!(pty.screen.lock().unwrap().screen().alternate_screen());
     // r runs the response; the job pane shows it done, the plot its hidden isola
     pty.keys("r");
-    pty.wait_for("the response to finish", |s| s.contains("✓ done in"));
-    let screen = pty.wait_for("the plot", |s| s.contains("1:2 isola, hidden"));
+    // the result is stored complete a moment before its job (and its coarse preview's) ends
+    let screen = pty.wait_for("the response to finish and its plot", |s| {
+        s.contains("Jobs (0 active)") && s.contains("1:2 isola, hidden")
+    });
+    assert!(screen.contains("✓ done in"), "{screen}");
     assert!(screen.contains("response · done"), "{screen}");
     assert!(screen.contains("◇"), "hidden 1:2 points drawn: {screen}");
-    assert!(screen.contains("Jobs (0 active)"), "{screen}");
     // nothing drawn past 80×24 (combining marks, as in c̃, take no cell)
     let width = |l: &str| {
         l.chars()

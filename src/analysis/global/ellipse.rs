@@ -12,17 +12,17 @@ const MAX_CONDITION: f64 = 1e3;
 /// under M by at least `shrink` per application. T's largest singular value is 1, so the
 /// ellipse lies inside the ball of radius r.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Shape {
-    pub(super) t: Matrix2<f64>,
-    pub(super) t_inv: Matrix2<f64>,
-    pub(super) shrink: f64,
+pub struct Shape {
+    pub t: Matrix2<f64>,
+    pub t_inv: Matrix2<f64>,
+    pub shrink: f64,
 }
 
 impl Shape {
     /// The shape from M's real Jordan form (a focus: |u|² shrinks by |μ|² exactly; a node:
     /// by the larger μ²), or from the Lyapunov equation where the eigenvectors are nearly
     /// parallel; `None` unless both multipliers are inside the unit circle.
-    pub(super) fn of(m: &Matrix2<f64>) -> Option<Shape> {
+    pub fn of(m: &Matrix2<f64>) -> Option<Shape> {
         let mu = Multipliers::of(m);
         if !mu.stable() {
             return None;
@@ -79,7 +79,7 @@ fn eigenvector(m: &Matrix2<f64>, mu: f64, fallback: usize) -> Vector2<f64> {
 
 /// Q with Mᵀ Q M − Q = −I by Smith's doubling (Q = Σ (Mᵀ)ⁿ Mⁿ); `None` unless M's spectral
 /// radius is below 1.
-fn lyapunov(m: &Matrix2<f64>) -> Option<Matrix2<f64>> {
+pub fn lyapunov(m: &Matrix2<f64>) -> Option<Matrix2<f64>> {
     let (mut q, mut a) = (Matrix2::identity(), *m);
     for _ in 0..64 {
         q += a.transpose() * q * a;
@@ -93,28 +93,4 @@ fn lyapunov(m: &Matrix2<f64>) -> Option<Matrix2<f64>> {
         }
     }
     None
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Q solves Mᵀ Q M − Q = −I for a stable focus and a stable node; none for an unstable M.
-    #[test]
-    fn lyapunov_solves_the_equation() {
-        for m in [
-            Matrix2::new(0.6, -0.7, 0.7, 0.6),
-            Matrix2::new(0.9, 0.3, 0.0, -0.5),
-        ] {
-            let q = lyapunov(&m).expect("stable");
-            let r = m.transpose() * q * m - q;
-            for i in 0..2 {
-                for j in 0..2 {
-                    let expected = if i == j { -1.0 } else { 0.0 };
-                    assert!((r[(i, j)] - expected).abs() < 1e-12, "{m:?}: {r:?}");
-                }
-            }
-        }
-        assert!(lyapunov(&Matrix2::new(1.1, 0.0, 0.0, 0.5)).is_none());
-    }
 }

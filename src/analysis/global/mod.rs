@@ -6,7 +6,7 @@ pub mod basin;
 pub mod batch;
 pub mod capture;
 mod capture_cover;
-mod ellipse;
+pub mod ellipse;
 pub mod family;
 pub mod flow;
 pub mod frequency_response;

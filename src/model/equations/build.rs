@@ -16,7 +16,7 @@ use crate::model::system::MAX_DIM;
 
 /// A condition: true where a switching-like value is positive (or zero when not strict).
 #[derive(Debug, Clone)]
-pub(crate) enum Cond {
+pub enum Cond {
     Positive { value: NodeId, strict: bool },
     And(Box<Cond>, Box<Cond>),
     Or(Box<Cond>, Box<Cond>),
@@ -80,11 +80,13 @@ pub struct Parameter {
 /// instance for one set of parameter values.
 #[derive(Debug, Clone)]
 pub struct EquationModel {
-    pub(crate) inner: Arc<Compiled>,
+    /// What the session's text compiled to, shared by every instance.
+    pub inner: Arc<Compiled>,
 }
 
+/// A written model compiled: its names, graph and tapes, for every set of parameter values.
 #[derive(Debug)]
-pub(crate) struct Compiled {
+pub struct Compiled {
     pub name: Option<String>,
     pub states: Vec<String>,
     pub parameters: Vec<Parameter>,

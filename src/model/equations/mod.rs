@@ -52,6 +52,3 @@ pub struct EquationError {
     pub place: String,
     pub message: String,
 }
-
-#[cfg(test)]
-mod tests;

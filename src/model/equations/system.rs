@@ -77,7 +77,7 @@ impl EquationSystem {
 
     /// Its registers (constants and parameter-fixed values filled in, and the table of its
     /// forcing once [`System::tabulate`]d).
-    pub(super) fn registers(&self) -> &Registers {
+    pub fn registers(&self) -> &Registers {
         &self.regs
     }
 

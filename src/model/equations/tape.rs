@@ -52,7 +52,7 @@ pub struct Tape {
     pub switch_mask: u64,
     /// The registers its users read: the roots it computes. The interpreter writes every
     /// register it computes, the machine code only these.
-    pub(super) roots: Vec<NodeId>,
+    pub roots: Vec<NodeId>,
     /// The tape as machine code, compiled at its first run (shared by clones).
     native: std::sync::Arc<Natives>,
 }
@@ -195,7 +195,7 @@ impl Tape {
     /// The compiled tape for `lanes` (1 or [`NATIVE_LANES`]) lanes, held or `free`,
     /// compiled now if it is the first call.
     #[cfg(target_arch = "x86_64")]
-    pub(super) fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
+    pub fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
         let slot = match lanes {
             1 => 0,
             NATIVE_LANES => 2,
@@ -207,7 +207,7 @@ impl Tape {
     /// The compiled tape for `lanes` lanes, held, reading the states and writing the
     /// derivatives `io` names (always the same `io` for one tape).
     #[cfg(target_arch = "x86_64")]
-    pub(super) fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
+    pub fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
         let slot = match lanes {
             1 => 4,
             NATIVE_LANES => 5,
@@ -346,7 +346,7 @@ impl Tape {
     }
 
     /// The tape run instruction by instruction.
-    pub(super) fn interpret<const FREE: bool>(&self, r: &mut [f64], mut mode: Mode) -> Mode {
+    pub fn interpret<const FREE: bool>(&self, r: &mut [f64], mut mode: Mode) -> Mode {
         let mut observed = 0;
         for ins in &self.ins {
             // SAFETY: every index is a node id below `registers` (built so in `new`), and
@@ -461,7 +461,7 @@ impl Tape {
     }
 
     /// The lanes run instruction by instruction.
-    pub(super) fn interpret_lanes<const L: usize, const FREE: bool>(
+    pub fn interpret_lanes<const L: usize, const FREE: bool>(
         &self,
         r: &mut [[f64; L]],
         modes: &[Mode; L],
@@ -537,9 +537,9 @@ pub struct Registers {
     /// The parameter-fixed nodes, in dependency order.
     fixed: Vec<NodeId>,
     /// The register holding the time the time-only nodes were computed at (NaN: not yet).
-    pub(super) stamp: u32,
+    pub stamp: u32,
     /// A period of the time-only values, for a periodic model (see [`TimeTable`]).
-    pub(super) table: Option<Arc<TimeTable>>,
+    pub table: Option<Arc<TimeTable>>,
 }
 
 impl Registers {

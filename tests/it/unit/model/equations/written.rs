@@ -1,10 +1,13 @@
 //! Written models checked against the built-in model and against analytic results.
 
-use super::*;
-use crate::model::Params;
-use crate::model::system::System;
-use crate::solver::general::{GeneralRk4, Trajectory};
-use crate::solver::{Resolution, Rk4};
+use build::EquationModel;
+use definition::ModelDefinition;
+use isola::model::Params;
+use isola::model::equations::*;
+use isola::model::system::System;
+use isola::solver::general::{GeneralRk4, Trajectory};
+use isola::solver::{Resolution, Rk4};
+use system::EquationSystem;
 
 /// The paper's model as `sessions/user_model_paper.toml` writes it.
 pub(crate) fn paper_model() -> EquationModel {
@@ -94,8 +97,8 @@ fn a_written_model_that_goes_slack_keeps_fourth_order() {
 
 #[test]
 fn lanes_give_each_start_the_scalar_result_bit_for_bit() {
-    use crate::analysis::global::oscillator::written::steady_state_of;
-    use crate::analysis::{Oscillator, SteadyStateSpec};
+    use isola::analysis::global::oscillator::written::steady_state_of;
+    use isola::analysis::{Oscillator, SteadyStateSpec};
     use std::sync::atomic::AtomicBool;
     // a 6 × 5 grid at ω 3.7 (1:1, the 1:2 isola, slack phases), and a start far out
     let sys = paper_system(0.6, 3.7);
@@ -152,11 +155,11 @@ fn assert_close(got: &[f64], want: &[f64], tol: f64, what: &str) {
 
 /// Steady amplitude from `x0` at `n` steps per period.
 fn amplitude(sys: &mut EquationSystem, x0: &[f64], n: u32) -> (Option<usize>, f64) {
-    use crate::analysis::SteadyStateSpec;
-    use crate::analysis::global::oscillator::written::steady_state_of;
+    use isola::analysis::SteadyStateSpec;
+    use isola::analysis::global::oscillator::written::steady_state_of;
     let mut spec = SteadyStateSpec::default();
     spec.resolution.min_steps_per_period = n;
-    let mut start = [0.0; crate::model::system::MAX_DIM];
+    let mut start = [0.0; isola::model::system::MAX_DIM];
     start[..x0.len()].copy_from_slice(x0);
     let grid = sys.model().grid();
     let s = steady_state_of(sys, &start, grid, &spec).unwrap();
@@ -219,7 +222,7 @@ fn the_viscoelastic_dea_matches_an_independent_integration() {
 
 #[test]
 fn the_dead_loaded_membrane_matches_its_analytic_frequency_and_an_integration() {
-    use crate::model::system::{System, Vector};
+    use isola::model::system::{System, Vector};
     // the symbolic Jacobian at the static equilibrium without voltage gives
     // ω_n² = g′(1.5) = 1.862772374121151 (closed form)
     let mut sys = catalogue("user_model_dead_load.toml", &[("E_a", 0.0), ("c", 0.0)]);
@@ -264,7 +267,7 @@ fn the_duffing_isola_matches_an_independent_integration() {
 
 #[test]
 fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
-    use crate::model::system::{System, Vector};
+    use isola::model::system::{System, Vector};
     // central differences on the viscoelastic model (4 states, every function kind used
     // there) at a taut state; agreement to the differences' own error
     let mut sys = catalogue("user_model_viscoelastic.toml", &[]);
@@ -294,7 +297,9 @@ fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
 }
 
 /// Every tape of a compiled model.
-fn every_tape(c: &super::build::Compiled) -> Vec<&super::tape::Tape> {
+fn every_tape(
+    c: &isola::model::equations::build::Compiled,
+) -> Vec<&isola::model::equations::tape::Tape> {
     let mut tapes = vec![
         &c.time_tape,
         &c.field_tape,
@@ -329,7 +334,7 @@ z = "-x + max(s - h, 0) + abs(y - z)^-2"
 
 #[test]
 fn machine_code_gives_the_interpreters_values_bit_for_bit() {
-    use super::tape::{NATIVE_LANES, Tape};
+    use isola::model::equations::tape::{NATIVE_LANES, Tape};
     if !Tape::native_enabled() {
         eprintln!("tapes are interpreted on this host: nothing to compare");
         return;
@@ -412,7 +417,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
         }
         // the field's machine code that reads the states and writes the derivatives itself,
         // against the interpreter given the states by `Registers::load`
-        use crate::model::system::MAX_DIM;
+        use isola::model::system::MAX_DIM;
         let state = |uniform: &mut dyn FnMut() -> f64, scale: f64| {
             let mut x = [0.0; MAX_DIM];
             x[..dim]
@@ -474,7 +479,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
 
 #[test]
 fn every_tape_of_the_catalogue_compiles_to_machine_code() {
-    use super::tape::{NATIVE_LANES, Tape};
+    use isola::model::equations::tape::{NATIVE_LANES, Tape};
     if !Tape::native_enabled() {
         return;
     }

@@ -1,0 +1,56 @@
+//! Unit tests of `session::edit` (`src/session/edit.rs`).
+
+use isola::session::schema::{KINDS, Session};
+use std::path::Path;
+
+const TEXT: &str = "# my study\nschema = 1\n[model]\nadr = 0.6 # the paper's\n\n\
+    # the basin of Fig 6A\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n\
+    model = { omega = 3.6 }\n[analysis.settings]\ndx = { min = -0.8, max = 0.8, points = 21 }\n";
+
+fn session() -> Session {
+    Session::parse(Path::new("/tmp/s.toml"), TEXT).unwrap()
+}
+
+#[test]
+fn add_duplicate_rename_delete() {
+    let mut s = session();
+    // every kind can be added, with what it needs
+    for kind in KINDS {
+        let i = s.add_analysis(kind, &format!("new_{kind}")).unwrap();
+        assert_eq!(s.analyses[i].settings.kind(), kind);
+    }
+    assert_eq!(s.analyses.len(), 1 + KINDS.len());
+    // a copy keeps model overrides and settings, and sits after its original
+    let i = s.duplicate_analysis(0, "basin2").unwrap();
+    assert_eq!(i, 1);
+    assert_eq!(s.analyses[1].settings, s.analyses[0].settings);
+    assert_eq!(s.params(Some(&s.analyses[1])).unwrap().omega(), 3.6);
+    s.rename_analysis(1, "basin_b").unwrap();
+    assert_eq!(s.analyses[1].name, "basin_b");
+    s.delete_analysis(1).unwrap();
+    assert!(s.analysis("basin_b").is_none());
+    // the rest of the file is as it was written, comments and all
+    let text = s.to_text();
+    assert!(text.starts_with("# my study\nschema = 1\n[model]\nadr = 0.6 # the paper's\n"));
+    assert!(text.contains("# the basin of Fig 6A\n[[analysis]]\nname = \"basin\""));
+    let reread = Session::parse(Path::new("/tmp/s.toml"), &text).unwrap();
+    assert_eq!(reread.analyses.len(), s.analyses.len());
+}
+
+#[test]
+fn bad_edits_are_refused_and_change_nothing() {
+    let mut s = session();
+    let before = s.to_text();
+    let error = s.add_analysis("basin", "basin").unwrap_err().to_string();
+    assert!(error.contains("'basin' is used twice"), "{error}");
+    let error = s.add_analysis("orbit", "o").unwrap_err().to_string();
+    assert!(error.contains("unknown kind 'orbit'") && error.contains("time_history"));
+    let error = s.rename_analysis(0, "a b").unwrap_err().to_string();
+    assert!(error.contains("letters, digits, _ and -"), "{error}");
+    assert!(s.duplicate_analysis(5, "x").is_err());
+    assert!(s.delete_analysis(5).is_err());
+    assert_eq!(s.to_text(), before);
+    // the last analysis can go too
+    s.delete_analysis(0).unwrap();
+    assert!(s.analyses.is_empty());
+}
