@@ -1,13 +1,14 @@
-//! Written models checked against the built-in model and against analytic results.
+//! Unit tests of `model::equations` (`src/model/equations/`): written models checked against
+//! the built-in model and against analytic results.
 
-use build::EquationModel;
-use definition::ModelDefinition;
 use isola::model::Params;
+use isola::model::equations::build::EquationModel;
+use isola::model::equations::definition::ModelDefinition;
+use isola::model::equations::system::EquationSystem;
 use isola::model::equations::*;
 use isola::model::system::System;
 use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
-use system::EquationSystem;
 
 /// The paper's model as `sessions/user_model_paper.toml` writes it.
 pub(crate) fn paper_model() -> EquationModel {
