@@ -5,7 +5,6 @@ use isola::model::Params;
 use isola::model::equations::build::EquationModel;
 use isola::model::equations::definition::ModelDefinition;
 use isola::model::equations::system::EquationSystem;
-use isola::model::equations::*;
 use isola::model::system::System;
 use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
