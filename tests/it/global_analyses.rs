@@ -207,8 +207,8 @@ fn basin_early_stop_and_threads_do_not_change_results() {
 }
 
 /// Offline check of the full Fig 6A basin (201 × 251, about 30 s of CPU: run with
-/// `cargo test --test global_analyses -- --ignored`): the early stop gives every cell the plain
-/// method's class, period and ratio, and its amplitude within 1e-4.
+/// `cargo test --test it global_analyses:: -- --ignored`): the early stop gives every cell
+/// the plain method's class, period and ratio, and its amplitude within 1e-4.
 #[test]
 #[ignore]
 fn fig6a_full_basin_early_stop_equals_plain() {

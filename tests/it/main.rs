@@ -1,5 +1,7 @@
-//! Every integration test in one binary: one link, and the library's generic analyses
-//! compiled once for all of them. `cargo test --test it MODULE::` runs one file's tests.
+//! Every integration test in one binary, and the library's unit tests (`unit/`, at their
+//! modules' paths): one link, the library compiled once for `cargo test`, and its generic
+//! analyses compiled once for all of them. `cargo test --test it MODULE::` runs one file's
+//! tests (`unit::solver::rk4::` the integrator's unit tests).
 
 mod common;
 mod corpus;
