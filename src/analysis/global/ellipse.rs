@@ -14,7 +14,7 @@ const MAX_CONDITION: f64 = 1e3;
 #[derive(Debug, Clone, Copy)]
 pub struct Shape {
     pub t: Matrix2<f64>,
-    pub t_inv: Matrix2<f64>,
+    pub(super) t_inv: Matrix2<f64>,
     pub shrink: f64,
 }
 

@@ -22,7 +22,7 @@ mod analysis {
     mod resolution;
 }
 mod figure {
-    mod raster;
+    mod text;
 }
 mod jobs;
 mod model {

@@ -1,13 +1,12 @@
 //! Unit tests of `model::statics` (`src/model/statics.rs`).
 
 use isola::model::Params;
-use isola::solver::illinois::illinois;
-use std::f64::consts::PI;
-
 use isola::model::forces::membrane_forces;
 use isola::model::statics::*;
 use isola::model::{DriveSpec, ParamSpec};
+use isola::solver::illinois::illinois;
 use isola::solver::{Dopri5, Tolerance};
+use std::f64::consts::PI;
 
 fn model(lambda_p: f64, e_a: f64) -> Params {
     ParamSpec {

@@ -10,7 +10,7 @@ use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
 
 /// The paper's model as `sessions/user_model_paper.toml` writes it.
-pub(crate) fn paper_model() -> EquationModel {
+fn paper_model() -> EquationModel {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/sessions/user_model_paper.toml"
@@ -21,7 +21,7 @@ pub(crate) fn paper_model() -> EquationModel {
 }
 
 /// The written paper model at (ADR, ω) over the baseline.
-pub(crate) fn paper_system(adr: f64, omega: f64) -> EquationSystem {
+fn paper_system(adr: f64, omega: f64) -> EquationSystem {
     let m = paper_model();
     let mut values = m.defaults();
     values[m.parameter("ADR").unwrap()] = adr;

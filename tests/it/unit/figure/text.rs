@@ -1,4 +1,4 @@
-//! Unit tests of `figure::raster` (`src/figure/raster.rs`).
+//! Unit tests of `figure::text` (`src/figure/text.rs`).
 
 use ab_glyph::{Font, PxScale, ScaleFont};
 use isola::figure::text::face;
