@@ -125,9 +125,10 @@ fn view_of(
 /// A chirp's scalogram, drawn under its envelope.
 fn scalogram_of(
     view: &ResultView,
+    entry: &AnalysisEntry,
 ) -> anyhow::Result<Option<isola::analysis::orbit::scalogram::Scalogram>> {
     Ok(match view {
-        ResultView::Chirp(c) => Some(figure::chirp_scalogram(c)?),
+        ResultView::Chirp(c) => Some(figure::chirp_scalogram(c, entry)?),
         _ => None,
     })
 }
@@ -191,7 +192,7 @@ pub fn run(args: &FigureArgs, out: Output) -> anyhow::Result<()> {
     });
     let target = check_target(&path, &protected(&session))?;
     let view = view_of(&session, entry, args.look.threads, out)?;
-    let scalogram = scalogram_of(&view)?;
+    let scalogram = scalogram_of(&view, entry)?;
     let reverse = match figure::reverse_sweep(&session, entry) {
         Some(i) => Some(view_of(
             &session,
@@ -269,7 +270,7 @@ pub fn report(args: &ReportArgs, out: Output) -> anyhow::Result<()> {
     let mut views = Vec::new();
     for entry in &session.analyses {
         let view = view_of(&session, entry, args.look.threads, out)?;
-        let scalogram = scalogram_of(&view)?;
+        let scalogram = scalogram_of(&view, entry)?;
         views.push((entry, view, scalogram));
     }
     let sections: Vec<figure::report::Section> = views

@@ -40,7 +40,9 @@ pub struct SweepArgs {
     /// Write the samples with their envelope (chirp) or the steps (stepped) to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
-    /// Write the chirp's Morlet scalogram (one row per time × frequency) to this CSV file.
+    /// Write the chirp's Morlet scalogram (one row per time × frequency) to this CSV file,
+    /// and its ridge (one row per time: ω_e, the strongest ω_r, their ratio) beside it in
+    /// `FILE.ridge.csv`.
     #[arg(long = "scalogram-csv")]
     scalogram_csv: Option<PathBuf>,
     /// A jump changes the envelope (chirp) or the amplitude between steps (stepped) by at
@@ -219,29 +221,9 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.scalogram_csv {
         let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
-        let omega_e = |t: f64| a + (b - a) * (t / args.span).clamp(0.0, 1.0);
-        isola::session::export::write_atomic(path, |w| {
-            w.write_record([
-                "tau",
-                "omega_e",
-                "omega_r",
-                "magnitude_stretch",
-                "ridge_ratio",
-            ])?;
-            for (c, &t) in sc.times.iter().enumerate() {
-                for (f, &om) in sc.frequencies.iter().enumerate() {
-                    w.write_record([
-                        format!("{t:.3}"),
-                        format!("{:.6}", omega_e(t)),
-                        format!("{om:.6}"),
-                        format!("{:.9}", sc.magnitude[f][c]),
-                        format!("{:.4}", sc.ridge[c] / omega_e(t)),
-                    ])?;
-                }
-            }
-            Ok(())
-        })?;
-        done.wrote.push(path.clone());
+        done.wrote.extend(isola::session::export::scalogram_csv(
+            &sc, &sweep, &dev, path,
+        )?);
     }
     let found = &sweep.findings;
     out.report(&ChirpSummary {

@@ -20,9 +20,21 @@ const MAX_COLUMNS: usize = 240;
 /// Colour levels of the heat map (cells of one level up a column are drawn as one).
 const LEVELS: f64 = 32.0;
 
-/// The scalogram of a chirp's response, as the workbench computes it.
-pub fn chirp_scalogram(c: &ChirpView) -> Result<Scalogram, AnalysisError> {
-    scalogram(&c.lambda, c.dt, &ScalogramSpec::default())
+/// The scalogram settings of `entry`: its own (`scalogram = {...}`) if it is a chirp sweep
+/// that writes one, else the defaults.
+pub fn scalogram_spec(entry: &AnalysisEntry) -> ScalogramSpec {
+    match &entry.settings {
+        Settings::ChirpSweep(ChirpSpec {
+            scalogram: Some(spec),
+            ..
+        }) => spec.clone(),
+        _ => ScalogramSpec::default(),
+    }
+}
+
+/// The scalogram of a chirp's response by `entry`'s settings, as the workbench computes it.
+pub fn chirp_scalogram(c: &ChirpView, entry: &AnalysisEntry) -> Result<Scalogram, AnalysisError> {
+    scalogram(&c.lambda, c.dt, &scalogram_spec(entry))
 }
 
 /// The chirp sweep of `session` over `entry`'s ω_e range the other way (its index), with the

@@ -163,6 +163,8 @@ pub const RESPONSE_TABLES: [&str; 2] = ["points", "outcomes"];
 pub const FAMILY_TABLES: [&str; 3] = ["responses", "points", "outcomes"];
 /// The tables a chirp sweep writes beside its samples.
 pub const CHIRP_TABLES: [&str; 2] = ["jumps", "extremes"];
+/// The same with the sweep's scalogram and its ridge ([`scalogram_csv`]).
+pub const CHIRP_SCALOGRAM_TABLES: [&str; 4] = ["jumps", "extremes", "scalogram", "scalogram.ridge"];
 /// The tables a stepped sweep writes beside its steps.
 pub const STEPPED_TABLES: [&str; 2] = ["jumps", "peaks"];
 
@@ -511,6 +513,70 @@ pub fn state_history_bytes(
         }
         Ok(())
     })
+}
+
+/// The Morlet scalogram of chirp sweep `s` (Fig 3C/D): one row per time column and analysis
+/// frequency (`tau, time_s, omega_r, frequency_hz, magnitude_stretch`), and beside it its ridge
+/// (`A.ridge.csv`, one row per time column: the forcing's `omega_e` and `frequency_hz_e` then,
+/// the frequency of the largest magnitude `ridge_omega_r` and `ridge_frequency_hz`, and their
+/// ratio `ridge_ratio` = ω_r/ω_e, 0.5 on a 1:2 response, empty where ω_e is 0). Returns the files written, `path`
+/// first.
+pub fn scalogram_csv(
+    sc: &crate::analysis::orbit::scalogram::Scalogram,
+    s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
+    device: &Device,
+    path: &Path,
+) -> anyhow::Result<Vec<PathBuf>> {
+    write_atomic(path, |w| {
+        w.write_record([
+            "tau",
+            "time_s",
+            "omega_r",
+            "frequency_hz",
+            "magnitude_stretch",
+        ])?;
+        for (c, &tau) in sc.times.iter().enumerate() {
+            for (row, &omega_r) in sc.magnitude.iter().zip(&sc.frequencies) {
+                w.write_record([
+                    num(tau),
+                    num(device.seconds(tau)),
+                    num(omega_r),
+                    num(device.hz(omega_r)),
+                    num(row[c]),
+                ])?;
+            }
+        }
+        Ok(())
+    })?;
+    write_atomic(&beside(path, "ridge"), |w| {
+        w.write_record([
+            "tau",
+            "time_s",
+            "omega_e",
+            "frequency_hz_e",
+            "ridge_omega_r",
+            "ridge_frequency_hz",
+            "ridge_ratio",
+        ])?;
+        for (&tau, &ridge) in sc.times.iter().zip(&sc.ridge) {
+            // the column's sample: its τ is j·dt exactly
+            let j = (tau / s.dt).round() as usize;
+            let omega_e = s.omega[j.min(s.omega.len() - 1)];
+            w.write_record([
+                num(tau),
+                num(device.seconds(tau)),
+                num(omega_e),
+                num(device.hz(omega_e)),
+                num(ridge),
+                num(device.hz(ridge)),
+                // no ratio where the forcing is at ω_e = 0 (a sweep up from rest), or so near
+                // it that the ratio overflows
+                opt(Some(ridge / omega_e).filter(|r| r.is_finite())),
+            ])?;
+        }
+        Ok(())
+    })?;
+    Ok(written(path, &["ridge"]))
 }
 
 /// One row per sample of a chirp sweep (τ and the time in seconds on `device`), with the

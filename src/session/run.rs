@@ -29,6 +29,7 @@ use crate::analysis::global::oscillator::history::state_history;
 use crate::analysis::global::stepped_sweep::{SweepFindings, stepped_sweep};
 use crate::analysis::orbit::chirp_sweep::chirp_sweep;
 use crate::analysis::orbit::force_curve::force_curves;
+use crate::analysis::orbit::scalogram::scalogram;
 use crate::analysis::orbit::time_history::time_history;
 use crate::analysis::{AnalysisError, Oscillator, Progress, SteadyState};
 use crate::model::Params;
@@ -132,6 +133,7 @@ pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
         Settings::Hunt(_) => &["branches", "points", "outcomes"],
         Settings::Map(_) => &["curves"],
         Settings::Family(_) => &export::FAMILY_TABLES,
+        Settings::ChirpSweep(spec) if spec.scalogram.is_some() => &export::CHIRP_SCALOGRAM_TABLES,
         Settings::ChirpSweep(_) => &export::CHIRP_TABLES,
         Settings::SteppedSweep(_) => &export::STEPPED_TABLES,
         _ => &[],
@@ -941,7 +943,13 @@ impl Single for Params {
             Settings::ChirpSweep(spec) => {
                 let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
                 finite(&s, "the chirp sweep")?;
-                export::chirp_csv(&s, &device, csv).map(drop)
+                export::chirp_csv(&s, &device, csv)?;
+                if let Some(spec) = &spec.scalogram {
+                    let sc = scalogram(&s.lambda, s.dt, spec)?;
+                    finite(&sc, "the scalogram")?;
+                    export::scalogram_csv(&sc, &s, &device, &export::beside(csv, "scalogram"))?;
+                }
+                Ok(())
             }
             Settings::SteppedSweep(spec) => {
                 let start = params.grid_start([spec.dx0, spec.v0]);

@@ -8,11 +8,11 @@ use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use isola::analysis::global::family::FamilySpec;
-use isola::analysis::orbit::scalogram::Scalogram;
+use isola::analysis::orbit::scalogram::{Scalogram, ScalogramSpec};
 use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec};
 use isola::figure;
 use isola::session::output::{Protected, check_target};
-use isola::session::results::{BasinView, ResultStatus, ResultView};
+use isola::session::results::{BasinView, ChirpView, ResultStatus, ResultView};
 use isola::session::run::Outcome;
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
@@ -156,9 +156,10 @@ pub struct App {
     pub job_row: usize,
     pub cursor: (usize, usize),
     pub picked: Option<Picked>,
-    /// Scalograms by analysis name, and the job computing one.
-    pub scalograms: HashMap<String, Scalogram>,
-    scalogram_jobs: HashMap<usize, String>,
+    /// Scalograms by analysis name, each with what it was computed from, and the job
+    /// computing one (with the same).
+    scalograms: HashMap<String, (u64, Scalogram)>,
+    scalogram_jobs: HashMap<usize, (String, u64)>,
     /// Coarse first pictures by analysis name, and the job computing one.
     previews: HashMap<String, Preview>,
     preview_jobs: HashMap<usize, String>,
@@ -352,10 +353,10 @@ impl App {
     pub fn tick(&mut self) {
         for finished in self.jobs.poll() {
             self.dirty = true;
-            if let Some(name) = self.scalogram_jobs.remove(&finished.id) {
+            if let Some((name, source)) = self.scalogram_jobs.remove(&finished.id) {
                 match finished.result {
                     Ok(Output::Scalogram(s)) => {
-                        self.scalograms.insert(name, s);
+                        self.scalograms.insert(name, (source, s));
                     }
                     Ok(_) => {}
                     Err(e) => self.say(format!("scalogram of {name}: {e}"), true),
@@ -456,6 +457,7 @@ impl App {
 
     /// Takes what the watcher has read.
     fn take_results(&mut self) {
+        let mut selected_changed = false;
         for (index, name, stored) in self.watcher.updates() {
             if self
                 .session
@@ -466,6 +468,7 @@ impl App {
                 continue; // the session changed since the poll
             }
             let selected = index == self.selected;
+            selected_changed |= selected;
             let first = self.stored[index].view.is_none();
             let finished = self.stored[index].status != ResultStatus::Complete
                 && stored.status == ResultStatus::Complete;
@@ -489,6 +492,10 @@ impl App {
                     }
                 }
             }
+        }
+        if selected_changed {
+            // a new result of the chirp shown: its scalogram is computed again
+            self.ensure_scalogram();
         }
     }
 
@@ -1307,20 +1314,65 @@ impl App {
     }
 
     fn toggle_scalogram(&mut self) {
-        let Some(ResultView::Chirp(c)) = self.view() else {
+        if !matches!(self.view(), Some(ResultView::Chirp(_))) {
             self.say("the scalogram is drawn for chirp sweeps", false);
             return;
-        };
-        let (lambda, dt) = (c.lambda.clone(), c.dt);
-        self.show_scalogram = !self.show_scalogram;
-        let name = self.session.analyses[self.selected].name.clone();
-        let computing = self.scalogram_jobs.values().any(|n| *n == name);
-        if self.show_scalogram && !self.scalograms.contains_key(&name) && !computing {
-            let work = Work::Scalogram { lambda, dt };
-            let id = self.jobs.push(format!("scalogram {name}"), work);
-            self.scalogram_jobs.insert(id, name);
-            self.tick();
         }
+        self.show_scalogram = !self.show_scalogram;
+        self.ensure_scalogram();
+        self.tick();
+    }
+
+    /// While the scalogram is shown, starts computing the selected chirp's if none is of
+    /// the response shown and the analysis' settings, nor being computed.
+    fn ensure_scalogram(&mut self) {
+        if !self.show_scalogram {
+            return;
+        }
+        let Some(ResultView::Chirp(c)) = self.view() else {
+            return;
+        };
+        let entry = &self.session.analyses[self.selected];
+        let spec = isola::figure::scalogram_spec(entry);
+        let source = scalogram_source(c, &spec);
+        let name = entry.name.clone();
+        let current = self
+            .scalograms
+            .get(&name)
+            .is_some_and(|(s, _)| *s == source);
+        let computing = self
+            .scalogram_jobs
+            .values()
+            .any(|(n, s)| *n == name && *s == source);
+        if !current && !computing {
+            let work = Work::Scalogram {
+                lambda: c.lambda.clone(),
+                dt: c.dt,
+                spec,
+            };
+            let id = self.jobs.push(format!("scalogram {name}"), work);
+            self.scalogram_jobs.insert(id, (name, source));
+        }
+    }
+
+    /// `entry`'s scalogram if `view` is its chirp response and one is current for it.
+    fn scalogram_of_view(
+        &self,
+        entry: &isola::session::AnalysisEntry,
+        view: &ResultView,
+    ) -> Option<&Scalogram> {
+        match view {
+            ResultView::Chirp(c) => self.scalogram(&entry.name, c),
+            _ => None,
+        }
+    }
+
+    /// Analysis `name`'s scalogram, if one was computed from chirp response `c` by the
+    /// analysis' current settings (never one of an earlier result).
+    pub fn scalogram(&self, name: &str, c: &ChirpView) -> Option<&Scalogram> {
+        let entry = self.session.analysis(name)?;
+        let (source, s) = self.scalograms.get(name)?;
+        (*source == scalogram_source(c, &isola::figure::scalogram_spec(entry))).then_some(s)
     }
 
     fn save(&mut self, path: Option<PathBuf>) {
@@ -1487,9 +1539,13 @@ impl App {
             let format: figure::Format = extension.parse()?;
             let reverse = figure::reverse_sweep(&self.session, entry)
                 .and_then(|i| self.stored.get(i)?.view.as_deref());
-            let mut subject =
-                figure::Subject::of(&self.session, entry, view, self.scalograms.get(&entry.name))
-                    .with_reverse(reverse);
+            let mut subject = figure::Subject::of(
+                &self.session,
+                entry,
+                view,
+                self.scalogram_of_view(entry, view),
+            )
+            .with_reverse(reverse);
             subject.title = title.clone();
             let options = figure::Options {
                 format,
@@ -1907,4 +1963,19 @@ impl Preview {
             blank,
         }
     }
+}
+
+/// What a scalogram is computed from, as one number: the response's samples and their
+/// interval, and the scalogram's settings. A stored scalogram is shown only while this is
+/// unchanged.
+fn scalogram_source(c: &ChirpView, spec: &ScalogramSpec) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::hash::DefaultHasher::new();
+    c.dt.to_bits().hash(&mut h);
+    for x in &c.lambda {
+        x.to_bits().hash(&mut h);
+    }
+    let f = &spec.frequencies;
+    (f.min.to_bits(), f.max.to_bits(), f.points, spec.columns).hash(&mut h);
+    h.finish()
 }

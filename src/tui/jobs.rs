@@ -25,7 +25,11 @@ pub enum Work {
         spec: TimeHistorySpec,
     },
     /// The scalogram of a chirp's response.
-    Scalogram { lambda: Vec<f64>, dt: f64 },
+    Scalogram {
+        lambda: Vec<f64>,
+        dt: f64,
+        spec: ScalogramSpec,
+    },
     /// The coarse first picture of analysis `name` (a basin or a frequency response).
     Preview { session: Arc<Session>, name: String },
 }
@@ -288,10 +292,9 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
                 view: Box::new(view),
             })
         }
-        Work::Scalogram { lambda, dt } => {
+        Work::Scalogram { lambda, dt, spec } => {
             ctx.progress.grow_total(1);
-            let s = scalogram(&lambda, dt, &ScalogramSpec::default())
-                .map_err(|e| JobError::Failed(e.to_string()))?;
+            let s = scalogram(&lambda, dt, &spec).map_err(|e| JobError::Failed(e.to_string()))?;
             ctx.progress.add(1);
             Ok(Output::Scalogram(s))
         }

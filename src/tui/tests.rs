@@ -5,9 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-use isola::session::Session;
+use isola::analysis::orbit::chirp_sweep::ChirpSpec;
+use isola::analysis::orbit::scalogram::ScalogramSpec;
 use isola::session::results::{ResultStatus, ResultView};
 use isola::session::store::ResultPaths;
+use isola::session::{Session, Settings};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
@@ -324,7 +326,37 @@ fn every_other_view_draws() {
     snapshot!("sweeps_80x24", screen);
     key(&mut app, KeyCode::Char('w'));
     settle(&mut app);
-    assert!(app.scalograms.contains_key("up"));
+    let Some(ResultView::Chirp(c)) = app.view() else {
+        panic!("no chirp shown")
+    };
+    assert!(app.scalogram("up", c).is_some());
+    // never shown for another response (a re-run of the sweep) or other settings
+    let mut rerun = c.clone();
+    rerun.lambda[10] += 1e-12;
+    assert!(app.scalogram("up", &rerun).is_none());
+    let up = app
+        .session
+        .analyses
+        .iter()
+        .position(|e| e.name == "up")
+        .unwrap();
+    let Settings::ChirpSweep(spec) = &app.session.analyses[up].settings else {
+        panic!("up is a chirp sweep")
+    };
+    let mut edited = app.session.clone();
+    edited.analyses[up].settings = Settings::ChirpSweep(ChirpSpec {
+        scalogram: Some(ScalogramSpec {
+            columns: 99,
+            ..ScalogramSpec::default()
+        }),
+        ..spec.clone()
+    });
+    let shown = std::mem::replace(&mut app.session, edited);
+    let Some(ResultView::Chirp(c)) = app.view() else {
+        panic!("no chirp shown")
+    };
+    assert!(app.scalogram("up", c).is_none());
+    app.session = shown;
     snapshot!("scalogram_80x24", draw(&app, 80, 24));
     key(&mut app, KeyCode::Char('w'));
     key(&mut app, KeyCode::Down);

@@ -279,7 +279,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         ResultView::Family(f) => with_previous(plots::family::plot(f, &ctx)).render(inner, buf),
         ResultView::Chirp(c) => {
             if app.show_scalogram {
-                match app.scalograms.get(name) {
+                match app.scalogram(name, c) {
                     Some(s) => plots::sweep::scalogram(c, s, &ctx, inner, buf),
                     None => Paragraph::new(Line::styled("computing the scalogram…", t.muted()))
                         .render(inner, buf),

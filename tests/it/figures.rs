@@ -2,6 +2,7 @@
 //! series and labels checked, its structure snapshotted) and PNG (decoded at the size asked,
 //! not blank); the report of the Fig 4 and Fig 6A sessions self-contained and complete.
 
+use isola::analysis::orbit::scalogram::{ScalogramSpec, scalogram};
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
 
@@ -384,7 +385,9 @@ fn kinds() -> Vec<(&'static str, ResultView, Vec<&'static str>)> {
 /// Renders `view` as the CLI does, for the paper's device.
 fn render(name: &str, view: &ResultView, format: Format, size: (u32, u32)) -> Vec<u8> {
     let scalogram = match view {
-        ResultView::Chirp(c) => Some(figure::chirp_scalogram(c).unwrap()),
+        ResultView::Chirp(c) => {
+            Some(scalogram(&c.lambda, c.dt, &ScalogramSpec::default()).unwrap())
+        }
         _ => None,
     };
     let subject = Subject {

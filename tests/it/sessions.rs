@@ -132,6 +132,22 @@ fn bad_files_get_clear_errors() {
         "{e}"
     );
     // the field as the user wrote it, with its line and its value as written
+    // a scalogram's frequencies below the samples' Nyquist frequency π/dt
+    let chirp = "schema = 1\n[[analysis]]\nname = \"c\"\nkind = \"chirp_sweep\"\n[analysis.settings]\ndt = 0.5\nscalogram = { frequencies = { min = 1.0, max = 8.0, points = 8 } }\n";
+    let e = error_of(chirp);
+    assert!(
+        e.contains("scalogram.frequencies.max") && e.contains("< 6.28") && e.contains("Nyquist"),
+        "{e}"
+    );
+    let e = error_of(
+        &chirp
+            .replace("max = 8.0", "max = 6.0")
+            .replace(" }\n", ", columns = 0 }\n"),
+    );
+    assert!(
+        e.contains("scalogram.columns") && e.contains("[1, 100000]"),
+        "{e}"
+    );
     let e = error_of(&good.replace("adr = 0.6", "frequency_hz = -1"));
     assert!(
         e.contains("line 3") && e.contains("frequency_hz = -1") && e.contains("Hz"),
@@ -653,6 +669,7 @@ kind = "chirp_sweep"
 omega_start = 3.0
 omega_end = 3.5
 span = 200.0
+scalogram = { frequencies = { min = 1.0, max = 6.0, points = 21 }, columns = 40 }
 
 [[analysis]]
 name = "stepped"
@@ -819,6 +836,36 @@ fn results_are_tidy_tables_that_pandas_reads_with_their_types() {
         collisions += shares[2];
     }
     assert!(collisions > 0.0, "starts near the frames hit them");
+
+    // a chirp's scalogram: one row per column and frequency; its ridge, one row per column,
+    // is that column's strongest frequency, at the sweep's ω_e then
+    let (samples, cells, ridge) = (
+        read("chirp.csv"),
+        read("chirp.scalogram.csv"),
+        read("chirp.scalogram.ridge.csv"),
+    );
+    assert_eq!((cells.len(), ridge.len()), (21 * 40, 40));
+    for (c, r) in ridge.iter().enumerate() {
+        let column = &cells[21 * c..21 * (c + 1)];
+        assert!(column.iter().all(|x| x["tau"] == r["tau"]));
+        let strongest = column
+            .iter()
+            .max_by(|a, b| {
+                number(a, "magnitude_stretch").total_cmp(&number(b, "magnitude_stretch"))
+            })
+            .unwrap();
+        assert_eq!(strongest["omega_r"], r["ridge_omega_r"], "column {c}");
+        let sample = samples.iter().find(|x| x["tau"] == r["tau"]).unwrap();
+        assert_eq!(sample["omega"], r["omega_e"], "column {c}");
+        let ratio = number(r, "ridge_omega_r") / number(r, "omega_e");
+        assert_eq!(number(r, "ridge_ratio"), ratio);
+    }
+    // a 1:1 response: the ridge follows ω_e (within a frequency step of 0.25) once the
+    // start's transient has gone
+    for r in &ridge[ridge.len() / 2..] {
+        let off = number(r, "ridge_omega_r") - number(r, "omega_e");
+        assert!(off.abs() <= 0.25, "{r:?}");
+    }
 
     // the workbench reads the tables back: the collisions counted at their ω_e
     let entry = session.analysis("response").unwrap();

@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
+use crate::analysis::orbit::scalogram::ScalogramSpec;
 use crate::model::error::{check, check_in};
 use crate::model::{Chirp, Params};
 use crate::solver::{Dopri5, Tolerance};
@@ -29,6 +30,10 @@ pub struct ChirpSpec {
     pub tolerance: Tolerance,
     /// The factor by which the envelope must change across a jump (see [`EnvelopeJump`]).
     pub jump_ratio: f64,
+    /// The Morlet scalogram of the recorded response (Fig 3C/D), written beside the sweep
+    /// when given (`scalogram = {}` for the default frequencies and columns).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scalogram: Option<ScalogramSpec>,
 }
 
 impl Default for ChirpSpec {
@@ -47,6 +52,7 @@ impl Default for ChirpSpec {
                 atol: 1e-10,
             },
             jump_ratio: DEFAULT_JUMP_RATIO,
+            scalogram: None,
         }
     }
 }
@@ -163,6 +169,11 @@ impl ChirpSpec {
         self.tolerance
             .validate()
             .map_err(|e| e.within("tolerance"))?;
+        if let Some(scalogram) = &self.scalogram {
+            scalogram
+                .validate(self.dt)
+                .map_err(|e| e.within("scalogram"))?;
+        }
         check_jump_ratio(self.jump_ratio)
     }
 }

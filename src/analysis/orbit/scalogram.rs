@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
 use crate::analysis::grid::Axis;
+use crate::model::ParamError;
 use crate::model::error::check;
 
 /// Morlet centre frequency ω₀ (the usual 6: the wavelet is admissible to ~1e-8).
@@ -31,6 +32,29 @@ impl Default for ScalogramSpec {
             frequencies: Axis::new(0.2, 8.0, 157),
             columns: 600,
         }
+    }
+}
+
+impl ScalogramSpec {
+    /// Checks the frequencies (at most 4096, above 0 and below the Nyquist frequency π/dt of
+    /// a signal sampled every `dt`) and the columns ([1, 100000]).
+    pub fn validate(&self, dt: f64) -> Result<(), ParamError> {
+        self.frequencies.validate("frequencies", 4096)?;
+        check("frequencies.min", self.frequencies.min, |f| f > 0.0, "> 0")?;
+        let nyquist = PI / dt;
+        check(
+            "frequencies.max",
+            self.frequencies.max,
+            |f| f < nyquist,
+            format!("< {nyquist} (π/dt, the Nyquist frequency of samples every dt = {dt})"),
+        )?;
+        check(
+            "columns",
+            self.columns as f64,
+            |c| (1.0..=1e5).contains(&c),
+            "[1, 100000]",
+        )?;
+        Ok(())
     }
 }
 
@@ -65,14 +89,7 @@ pub fn scalogram(
 ) -> Result<Scalogram, AnalysisError> {
     check("dt", dt, |d| d > 0.0, "> 0")?;
     check("samples", signal.len() as f64, |n| n >= 8.0, ">= 8")?;
-    spec.frequencies.validate("frequencies", 4096)?;
-    check("frequencies", spec.frequencies.min, |f| f > 0.0, "> 0")?;
-    check(
-        "columns",
-        spec.columns as f64,
-        |c| (1.0..=1e5).contains(&c),
-        "[1, 100000]",
-    )?;
+    spec.validate(dt)?;
     let len = signal.len();
     let mean = signal.iter().sum::<f64>() / len as f64;
     // zero-padded to a power of two: fast transforms, and no wrap-around between the ends

@@ -123,11 +123,14 @@ pub fn scalogram(
         let t = s.times[column(ix)];
         let w = omega_at(t);
         let ridge = s.ridge[column(ix)];
+        // no ratio while the forcing is at rest (ω_e = 0 where a sweep up starts)
+        let ratio = Some(ridge / w)
+            .filter(|r| w > 0.0 && r.is_finite())
+            .map_or("—".to_string(), |r| format!("{r:.3}"));
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
-                "τ {t:.0}  ω_e {w:.3}  strongest ω_r {ridge:.3}  ω_r/ω_e\u{a0}{:.3}",
-                ridge / w.max(1e-12)
+                "τ {t:.0}  ω_e {w:.3}  strongest ω_r {ridge:.3}  ω_r/ω_e\u{a0}{ratio}"
             )),
             Span::styled(
                 "  w: envelopes",

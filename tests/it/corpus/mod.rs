@@ -40,7 +40,10 @@ pub const VALUES: [&str; 16] = [
 pub const BASES: [(&str, &str); 10] = [
     ("force_curve", "points = 41\n"),
     ("time_history", "dx0 = 0.3\n"),
-    ("chirp_sweep", "span = 200.0\nomega_end = 4.0\n"),
+    (
+        "chirp_sweep",
+        "span = 200.0\nomega_end = 4.0\nscalogram = { columns = 20 }\n",
+    ),
     (
         "stepped_sweep",
         "omega = { min = 3.5, max = 3.9, points = 3 }\n",
