@@ -206,6 +206,34 @@ fn basin_early_stop_and_threads_do_not_change_results() {
     }
 }
 
+/// A grid of at most 12 × 12 cells is every cell of the early stop's seed sub-grid: it is
+/// integrated in full, so early stop or not it is the same basin, bit for bit, with each
+/// class the grid holds (1:1, 1:2 and a collision at Fig 6A's point).
+#[test]
+fn a_basin_as_small_as_its_seed_grid_is_integrated_in_full() {
+    let at = |early_stop: bool, points: (usize, usize)| {
+        let spec = BasinSpec {
+            dx: Axis::new(-0.8, 0.8, points.0),
+            v: Axis::new(-1.0, 1.0, points.1),
+            early_stop,
+            ..BasinSpec::default()
+        };
+        let p = Params::paper(0.6, 3.7).unwrap();
+        basin(&p, &spec, &Progress::new(0), &|_| {}).unwrap()
+    };
+    for points in [(3, 3), (12, 5)] {
+        let (plain, fast) = (at(false, points), at(true, points));
+        assert_eq!(plain, fast, "{points:?}");
+        let types: std::collections::BTreeSet<String> = plain
+            .table
+            .attractors
+            .iter()
+            .map(|a| a.response.response_type())
+            .collect();
+        assert_eq!(types.len(), 3, "{points:?}: {types:?}");
+    }
+}
+
 /// Offline check of the full Fig 6A basin (201 × 251, about 30 s of CPU: run with
 /// `cargo test --test it global_analyses:: -- --ignored`): the early stop gives every cell
 /// the plain method's class, period and ratio, and its amplitude within 1e-4.
