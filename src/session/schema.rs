@@ -32,6 +32,7 @@ use crate::analysis::global::frequency_response::FrequencyResponseSpec;
 use crate::analysis::grid::Axis;
 use crate::analysis::orbit::chirp_sweep::ChirpSpec;
 use crate::analysis::orbit::force_curve::ForceCurveSpec;
+use crate::analysis::orbit::scalogram::ScalogramSpec;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::analysis::resolution::{Integrators, ResolutionSetting};
 use crate::model::error::check_in;
@@ -818,15 +819,30 @@ impl Session {
             .unwrap_or_default()
     }
 
+    /// The settings of analysis `index` with the optional tables it does not have filled in
+    /// at their defaults (a chirp sweep's `scalogram`): what can be set in it.
+    pub fn settings_offered(&self, index: usize) -> toml::Table {
+        let mut table = self.settings_table(index);
+        if let Some(Settings::ChirpSweep(ChirpSpec {
+            scalogram: None, ..
+        })) = self.analyses.get(index).map(|e| &e.settings)
+            && let Ok(default) = toml::Table::try_from(ScalogramSpec::default())
+        {
+            table.insert("scalogram".into(), toml::Value::Table(default));
+        }
+        table
+    }
+
     /// Sets the setting at `path` (e.g. `["omega", "points"]`) of analysis `index`; a table on
-    /// the way that the file leaves to its defaults is written out in full first.
+    /// the way that the file leaves to its defaults, or leaves out (an optional `scalogram`),
+    /// is written out in full first.
     pub fn set_setting(
         &mut self,
         index: usize,
         path: &[&str],
         value: toml::Value,
     ) -> Result<(), SessionError> {
-        let full = self.settings_table(index);
+        let full = self.settings_offered(index);
         let mut document = self.document.clone();
         let analysis = self.analysis_table_mut(&mut document, index)?;
         if !analysis.contains_key("settings") {

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use isola::analysis::Progress;
+use isola::analysis::orbit::scalogram::ScalogramSpec;
 use isola::session::run::{Shard, is_current, run_analysis};
 use isola::session::store::ResultPaths;
 use isola::session::{Session, Settings};
@@ -940,4 +941,43 @@ print(len(found), "analyses", columns, "columns")
         String::from_utf8_lossy(&out.stderr)
     );
     eprintln!("pandas: {}", String::from_utf8_lossy(&out.stdout).trim());
+}
+
+/// A chirp sweep without a scalogram offers one at its defaults; setting one of its values
+/// (as the workbench's Parameters pane does) writes the whole table, which then runs.
+#[test]
+fn setting_a_scalogram_value_writes_the_scalogram() {
+    let text = "schema = 1\n[[analysis]]\nname = \"c\"\nkind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 3.0\nomega_end = 3.5\nspan = 200.0\n";
+    let mut session = Session::parse(Path::new("t.toml"), text).unwrap();
+    assert!(!session.settings_table(0).contains_key("scalogram"));
+    let offered = session.settings_offered(0);
+    assert_eq!(offered["scalogram"]["columns"].as_integer(), Some(600));
+    session
+        .set_setting(0, &["scalogram", "columns"], toml::Value::Integer(30))
+        .unwrap();
+    let Settings::ChirpSweep(spec) = &session.analyses[0].settings else {
+        panic!("a chirp sweep")
+    };
+    let expected = ScalogramSpec {
+        columns: 30,
+        ..ScalogramSpec::default()
+    };
+    assert_eq!(spec.scalogram.as_ref(), Some(&expected));
+    assert!(
+        session.to_text().contains("scalogram = { columns = 30"),
+        "{}",
+        session.to_text()
+    );
+    // a value out of range is refused, and the session stays as it was
+    let before = session.to_text();
+    let e = session
+        .set_setting(
+            0,
+            &["scalogram", "frequencies", "max"],
+            toml::Value::Float(100.0),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("scalogram.frequencies.max"), "{e}");
+    assert_eq!(session.to_text(), before);
 }

@@ -64,7 +64,7 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
                 },
             });
         }
-        flatten(&session.settings_table(index), &mut Vec::new(), &mut out);
+        settings_rows(session, index, &mut out);
         return out;
     }
     let Ok(p) = session.params(Some(entry)) else {
@@ -185,8 +185,25 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
             ));
         }
     }
-    flatten(&session.settings_table(index), &mut Vec::new(), &mut out);
+    settings_rows(session, index, &mut out);
     out
+}
+
+/// The rows of analysis `index`'s settings, then those of the optional tables it leaves out
+/// (a chirp sweep's `scalogram`) at their defaults, marked as not written: setting one
+/// writes its table.
+fn settings_rows(session: &Session, index: usize, out: &mut Vec<Row>) {
+    let set = session.settings_table(index);
+    flatten(&set, &mut Vec::new(), out);
+    for (key, value) in session.settings_offered(index) {
+        if let (false, toml::Value::Table(t)) = (set.contains_key(&key), value) {
+            let first = out.len();
+            flatten(&t, &mut vec![key], out);
+            for row in &mut out[first..] {
+                row.physical = "off: set to write it".into();
+            }
+        }
+    }
 }
 
 /// The settings of `table` as rows: each table's own values first, then its tables, so that
