@@ -149,6 +149,15 @@ fn bad_files_get_clear_errors() {
         e.contains("scalogram.columns") && e.contains("[1, 100000]"),
         "{e}"
     );
+    // at most 10⁷ cells: 4096 frequencies leave 2441 columns
+    let e = error_of(&chirp.replace(
+        "max = 8.0, points = 8 }",
+        "max = 6.0, points = 4096 }, columns = 2442",
+    ));
+    assert!(
+        e.contains("scalogram.columns") && e.contains("at most 2441"),
+        "{e}"
+    );
     let e = error_of(&good.replace("adr = 0.6", "frequency_hz = -1"));
     assert!(
         e.contains("line 3") && e.contains("frequency_hz = -1") && e.contains("Hz"),

@@ -13,6 +13,9 @@ use crate::analysis::grid::Axis;
 use crate::model::ParamError;
 use crate::model::error::check;
 
+/// Most cells (frequencies × columns) of a scalogram: 80 MB of magnitudes.
+const MAX_CELLS: usize = 10_000_000;
+
 /// Morlet centre frequency ω₀ (the usual 6: the wavelet is admissible to ~1e-8).
 pub const MORLET_OMEGA0: f64 = 6.0;
 
@@ -37,7 +40,7 @@ impl Default for ScalogramSpec {
 
 impl ScalogramSpec {
     /// Checks the frequencies (at most 4096, above 0 and below the Nyquist frequency π/dt of
-    /// a signal sampled every `dt`) and the columns ([1, 100000]).
+    /// a signal sampled every `dt`) and the columns ([1, 100000], and at most 10⁷ cells).
     pub fn validate(&self, dt: f64) -> Result<(), ParamError> {
         self.frequencies.validate("frequencies", 4096)?;
         check("frequencies.min", self.frequencies.min, |f| f > 0.0, "> 0")?;
@@ -53,6 +56,17 @@ impl ScalogramSpec {
             self.columns as f64,
             |c| (1.0..=1e5).contains(&c),
             "[1, 100000]",
+        )?;
+        // |W| is held for every cell and written a row each: bounded like a basin's grid
+        let most = MAX_CELLS / self.frequencies.points;
+        check(
+            "columns",
+            self.columns as f64,
+            |c| c <= most as f64,
+            format!(
+                "at most {most} with frequencies.points = {} (10^7 cells in all)",
+                self.frequencies.points
+            ),
         )?;
         Ok(())
     }
