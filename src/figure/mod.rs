@@ -39,7 +39,7 @@ use crate::session::{AnalysisEntry, Session, Settings};
 
 use palette::Palette;
 pub use palette::Theme;
-pub use sweep::{chirp_scalogram, reverse_sweep, scalogram_spec};
+pub use sweep::{chirp_scalogram, reverse_sweep};
 
 /// The font every figure is drawn with (and its name in an SVG's `font-family`, a fallback
 /// after it for a viewer without it).

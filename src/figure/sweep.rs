@@ -10,7 +10,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::{AxisSpec, Drawn, Legend, Style, Swatch, fit, nothing, number, panel};
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::chirp_sweep::ChirpSpec;
-use crate::analysis::orbit::scalogram::{Scalogram, ScalogramSpec, scalogram};
+use crate::analysis::orbit::scalogram::{Scalogram, scalogram};
 use crate::model::Device;
 use crate::session::results::ChirpView;
 use crate::session::{AnalysisEntry, Session, Settings};
@@ -20,21 +20,9 @@ const MAX_COLUMNS: usize = 240;
 /// Colour levels of the heat map (cells of one level up a column are drawn as one).
 const LEVELS: f64 = 32.0;
 
-/// The scalogram settings of `entry`: its own (`scalogram = {...}`) if it is a chirp sweep
-/// that writes one, else the defaults.
-pub fn scalogram_spec(entry: &AnalysisEntry) -> ScalogramSpec {
-    match &entry.settings {
-        Settings::ChirpSweep(ChirpSpec {
-            scalogram: Some(spec),
-            ..
-        }) => spec.clone(),
-        _ => ScalogramSpec::default(),
-    }
-}
-
 /// The scalogram of a chirp's response by `entry`'s settings, as the workbench computes it.
 pub fn chirp_scalogram(c: &ChirpView, entry: &AnalysisEntry) -> Result<Scalogram, AnalysisError> {
-    scalogram(&c.lambda, c.dt, &scalogram_spec(entry))
+    scalogram(&c.lambda, c.dt, &entry.settings.scalogram_spec())
 }
 
 /// The chirp sweep of `session` over `entry`'s ω_e range the other way (its index), with the
@@ -162,10 +150,7 @@ where
     if nx == 0 || ny < 2 {
         return Err(nothing("an empty scalogram"));
     }
-    let omega_at = |t: f64| {
-        let k = ((t / c.dt.max(1e-12)).round() as usize).min(c.omega.len().saturating_sub(1));
-        c.omega.get(k).copied().unwrap_or(0.0)
-    };
+    let forcing = w.forcing(&c.omega);
     let peak = w
         .magnitude
         .iter()
@@ -189,10 +174,8 @@ where
     let mut cells = Vec::new();
     let columns: Vec<usize> = (0..nx).step_by(stride).collect();
     for (k, &ix) in columns.iter().enumerate() {
-        let here = omega_at(w.times[ix]);
-        let next = columns
-            .get(k + 1)
-            .map_or_else(|| omega_at(w.times[nx - 1]), |&j| omega_at(w.times[j]));
+        let here = forcing[ix];
+        let next = forcing[columns.get(k + 1).copied().unwrap_or(nx - 1)];
         let (x0, x1) = (here.min(next), here.max(next));
         let mut start = 0;
         while start < ny {

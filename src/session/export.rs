@@ -163,8 +163,9 @@ pub const RESPONSE_TABLES: [&str; 2] = ["points", "outcomes"];
 pub const FAMILY_TABLES: [&str; 3] = ["responses", "points", "outcomes"];
 /// The tables a chirp sweep writes beside its samples.
 pub const CHIRP_TABLES: [&str; 2] = ["jumps", "extremes"];
-/// The same with the sweep's scalogram and its ridge ([`scalogram_csv`]).
-pub const CHIRP_SCALOGRAM_TABLES: [&str; 4] = ["jumps", "extremes", "scalogram", "scalogram.ridge"];
+/// The tables a chirp sweep with a scalogram writes besides: the scalogram and, beside it,
+/// its ridge ([`scalogram_csv`]).
+pub const SCALOGRAM_TABLES: [&str; 2] = ["scalogram", "scalogram.ridge"];
 /// The tables a stepped sweep writes beside its steps.
 pub const STEPPED_TABLES: [&str; 2] = ["jumps", "peaks"];
 
@@ -519,8 +520,8 @@ pub fn state_history_bytes(
 /// frequency (`tau, time_s, omega_r, frequency_hz, magnitude_stretch`), and beside it its ridge
 /// (`A.ridge.csv`, one row per time column: the forcing's `omega_e` and `frequency_hz_e` then,
 /// the frequency of the largest magnitude `ridge_omega_r` and `ridge_frequency_hz`, and their
-/// ratio `ridge_ratio` = ω_r/ω_e, 0.5 on a 1:2 response, empty where ω_e is 0). Returns the files written, `path`
-/// first.
+/// ratio `ridge_ratio` = ω_r/ω_e, 0.5 on a 1:2 response, empty where ω_e is 0). Returns the
+/// files written, `path` first.
 pub fn scalogram_csv(
     sc: &crate::analysis::orbit::scalogram::Scalogram,
     s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
@@ -558,10 +559,8 @@ pub fn scalogram_csv(
             "ridge_frequency_hz",
             "ridge_ratio",
         ])?;
-        for (&tau, &ridge) in sc.times.iter().zip(&sc.ridge) {
-            // the column's sample: its τ is j·dt exactly
-            let j = (tau / s.dt).round() as usize;
-            let omega_e = s.omega[j.min(s.omega.len() - 1)];
+        let forcing = sc.forcing(&s.omega);
+        for ((&tau, &ridge), &omega_e) in sc.times.iter().zip(&sc.ridge).zip(&forcing) {
             w.write_record([
                 num(tau),
                 num(device.seconds(tau)),

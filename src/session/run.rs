@@ -133,12 +133,20 @@ pub fn output_files(settings: &Settings, csv: &Path) -> Vec<PathBuf> {
         Settings::Hunt(_) => &["branches", "points", "outcomes"],
         Settings::Map(_) => &["curves"],
         Settings::Family(_) => &export::FAMILY_TABLES,
-        Settings::ChirpSweep(spec) if spec.scalogram.is_some() => &export::CHIRP_SCALOGRAM_TABLES,
         Settings::ChirpSweep(_) => &export::CHIRP_TABLES,
         Settings::SteppedSweep(_) => &export::STEPPED_TABLES,
         _ => &[],
     };
     files.extend(tables.iter().map(|t| export::beside(csv, t)));
+    if let Settings::ChirpSweep(spec) = settings
+        && spec.scalogram.is_some()
+    {
+        files.extend(
+            export::SCALOGRAM_TABLES
+                .iter()
+                .map(|t| export::beside(csv, t)),
+        );
+    }
     files
 }
 

@@ -158,6 +158,18 @@ pub const KINDS: [&str; 10] = [
 ];
 
 impl Settings {
+    /// The scalogram a chirp sweep's response is drawn and written with: its own
+    /// (`scalogram = {...}`) where it has one, else the defaults.
+    pub fn scalogram_spec(&self) -> ScalogramSpec {
+        match self {
+            Settings::ChirpSweep(ChirpSpec {
+                scalogram: Some(spec),
+                ..
+            }) => spec.clone(),
+            _ => ScalogramSpec::default(),
+        }
+    }
+
     /// Reads the settings table of an analysis of `kind`; an error gives the path of the key
     /// that failed (`dx.points`), if any, and a message in plain words.
     pub fn read(kind: &str, table: Option<toml::Table>) -> Result<Settings, SettingsError> {

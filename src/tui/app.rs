@@ -1333,7 +1333,7 @@ impl App {
             return;
         };
         let entry = &self.session.analyses[self.selected];
-        let spec = figure::scalogram_spec(entry);
+        let spec = entry.settings.scalogram_spec();
         let source = scalogram_source(c, &spec);
         let name = entry.name.clone();
         let current = self
@@ -1372,7 +1372,7 @@ impl App {
     pub fn scalogram(&self, name: &str, c: &ChirpView) -> Option<&Scalogram> {
         let entry = self.session.analysis(name)?;
         let (source, s) = self.scalograms.get(name)?;
-        (*source == scalogram_source(c, &figure::scalogram_spec(entry))).then_some(s)
+        (*source == scalogram_source(c, &entry.settings.scalogram_spec())).then_some(s)
     }
 
     fn save(&mut self, path: Option<PathBuf>) {

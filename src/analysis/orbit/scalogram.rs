@@ -51,22 +51,20 @@ impl ScalogramSpec {
             |f| f < nyquist,
             format!("< {nyquist} (π/dt, the Nyquist frequency of samples every dt = {dt})"),
         )?;
-        check(
-            "columns",
-            self.columns as f64,
-            |c| (1.0..=1e5).contains(&c),
-            "[1, 100000]",
-        )?;
         // |W| is held for every cell and written a row each: bounded like a basin's grid
-        let most = MAX_CELLS / self.frequencies.points;
+        let points = self.frequencies.points;
+        let most = (MAX_CELLS / points).min(100_000);
+        let allowed = match most {
+            100_000 => "[1, 100000]".to_string(),
+            _ => format!(
+                "[1, 100000], and at most {most} with frequencies.points = {points} (10^7 cells)"
+            ),
+        };
         check(
             "columns",
             self.columns as f64,
-            |c| c <= most as f64,
-            format!(
-                "at most {most} with frequencies.points = {} (10^7 cells in all)",
-                self.frequencies.points
-            ),
+            |c| c >= 1.0 && c <= most as f64,
+            allowed,
         )?;
         Ok(())
     }
@@ -76,6 +74,8 @@ impl ScalogramSpec {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Scalogram {
     pub frequencies: Vec<f64>,
+    /// The sample of each kept column (its τ is `samples[c]`·dt).
+    pub samples: Vec<usize>,
     /// τ of each kept column.
     pub times: Vec<f64>,
     /// `magnitude[f][c]`.
@@ -92,6 +92,11 @@ impl Scalogram {
             .zip(&self.ridge)
             .map(|(&t, &w)| w / omega_e(t))
             .collect()
+    }
+
+    /// The forcing frequency at each column, from `omega` at every sample of the signal.
+    pub fn forcing(&self, omega: &[f64]) -> Vec<f64> {
+        self.samples.iter().map(|&j| omega[j]).collect()
     }
 }
 
@@ -164,6 +169,7 @@ pub fn scalogram(
     Ok(Scalogram {
         frequencies,
         times: picks.iter().map(|&j| j as f64 * dt).collect(),
+        samples: picks,
         magnitude,
         ridge,
     })

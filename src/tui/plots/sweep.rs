@@ -91,11 +91,7 @@ pub fn scalogram(
     buf: &mut Buffer,
 ) {
     let theme = ctx.theme;
-    let omega_at = |t: f64| {
-        let k =
-            ((t / sweep.dt.max(1e-12)).round() as usize).min(sweep.omega.len().saturating_sub(1));
-        sweep.omega.get(k).copied().unwrap_or(0.0)
-    };
+    let forcing = s.forcing(&sweep.omega);
     let nx = s.times.len();
     let reversed = direction(sweep) == "←";
     let column = move |ix: usize| if reversed { nx - 1 - ix } else { ix };
@@ -121,7 +117,7 @@ pub fn scalogram(
     let mut footer = Vec::new();
     if nx > 0 {
         let t = s.times[column(ix)];
-        let w = omega_at(t);
+        let w = forcing[column(ix)];
         let ridge = s.ridge[column(ix)];
         // no ratio while the forcing is at rest (ω_e = 0 where a sweep up starts)
         let ratio = Some(ridge / w)
@@ -139,8 +135,8 @@ pub fn scalogram(
         ]));
     }
     let (first, last) = (
-        s.times.first().map_or(0.0, |&t| omega_at(t)),
-        s.times.last().map_or(1.0, |&t| omega_at(t)),
+        forcing.first().copied().unwrap_or(0.0),
+        forcing.last().copied().unwrap_or(1.0),
     );
     let ridge_iy = if nx > 0 {
         s.frequencies
