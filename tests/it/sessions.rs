@@ -73,6 +73,36 @@ fn every_example_session_loads_and_its_cheapest_analysis_runs() {
     }
 }
 
+/// The viscoelastic catalogue session's basin runs to its end: its starts at Δλ = ±0.8 put a
+/// membrane's viscous branch past its Gent pole, where its stretch xi ran away to a value
+/// that is not finite and stopped the whole basin; the session now ends such a start as a
+/// collision (outside the model), and every other start reaches the 1:1 response.
+#[test]
+fn the_viscoelastic_sessions_basin_runs_with_its_edges_outside_the_model() {
+    let guard = scratch("viscoelastic");
+    let copy = guard.path().join("visco.toml");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/user_model_viscoelastic.toml");
+    std::fs::copy(file, &copy).unwrap();
+    let session = Session::load(&copy).unwrap();
+    let basin = session.analysis("basin_3_7").unwrap();
+    run_analysis(&session, basin, Shard::ALL, &Progress::new(0)).unwrap();
+    let mut reader = csv::Reader::from_path(ResultPaths::new(&session, "basin_3_7").csv).unwrap();
+    let (mut edges, mut inside) = (0, 0);
+    for row in reader.records() {
+        let row = row.unwrap();
+        let dx: f64 = row[0].parse().unwrap();
+        let kind = &row[3];
+        if (dx.abs() - 0.8).abs() < 1e-12 {
+            assert_eq!(kind, "collision", "{row:?}");
+            edges += 1;
+        } else {
+            assert_eq!(kind, "1:1 harmonic", "{row:?}");
+            inside += 1;
+        }
+    }
+    assert_eq!((edges, inside), (2 * 51, 39 * 51));
+}
+
 /// Load → edit → save → load keeps the user's comments and layout, and applies the edit.
 #[test]
 fn round_trip_keeps_comments() {

@@ -110,7 +110,12 @@ pub(crate) fn not_finite(
     AnalysisError::NotFinite {
         tau,
         state,
-        expression: expression.clone().unwrap_or_else(|| "the state".into()),
+        expression: expression.clone().unwrap_or_else(|| {
+            // every named value is finite there: the next step overflowed
+            "every expression is finite there, the step from it overflowed (a state running \
+             away: a collision condition can end a trajectory where the model stops holding)"
+                .into()
+        }),
     }
 }
 
