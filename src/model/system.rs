@@ -57,10 +57,37 @@ pub trait System: Clone + Send {
     /// Why (τ, x) gives a value that is not finite: the expression that first does, if the
     /// model can say.
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String>;
+    /// One plain RK4 step held on `mode` (the general engine's, the same bits) from `x` with
+    /// first stage `k1`, by the model's own compiled code: its end into `end`, the
+    /// derivative there into `dx`; returns the mode bits a stage or the end saw differ from
+    /// `mode`, and whether the end collided. `None` where the model has no such code (the
+    /// engine takes the step stage by stage).
+    fn compiled_step(
+        &mut self,
+        _step: &GridStep,
+        _x: &Vector,
+        _k1: &Vector,
+        _mode: Mode,
+        _end: &mut Vector,
+        _dx: &mut Vector,
+    ) -> Option<(Mode, bool)> {
+        None
+    }
     /// Told the integrator's grid (`n` steps per period) as a trajectory starts: a model may
     /// tabulate what depends on time alone at the grid's stage times. Results must not
     /// depend on it beyond rounding.
     fn tabulate(&mut self, _n: usize) {}
+}
+
+/// A whole step of the integrator's grid: step `phase` of a forcing period of
+/// `steps_per_period`, of length `h`, its middle and end at `t_half` and `t_end`.
+#[derive(Debug, Clone, Copy)]
+pub struct GridStep {
+    pub phase: usize,
+    pub steps_per_period: usize,
+    pub h: f64,
+    pub t_half: f64,
+    pub t_end: f64,
 }
 
 /// A state of `len` ≤ [`MAX_DIM`] numbers, held inline (so it is `Copy`), read as a slice,

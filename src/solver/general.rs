@@ -4,10 +4,13 @@
 //! without the model naming them: they are the arguments of its `max`, `min`, `abs`, `if`.
 
 use super::resolution::Resolution;
-use crate::model::system::{MAX_DIM, Mode, System, Vector};
+use crate::model::system::{GridStep, MAX_DIM, Mode, System, Vector};
 
 /// Most switching functions (the bits of a mode).
 const MAX_SWITCHES: usize = 64;
+/// Switching functions a switch's probes hold when the model's varying ones are all among
+/// the first this many (probes of all [`MAX_SWITCHES`] are copied at 8 times the cost).
+const FEW_SWITCHES: usize = 8;
 /// Most switches handled inside one step before the rest of it is taken as it is.
 const MAX_SWITCHES_PER_STEP: usize = 6;
 /// Width, as a fraction of the step, below which a switch's bracket on real sub-steps is
@@ -20,6 +23,9 @@ const INTERPOLANT_TOLERANCE: f64 = 1e-9;
 const NEWTON_MARGIN: f64 = 1e-9;
 /// Bisection-safeguarded iterations spent locating one switch at most.
 const MAX_ROOT_ITERATIONS: usize = 60;
+/// Steps beyond which a trajectory's stage times are left to the forcing's table to place
+/// (it looks up times up to 10¹⁵ half-steps; far beyond any run).
+pub(super) const MAX_COUNTED_STEPS: u64 = 1 << 40;
 /// Fractions of a step tried when only an intermediate stage saw a switch.
 const SCAN: [f64; 3] = [0.25, 0.5, 0.75];
 
@@ -158,11 +164,56 @@ impl GeneralRk4 {
         &self,
         sys: &mut S,
         traj: &mut Trajectory,
-        mut first: Option<Trial>,
+        first: Option<Trial>,
     ) {
         if traj.stop.is_some() {
             return;
         }
+        if first.is_none() && traj.steps < MAX_COUNTED_STEPS {
+            let mask = sys.switch_mask();
+            let (t, t_end) = (self.tau(traj.steps), self.tau(traj.steps + 1));
+            // the model's compiled step, taken as it is where it stays on its piece
+            let h = t_end - t;
+            let step = GridStep {
+                phase: (traj.steps % self.n as u64) as usize,
+                steps_per_period: self.n,
+                h,
+                t_half: t + 0.5 * h,
+                t_end,
+            };
+            let (mut end, mut dx) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
+            if let Some((seen_diff, collided)) =
+                sys.compiled_step(&step, &traj.x, &traj.dx, traj.mode, &mut end, &mut dx)
+            {
+                let dim = sys.dim();
+                let finite = end[..dim].iter().chain(&dx[..dim]).all(|v| v.is_finite());
+                if seen_diff & mask == 0 && finite {
+                    traj.steps += 1;
+                    (traj.x, traj.dx) = (end, dx);
+                    if collided {
+                        traj.stop = Some(Stop::Collision {
+                            tau: t_end,
+                            state: end,
+                        });
+                    }
+                    return;
+                }
+                let trial = Trial {
+                    x: end,
+                    dx,
+                    seen: traj.mode ^ seen_diff,
+                    finite,
+                };
+                return self.split_step(sys, traj, Some(trial));
+            }
+        }
+        self.split_step(sys, traj, first);
+    }
+
+    /// [`Self::advance_step_after`] stage by stage, and where a switch is met (out of line:
+    /// its probes take a large frame the plain steps need not set up).
+    #[inline(never)]
+    fn split_step<S: System>(&self, sys: &mut S, traj: &mut Trajectory, mut first: Option<Trial>) {
         let mask = sys.switch_mask();
         let t_end = self.tau(traj.steps + 1);
         let mut t = self.tau(traj.steps);
@@ -179,7 +230,12 @@ impl GeneralRk4 {
                 t = t_end;
                 break;
             }
-            match self.locate(sys, dim, t, &x, &dx, rem, mode, mask, &trial) {
+            let located = if mask >> FEW_SWITCHES == 0 {
+                self.locate::<S, FEW_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, &trial)
+            } else {
+                self.locate::<S, MAX_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, &trial)
+            };
+            match located {
                 Some((theta, flipped, at)) => {
                     t += theta * rem;
                     x = at;
@@ -228,7 +284,7 @@ impl GeneralRk4 {
     /// the step's own error), then the state is taken by a real sub-step to just past it,
     /// located on real sub-steps where the interpolant crossed early.
     #[allow(clippy::too_many_arguments)]
-    fn locate<S: System>(
+    fn locate<S: System, const N: usize>(
         &self,
         sys: &mut S,
         dim: usize,
@@ -240,8 +296,8 @@ impl GeneralRk4 {
         mask: Mode,
         trial: &Trial,
     ) -> Option<(f64, Mode, Vector)> {
-        let at = |sys: &mut S, theta: f64, end: Vector| -> Probe {
-            let mut s = [0.0; MAX_SWITCHES];
+        let at = |sys: &mut S, theta: f64, end: Vector| -> Probe<N> {
+            let mut s = [0.0; N];
             let seen = sys.switching(t + theta * rem, &end, mode, &mut s) & mask;
             let finite = end[..dim].iter().all(|v| v.is_finite());
             let crossed = if finite {
@@ -342,13 +398,13 @@ impl StepEnd {
 /// Narrows [`lo`, `hi`] (on this piece at `lo`, across at `hi`) around the first switch:
 /// regula falsi with the Illinois weighting on the switch that crossed at `hi`, bisection
 /// where a probe cannot say (a value that is not finite).
-fn bracket<S: System>(
+fn bracket<S: System, const N: usize>(
     sys: &mut S,
-    probe: &impl Fn(&mut S, f64) -> Probe,
-    mut lo: Probe,
-    mut hi: Probe,
+    probe: &impl Fn(&mut S, f64) -> Probe<N>,
+    mut lo: Probe<N>,
+    mut hi: Probe<N>,
     tolerance: f64,
-) -> (Probe, Probe) {
+) -> (Probe<N>, Probe<N>) {
     let mut weight = (1.0, 1.0);
     let mut last_side = 0i8;
     for _ in 0..MAX_ROOT_ITERATIONS {
@@ -357,7 +413,7 @@ fn bracket<S: System>(
             break;
         }
         let theta = match hi.finite.then(|| hi.crossed.trailing_zeros() as usize) {
-            Some(k) if k < MAX_SWITCHES => {
+            Some(k) if k < N => {
                 let (a, b) = (lo.s[k] * weight.0, hi.s[k] * weight.1);
                 let guess = lo.theta + width * a / (a - b);
                 if guess.is_finite() {
@@ -408,11 +464,11 @@ fn hermite_state(
 
 /// A sub-step's end while a switch is located.
 #[derive(Clone)]
-struct Probe {
+struct Probe<const N: usize> {
     theta: f64,
     end: Vector,
     /// The switching functions there, on the step's piece.
-    s: [f64; MAX_SWITCHES],
+    s: [f64; N],
     /// Mode bits that differ there from the step's piece (all, where the end is not finite).
     crossed: Mode,
     finite: bool,

@@ -3,15 +3,11 @@
 //! not finite) is redone alone by the scalar integrator, which splits it. Each lane's result
 //! is bit for bit the scalar integrator's.
 
-use super::general::{GeneralRk4, Stop, Trajectory, Trial};
+use super::general::{GeneralRk4, MAX_COUNTED_STEPS, Stop, Trajectory, Trial};
 use crate::model::equations::EquationSystem;
-use crate::model::equations::lanes::{EquationLanes, LaneVectors};
+use crate::model::equations::lanes::{EquationLanes, LaneTimes, LaneVectors};
 use crate::model::equations::time_table::GridTime;
 use crate::model::system::{MAX_DIM, Mode, System, Vector};
-
-/// Steps beyond which a lane's stage times are left to the time table to place (it looks up
-/// times up to 10¹⁵ half-steps; far beyond any run).
-const MAX_COUNTED_STEPS: u64 = 1 << 40;
 
 /// `L` trajectories, each on its own clock (τ counts from the lane's own start).
 #[derive(Debug, Clone)]
@@ -112,6 +108,64 @@ impl<const L: usize> Lanes<L> {
     }
 }
 
+impl<const L: usize> Stages<L> {
+    /// Every lane's plain step stage by stage (each stage one run of the field's tape over
+    /// the lanes): the ends and their derivatives into `self.end` and `self.dx`; returns
+    /// each lane's mode bits seen to differ from its mode, and whether it collided. `at`:
+    /// the grid times of the step's middle and end, if every lane's are the same.
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        dim: usize,
+        eval: &mut EquationLanes<L>,
+        times: &LaneTimes<L>,
+        [at_half, at_end]: [Option<GridTime>; 2],
+        x: &LaneVectors<L>,
+        k1: &LaneVectors<L>,
+        mode: &[Mode; L],
+    ) -> ([Mode; L], [bool; L]) {
+        let Stages {
+            y,
+            k2,
+            k3,
+            k4,
+            end,
+            dx,
+        } = self;
+        let LaneTimes { h, t_half, t_end } = times;
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
+            }
+        }
+        let mut seen = eval.field(t_half, at_half, y, mode, k2);
+        let mut seen_diff: [Mode; L] = std::array::from_fn(|l| seen[l] ^ mode[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + 0.5 * h[l] * k2[i][l];
+            }
+        }
+        seen = eval.field(t_half, at_half, y, mode, k3);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                y[i][l] = x[i][l] + h[l] * k3[i][l];
+            }
+        }
+        seen = eval.field(t_end, at_end, y, mode, k4);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        for i in 0..dim {
+            for l in 0..L {
+                end[i][l] =
+                    x[i][l] + h[l] / 6.0 * (k1[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
+            }
+        }
+        seen = eval.field(t_end, at_end, end, mode, dx);
+        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
+        (seen_diff, eval.collided(t_end, end))
+    }
+}
+
 impl GeneralRk4 {
     /// Starts lane `l` at `x0`, τ = 0 on its clock.
     pub fn restart_lane<const L: usize>(
@@ -149,52 +203,30 @@ impl GeneralRk4 {
         let t: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l]));
         let h: [f64; L] = std::array::from_fn(|l| self.tau(lanes.steps[l] + 1) - t[l]);
         let mut stages = lanes.stages.take().expect("stages between steps");
-        let Stages {
-            y,
-            k2,
-            k3,
-            k4,
-            end,
-            dx,
-        } = &mut *stages;
         let (x, k1, mode) = (&lanes.x, &lanes.dx, &lanes.mode);
-        let t_half: [f64; L] = std::array::from_fn(|l| t[l] + 0.5 * h[l]);
-        let t_end: [f64; L] = std::array::from_fn(|l| t[l] + h[l]);
+        let times = LaneTimes {
+            h,
+            t_half: std::array::from_fn(|l| t[l] + 0.5 * h[l]),
+            t_end: std::array::from_fn(|l| t[l] + h[l]),
+        };
         let shared = Self::shared_phase(lanes);
-        let (at_half, at_end) = (
-            shared.map(|p| self.grid_time(p, 1)),
-            shared.map(|p| self.grid_time(p, 2)),
-        );
-        for i in 0..dim {
-            for l in 0..L {
-                y[i][l] = x[i][l] + 0.5 * h[l] * k1[i][l];
+        #[cfg(target_arch = "x86_64")]
+        let compiled = shared.and_then(|phase| {
+            let n = self.steps_per_period();
+            let Stages { end, dx, .. } = &mut *stages;
+            eval.compiled_step(phase, n, &times, x, k1, mode, end, dx)
+        });
+        #[cfg(not(target_arch = "x86_64"))]
+        let compiled = None;
+        let (seen_diff, hit) = match compiled {
+            Some(step) => step,
+            None => {
+                let at = [1, 2].map(|s| shared.map(|p| self.grid_time(p, s)));
+                stages.step(dim, eval, &times, at, x, k1, mode)
             }
-        }
-        let mut seen = eval.field(&t_half, at_half, y, mode, k2);
-        let mut seen_diff: [Mode; L] = std::array::from_fn(|l| seen[l] ^ mode[l]);
-        for i in 0..dim {
-            for l in 0..L {
-                y[i][l] = x[i][l] + 0.5 * h[l] * k2[i][l];
-            }
-        }
-        seen = eval.field(&t_half, at_half, y, mode, k3);
-        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
-        for i in 0..dim {
-            for l in 0..L {
-                y[i][l] = x[i][l] + h[l] * k3[i][l];
-            }
-        }
-        seen = eval.field(&t_end, at_end, y, mode, k4);
-        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
-        for i in 0..dim {
-            for l in 0..L {
-                end[i][l] =
-                    x[i][l] + h[l] / 6.0 * (k1[i][l] + 2.0 * (k2[i][l] + k3[i][l]) + k4[i][l]);
-            }
-        }
-        seen = eval.field(&t_end, at_end, end, mode, dx);
-        (0..L).for_each(|l| seen_diff[l] |= seen[l] ^ mode[l]);
-        let hit = eval.collided(&t_end, end);
+        };
+        let Stages { end, dx, .. } = &*stages;
+        let t_end = times.t_end;
         for l in 0..L {
             if !lanes.running(l) {
                 continue;
@@ -262,16 +294,6 @@ impl GeneralRk4 {
     /// The forcing grid's time `s` (≤ 2) half-steps after the start of the period's step
     /// `phase`.
     fn grid_time(&self, phase: usize, s: usize) -> GridTime {
-        let n = self.steps_per_period();
-        // phase < n and s ≤ 2: past the period's end at most once
-        let half_step = 2 * phase + s;
-        GridTime {
-            half_step: if half_step >= 2 * n {
-                half_step - 2 * n
-            } else {
-                half_step
-            },
-            steps_per_period: n,
-        }
+        GridTime::in_step(phase, s, self.steps_per_period())
     }
 }

@@ -11,7 +11,7 @@ use super::EquationError;
 use super::definition::{ModelDefinition, expression_start, line_column};
 use super::graph::{Func, Graph, MAX_SWITCHES, NodeId, Op2, Wrt};
 use super::parse::{Ast, BinOp, CmpOp, Span, parse};
-use super::tape::{FieldIo, Tape};
+use super::tape::{FieldIo, NATIVE_LANES, Tape};
 use crate::model::system::MAX_DIM;
 
 /// A condition: true where a switching-like value is positive (or zero when not strict).
@@ -123,6 +123,31 @@ pub struct Compiled {
     /// Per switching function h: ∂h/∂x_j for each state, then ∂h/∂τ.
     pub switch_gradients: Vec<Vec<NodeId>>,
     pub switch_gradient_tapes: Vec<Tape>,
+    /// The plain RK4 step as machine code, for one lane and for [`NATIVE_LANES`], compiled
+    /// at its first use ([`Compiled::step_entry`]).
+    #[cfg(target_arch = "x86_64")]
+    step_code: [std::sync::OnceLock<Option<super::native::Native>>; 2],
+}
+
+impl Compiled {
+    /// The plain RK4 step compiled for `lanes` (1 or [`NATIVE_LANES`]) lanes, compiled now
+    /// if it is the first call; `None` where tapes are interpreted.
+    #[cfg(target_arch = "x86_64")]
+    pub fn step_entry(&self, lanes: usize) -> Option<super::native_step::StepEntry> {
+        let slot = match lanes {
+            1 => 0,
+            NATIVE_LANES => 1,
+            _ => return None,
+        };
+        self.step_code[slot]
+            .get_or_init(|| {
+                Tape::native_enabled()
+                    .then(|| super::native_step::compile_step(self, lanes))
+                    .flatten()
+            })
+            .as_ref()
+            .map(super::native_step::entry)
+    }
 }
 
 /// Stack of the compiler's thread (virtual: only what it uses is committed).
@@ -530,6 +555,8 @@ impl<'d> Builder<'d> {
             collisions,
             named: self.named,
             graph: self.graph,
+            #[cfg(target_arch = "x86_64")]
+            step_code: Default::default(),
         })
     }
 

@@ -5,12 +5,22 @@ use std::sync::Arc;
 
 use super::EquationSystem;
 use super::build::Compiled;
+#[cfg(target_arch = "x86_64")]
+use super::native_step::StepArgs;
 use super::tape::Registers;
-use super::time_table::{GridTime, TimeTable};
+use super::time_table::{GridTime, TimeTable, step_rows};
 use crate::model::system::{MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
 pub type LaneVectors<const L: usize> = [[f64; L]; MAX_DIM];
+
+/// Each lane's step length and the times of its step's middle and end.
+#[derive(Debug, Clone, Copy)]
+pub struct LaneTimes<const L: usize> {
+    pub h: [f64; L],
+    pub t_half: [f64; L],
+    pub t_end: [f64; L],
+}
 
 /// A written model's registers for `L` lanes, at one set of parameter values.
 #[derive(Debug, Clone)]
@@ -118,6 +128,54 @@ impl<const L: usize> EquationLanes<L> {
         let c = &*self.inner;
         c.field_tape
             .run_field_lanes(&mut self.values, modes, &c.field_io, x, dx)
+    }
+
+    /// Every lane's plain RK4 step by the model's compiled code (see
+    /// [`crate::model::system::System::compiled_step`]): each lane's end and derivative
+    /// there into `end` and `dx`, and each lane's mode bits seen to differ and whether it
+    /// collided. Every lane is at step `phase` of a period of `steps_per_period`; `times`
+    /// are each lane's. `None` where there is no such code.
+    #[allow(clippy::too_many_arguments)]
+    #[cfg(target_arch = "x86_64")]
+    pub fn compiled_step(
+        &mut self,
+        phase: usize,
+        steps_per_period: usize,
+        times: &LaneTimes<L>,
+        x: &LaneVectors<L>,
+        k1: &LaneVectors<L>,
+        modes: &[Mode; L],
+        end: &mut LaneVectors<L>,
+        dx: &mut LaneVectors<L>,
+    ) -> Option<([Mode; L], [bool; L])> {
+        let entry = self.inner.step_entry(L)?;
+        let [row_half, row_end] = step_rows(
+            self.table.as_deref(),
+            self.time_slot.is_some(),
+            phase,
+            steps_per_period,
+        )?;
+        let (mut seen, mut hit) = ([0u64; L], [0u64; L]);
+        let args = StepArgs {
+            registers: self.values.as_flattened().as_ptr(),
+            modes: modes.as_ptr(),
+            x: x.as_flattened().as_ptr(),
+            k1: k1.as_flattened().as_ptr(),
+            h: times.h.as_ptr(),
+            t_half: times.t_half.as_ptr(),
+            t_end: times.t_end.as_ptr(),
+            row_half,
+            row_end,
+            end: end.as_flattened_mut().as_mut_ptr(),
+            dx: dx.as_flattened_mut().as_mut_ptr(),
+            seen: seen.as_mut_ptr(),
+            hit: hit.as_mut_ptr(),
+        };
+        // SAFETY: the code was compiled for L lanes of this model: it reads the registers
+        // of its graph (L each), L values of each lane array, the model's states (< MAX_DIM)
+        // of x, k1, end and dx, and the rows' columns of this model's table
+        unsafe { entry(&args) };
+        Some((seen, hit.map(|h| h != 0)))
     }
 
     /// Whether each lane has met a collision condition.

@@ -26,6 +26,8 @@ pub mod graph;
 pub mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod native;
+#[cfg(target_arch = "x86_64")]
+pub mod native_step;
 pub mod parse;
 pub mod system;
 pub mod tape;

@@ -5,7 +5,7 @@ use isola::model::Params;
 use isola::model::equations::build::EquationModel;
 use isola::model::equations::definition::ModelDefinition;
 use isola::model::equations::system::EquationSystem;
-use isola::model::system::System;
+use isola::model::system::{MAX_DIM, Mode, System, Vector};
 use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
 
@@ -614,4 +614,145 @@ fn the_tabulated_forcing_gives_the_computed_forcings_trajectories() {
         // off the grid the forcing is computed
         assert!(table.row(0.37 * h).is_none());
     }
+}
+
+/// A written model whose every step the engine takes stage by stage (its own `rk4`, a call of
+/// the field's code per stage), to hold the model's compiled step against.
+#[derive(Clone)]
+struct StageByStage(EquationSystem);
+
+impl System for StageByStage {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn state_names(&self) -> &[String] {
+        self.0.state_names()
+    }
+    fn period(&self) -> f64 {
+        self.0.period()
+    }
+    fn switch_mask(&self) -> Mode {
+        self.0.switch_mask()
+    }
+    fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode {
+        self.0.mode_at(tau, x)
+    }
+    fn field(&mut self, tau: f64, x: &Vector, mode: Mode, dx: &mut Vector) -> Mode {
+        self.0.field(tau, x, mode, dx)
+    }
+    fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {
+        self.0.switching(tau, x, mode, s)
+    }
+    fn field_and_jacobian(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        dx: &mut Vector,
+        jac: &mut [Vector; MAX_DIM],
+    ) {
+        self.0.field_and_jacobian(tau, x, mode, dx, jac)
+    }
+    fn switch_gradient(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        k: usize,
+        grad: &mut Vector,
+    ) -> f64 {
+        self.0.switch_gradient(tau, x, mode, k, grad)
+    }
+    fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
+        self.0.output(tau, x, mode)
+    }
+    fn collided(&mut self, tau: f64, x: &Vector) -> bool {
+        self.0.collided(tau, x)
+    }
+    fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        self.0.explain_non_finite(tau, x)
+    }
+    fn tabulate(&mut self, n: usize) {
+        self.0.tabulate(n)
+    }
+}
+
+/// Every step's end (τ, state and mode, as bits) of `periods` periods from `x0`, and how the
+/// trajectory ended.
+fn step_ends<S: System>(sys: &mut S, x0: &[f64], periods: usize) -> (Vec<Vec<u64>>, String) {
+    let rk = GeneralRk4::new(sys, &Resolution::default());
+    let mut traj = rk.start(sys, x0);
+    let mut ends = Vec::new();
+    for _ in 0..periods {
+        rk.advance_period(sys, &mut traj, |_, _, end| {
+            let mut bits = vec![end.tau.to_bits(), end.mode];
+            bits.extend(end.x.iter().map(|v| v.to_bits()));
+            ends.push(bits);
+        });
+    }
+    (ends, format!("{:?} after {} steps", traj.stop, traj.steps))
+}
+
+#[test]
+fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
+    let lambda_p = Params::baseline().lambda_p();
+    let cases = [
+        (
+            "paper, slack every period",
+            paper_system(0.6, 3.7),
+            vec![1.12, 0.0],
+        ),
+        (
+            "paper, the 1:2 isola",
+            paper_system(0.6, 3.7),
+            vec![lambda_p + 0.3, 0.0],
+        ),
+        (
+            "paper, a collision",
+            paper_system(0.6, 3.7),
+            vec![lambda_p, 4.0],
+        ),
+        (
+            "viscoelastic",
+            catalogue("user_model_viscoelastic.toml", &[]),
+            vec![],
+        ),
+        (
+            "dead load",
+            catalogue("user_model_dead_load.toml", &[]),
+            vec![],
+        ),
+        (
+            "Duffing isola",
+            catalogue("user_model_duffing_isola.toml", &[]),
+            vec![],
+        ),
+    ];
+    let (mut switches, mut collisions) = (0, 0);
+    for (what, sys, x0) in cases {
+        let c = &sys.model().inner;
+        assert!(
+            c.step_entry(1).is_some() && c.step_entry(8).is_some(),
+            "{what}"
+        );
+        let mut x0 = x0;
+        if x0.is_empty() {
+            // off the origin by a tenth in its first grid state
+            x0 = sys.origin()[..sys.dim()].to_vec();
+            x0[sys.model().grid()[0]] *= 1.1;
+        }
+        let (mut compiled, mut staged) = (sys.clone(), StageByStage(sys.clone()));
+        let (a, stop_a) = step_ends(&mut compiled, &x0, 40);
+        let (b, stop_b) = step_ends(&mut staged, &x0, 40);
+        assert_eq!(stop_a, stop_b, "{what}");
+        assert!(a == b, "{what}: the step ends differ");
+        switches += a.windows(2).filter(|w| w[0][1] != w[1][1]).count();
+        collisions += stop_a.contains("Collision") as usize;
+        eprintln!("{what}: {} steps, {stop_a}", a.len());
+    }
+    // split steps and a collision found by the compiled step's conditions were compared
+    assert!(
+        switches > 100 && collisions == 1,
+        "{switches} switches, {collisions}"
+    );
 }
