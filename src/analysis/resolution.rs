@@ -25,10 +25,6 @@ pub const STEPS_PER_PERIOD: (u32, u32) = (8, 100_000);
 /// a hundredth of it, must stay above 1e-16.
 pub const RTOL: (f64, f64) = (1e-14, 1.0);
 
-/// The longest RK4 step times the steps per period: the default's 64 steps of at most 0.05,
-/// so that N steps per period are also steps of at most 3.2/N at long periods (ω_e < 1.96).
-const STEP_TIMES_STEPS: f64 = 0.05 * 64.0;
-
 /// How finely an analysis integrates, as the user writes it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ResolutionSetting {
@@ -80,14 +76,6 @@ impl ResolutionSetting {
         }
     }
 
-    /// The RK4 resolution of N steps per period.
-    pub fn steps(n: u32) -> Resolution {
-        Resolution {
-            min_steps_per_period: n,
-            max_step: STEP_TIMES_STEPS / n as f64,
-        }
-    }
-
     /// The Dormand–Prince tolerance of `rtol`.
     pub fn tolerance(rtol: f64) -> Tolerance {
         Tolerance {
@@ -127,7 +115,7 @@ pub trait Integrators {
         let what = self.what();
         match setting {
             ResolutionSetting::StepsPerPeriod(n) => match self.rk4() {
-                Some((_, r)) => *r = ResolutionSetting::steps(n),
+                Some((_, r)) => *r = Resolution::steps(n),
                 None => {
                     return Err(format!(
                         "{setting} is out of range: {what} integrates with Dormand–Prince only: \

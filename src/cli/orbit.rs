@@ -125,7 +125,7 @@ pub fn run(args: &OrbitArgs, out: Output) -> anyhow::Result<()> {
     super::check_outputs([args.history_csv.as_deref()])?;
     let params = args.model.params()?;
     let (resolution, reference) = match args.resolution {
-        Some(ResolutionSetting::StepsPerPeriod(n)) => (ResolutionSetting::steps(n), None),
+        Some(ResolutionSetting::StepsPerPeriod(n)) => (Resolution::steps(n), None),
         Some(ResolutionSetting::Reference { rtol }) => (Resolution::default(), Some(rtol)),
         None => (
             Resolution {

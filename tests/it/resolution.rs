@@ -168,6 +168,35 @@ fn resolution_makes_the_result_stale_and_absent_keeps_the_fingerprint() {
     assert_eq!(outcome(json(&["run", s, "--json"])), "up_to_date");
 }
 
+/// `steady.resolution = 96`, a number where the table `{ min_steps_per_period, max_step }`
+/// goes, is `resolution = 96`: the same settings, so the same fingerprint; a bad number names
+/// the field as written, the value and the range (it said "invalid type: integer, expected
+/// struct Resolution").
+#[test]
+fn the_steady_resolution_takes_a_number_as_resolution_does() {
+    let fingerprint = |text: &str| {
+        let s = Session::parse(Path::new("s.toml"), text).unwrap();
+        s.fingerprint(&s.analyses[0])
+    };
+    let shorthand = fingerprint(&format!("{SMALL_BASIN}resolution = 96\n"));
+    assert_eq!(
+        fingerprint(&format!("{SMALL_BASIN}steady.resolution = 96\n")),
+        shorthand
+    );
+    let table = format!(
+        "{SMALL_BASIN}steady = {{ resolution = {{ min_steps_per_period = 96, max_step = {} }} }}\n",
+        3.2 / 96.0
+    );
+    assert_eq!(fingerprint(&table), shorthand);
+    assert_ne!(fingerprint(SMALL_BASIN), shorthand);
+    for bad in ["4", "0", "-3", "1.5", "\"fine\""] {
+        let e = refused(&format!("{SMALL_BASIN}steady.resolution = {bad}\n"));
+        assert!(e.contains("steady.resolution"), "{bad}: {e}");
+        assert!(e.contains("[8, 100000]"), "{bad}: {e}");
+        eprintln!("{e}");
+    }
+}
+
 fn refused(text: &str) -> String {
     Session::parse(Path::new("s.toml"), text)
         .expect_err("refused")

@@ -6,7 +6,7 @@ use isola::solver::{Resolution, Tolerance};
 
 #[test]
 fn the_default_is_64_steps_per_period() {
-    assert_eq!(ResolutionSetting::steps(64), Resolution::default());
+    assert_eq!(Resolution::steps(64), Resolution::default());
     assert_eq!(
         ResolutionSetting::tolerance(1e-10).rtol,
         Tolerance::default().rtol
@@ -34,9 +34,6 @@ fn both_forms_read_and_bad_values_name_the_range() {
 fn twice_the_resolution_halves_every_step() {
     let mut spec = HuntSpec::default();
     spec.double_resolution().unwrap();
-    assert_eq!(
-        spec.response.steady.resolution,
-        ResolutionSetting::steps(128)
-    );
+    assert_eq!(spec.response.steady.resolution, Resolution::steps(128));
     assert_eq!(spec.continuation.shooting.tol.rtol, 1e-11 / 32.0);
 }
