@@ -12,7 +12,7 @@ use crate::session::results::{AttractorRow, BasinView};
 /// type (then a series colour of its own); collisions grey.
 fn attractor_color(b: &BasinView, a: &AttractorRow, s: &Style) -> RGBColor {
     let short = short_type(&a.response_type);
-    if short == "frame hit" {
+    if short == "collision" {
         return s.palette.muted;
     }
     let same = b

@@ -587,16 +587,13 @@ impl<C, DB: DrawingBackend> plotters::element::Drawable<DB> for MarkerAt<C> {
     }
 }
 
-/// `1:2` of `1:2 subharmonic`; a collision said as what happened.
-fn short_type(response_type: &str) -> &str {
-    match response_type
+/// `1:2` of `1:2 subharmonic` (`collision` as it is: a start that left the model, whichever
+/// of its collision conditions it met).
+pub fn short_type(response_type: &str) -> &str {
+    response_type
         .split_whitespace()
         .next()
         .unwrap_or(response_type)
-    {
-        "collision" => "frame hit",
-        short => short,
-    }
 }
 
 /// Lines of a legend box: a swatch and a text per entry, drawn in a corner of the plot clear

@@ -37,7 +37,7 @@ fn response(omega: f64, amplitude: f64, k: u32, hidden: bool, branch: usize) -> 
 }
 
 /// A frequency response as Fig 4 has it, in small: a 1:1 resonance, a hidden 1:2 branch
-/// over ω_e 3.6–4.4 and frame hits at two ω_e.
+/// over ω_e 3.6–4.4 and collisions at two ω_e.
 fn responses() -> Vec<ResponsePoint> {
     let mut points: Vec<ResponsePoint> = (0..24)
         .map(|i| {
@@ -102,7 +102,7 @@ fn isola_branch() -> ContinuedView {
     }
 }
 
-/// A small basin: a 1:2 band across a 1:1 field, a frame hit in a corner.
+/// A small basin: a 1:2 band across a 1:1 field, a collision in a corner.
 fn basin() -> BasinView {
     let (dx, v): (Vec<f64>, Vec<f64>) = (
         (0..21).map(|i| -0.8 + 0.08 * i as f64).collect(),
@@ -295,7 +295,7 @@ fn kinds() -> Vec<(&'static str, ResultView, Vec<&'static str>)> {
                 "1:1",
                 "1:2",
                 "hidden: no sweep reaches it",
-                "frame hit: some starts, at 2 of 28 ωₑ",
+                "collision: some starts, at 2 of 28 ωₑ",
                 "1:2 ωₑ 3.60–4.40",
             ],
         ),
@@ -327,7 +327,7 @@ fn kinds() -> Vec<(&'static str, ResultView, Vec<&'static str>)> {
                 "velocity (m/s)",
                 "1:1, A 0.012",
                 "1:2, A 0.416",
-                "frame hit",
+                "collision",
             ],
         ),
         (

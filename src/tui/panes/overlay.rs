@@ -90,7 +90,8 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             }
             lines.push(Line::styled(
                 "plots: a filled glyph is reached by a sweep, an outlined one (◇) is hidden; \
-                 'frame hit': starts whose mass met a frame (left the model), not drawn",
+                 'collision': starts that left the model (a frame, a locking stretch or a written \
+                 condition met), not drawn",
                 t.muted(),
             ));
             lines.push(Line::styled(

@@ -7,8 +7,8 @@ use ratatui::text::{Line, Span};
 use super::PlotContext;
 use super::frame::Axis;
 use super::heatmap::{HeatMap, Paint};
-use super::response::short_type;
 use crate::tui::theme::Theme;
+use isola::figure::short_type;
 use isola::session::results::BasinView;
 
 /// Glyphs for attractors 0, 1, 2... when there is no colour.

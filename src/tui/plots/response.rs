@@ -7,6 +7,7 @@ use ratatui::text::{Line, Span};
 
 use super::frame::{Axis, Layer, XyPlot, legend_item};
 use super::{PlotContext, PointCursor};
+use isola::figure::short_type;
 use isola::session::results::{ContinuedView, ResponsePoint, branches};
 
 /// The glyph of a response type: filled when reached by a sweep, outlined when hidden.
@@ -23,18 +24,6 @@ pub fn glyph(response_type: &str, hidden: bool) -> &'static str {
         ("1:3", true) => "□",
         (_, false) => "+",
         (_, true) => "×",
-    }
-}
-
-/// `1:2` of `1:2 subharmonic`; a collision said as what happened (the mass met a frame).
-pub fn short_type(response_type: &str) -> &str {
-    match response_type
-        .split_whitespace()
-        .next()
-        .unwrap_or(response_type)
-    {
-        "collision" => "frame hit",
-        short => short,
     }
 }
 
