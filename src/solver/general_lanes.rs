@@ -221,7 +221,8 @@ impl GeneralRk4 {
         let (seen_diff, hit) = match compiled {
             Some(step) => step,
             None => {
-                let at = [1, 2].map(|s| shared.map(|p| self.grid_time(p, s)));
+                let n = self.steps_per_period();
+                let at = [1, 2].map(|s| shared.map(|p| GridTime::in_step(p, s, n)));
                 stages.step(dim, eval, &times, at, x, k1, mode)
             }
         };
@@ -289,11 +290,5 @@ impl GeneralRk4 {
             shared = Some(phase);
         }
         shared
-    }
-
-    /// The forcing grid's time `s` (≤ 2) half-steps after the start of the period's step
-    /// `phase`.
-    fn grid_time(&self, phase: usize, s: usize) -> GridTime {
-        GridTime::in_step(phase, s, self.steps_per_period())
     }
 }

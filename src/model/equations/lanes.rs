@@ -6,9 +6,9 @@ use std::sync::Arc;
 use super::EquationSystem;
 use super::build::Compiled;
 #[cfg(target_arch = "x86_64")]
-use super::native_step::StepArgs;
+use super::native_step;
 use super::tape::Registers;
-use super::time_table::{GridTime, TimeTable, step_rows};
+use super::time_table::{GridTime, TimeTable};
 use crate::model::system::{MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
@@ -148,34 +148,16 @@ impl<const L: usize> EquationLanes<L> {
         end: &mut LaneVectors<L>,
         dx: &mut LaneVectors<L>,
     ) -> Option<([Mode; L], [bool; L])> {
-        let entry = self.inner.step_entry(L)?;
-        let [row_half, row_end] = step_rows(
+        native_step::run(
+            &self.inner,
+            self.values.as_flattened(),
             self.table.as_deref(),
-            self.time_slot.is_some(),
-            phase,
-            steps_per_period,
-        )?;
-        let (mut seen, mut hit) = ([0u64; L], [0u64; L]);
-        let args = StepArgs {
-            registers: self.values.as_flattened().as_ptr(),
-            modes: modes.as_ptr(),
-            x: x.as_flattened().as_ptr(),
-            k1: k1.as_flattened().as_ptr(),
-            h: times.h.as_ptr(),
-            t_half: times.t_half.as_ptr(),
-            t_end: times.t_end.as_ptr(),
-            row_half,
-            row_end,
-            end: end.as_flattened_mut().as_mut_ptr(),
-            dx: dx.as_flattened_mut().as_mut_ptr(),
-            seen: seen.as_mut_ptr(),
-            hit: hit.as_mut_ptr(),
-        };
-        // SAFETY: the code was compiled for L lanes of this model: it reads the registers
-        // of its graph (L each), L values of each lane array, the model's states (< MAX_DIM)
-        // of x, k1, end and dx, and the rows' columns of this model's table
-        unsafe { entry(&args) };
-        Some((seen, hit.map(|h| h != 0)))
+            [phase, steps_per_period],
+            times,
+            [x.as_flattened(), k1.as_flattened()],
+            modes,
+            [end.as_flattened_mut(), dx.as_flattened_mut()],
+        )
     }
 
     /// Whether each lane has met a collision condition.

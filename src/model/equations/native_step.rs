@@ -12,8 +12,11 @@ use cranelift_frontend::FunctionBuilder;
 
 use super::build::{Compiled, Cond};
 use super::graph::{Node, NodeId};
+use super::lanes::LaneTimes;
 use super::native::{Emitter, MAX_INSTRUCTIONS, Native, lane_loop};
 use super::tape::Ins;
+use super::time_table::{GridTime, TimeTable};
+use crate::model::system::{MAX_DIM, Mode};
 
 /// What a compiled step reads and writes. Per-lane arrays are lane-major (row i of lane l at
 /// i·L + l, for the L lanes the step was compiled for).
@@ -45,6 +48,64 @@ pub struct StepArgs {
 
 /// Runs a compiled step.
 pub type StepEntry = unsafe extern "C" fn(*const StepArgs);
+
+/// `c`'s plain RK4 step of `L` lanes, every lane at step `phase` of a period of
+/// `steps_per_period` (`times` each lane's), from states `x` with first stages `k1` (lane-major,
+/// [`MAX_DIM`] rows of `L`) on `modes`, by its compiled code: the ends and their derivatives
+/// into `end` and `dx`; returns each lane's mode bits seen to differ from its mode and
+/// whether it collided. `registers`: the lanes' register file, `table` the forcing's. `None`
+/// where the model has no compiled step or the step's forcing is not in `table`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn run<const L: usize>(
+    c: &Compiled,
+    registers: &[f64],
+    table: Option<&TimeTable>,
+    [phase, steps_per_period]: [usize; 2],
+    times: &LaneTimes<L>,
+    [x, k1]: [&[f64]; 2],
+    modes: &[Mode; L],
+    [end, dx]: [&mut [f64]; 2],
+) -> Option<([Mode; L], [bool; L])> {
+    let entry = c.step_entry(L)?;
+    let [row_half, row_end] = match table {
+        Some(table) => [1, 2].map(|s| {
+            let at = GridTime::in_step(phase, s, steps_per_period);
+            table.row_at(at).map(<[f64]>::as_ptr)
+        }),
+        // the code reads no row where the model has no time-only value
+        None if c.time_tape.is_empty() => [Some(std::ptr::null()); 2],
+        None => [None; 2],
+    };
+    let vectors = MAX_DIM * L;
+    assert!(
+        registers.len() >= c.graph.len() * L
+            && [x.len(), k1.len(), end.len(), dx.len()] == [vectors; 4],
+        "a compiled step given arrays of another shape"
+    );
+    let (mut seen, mut hit) = ([0u64; L], [0u64; L]);
+    let args = StepArgs {
+        registers: registers.as_ptr(),
+        modes: modes.as_ptr(),
+        x: x.as_ptr(),
+        k1: k1.as_ptr(),
+        h: times.h.as_ptr(),
+        t_half: times.t_half.as_ptr(),
+        t_end: times.t_end.as_ptr(),
+        row_half: row_half?,
+        row_end: row_end?,
+        end: end.as_mut_ptr(),
+        dx: dx.as_mut_ptr(),
+        seen: seen.as_mut_ptr(),
+        hit: hit.as_mut_ptr(),
+    };
+    // SAFETY: the code was compiled for `L` lanes of this model: it reads registers below
+    // the graph's length (L each), L values of each lane array, the model's states (fewer
+    // than MAX_DIM rows) of x, k1, end and dx (asserted above), and columns of this
+    // model's table's rows (none where there is no table and no time-only value)
+    unsafe { entry(&args) };
+    Some((seen, hit.map(|h| h != 0)))
+}
 
 /// The compiled step in `code`.
 pub(super) fn entry(code: &Native) -> StepEntry {

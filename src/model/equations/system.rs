@@ -5,7 +5,9 @@ use std::sync::Arc;
 
 use super::build::EquationModel;
 #[cfg(target_arch = "x86_64")]
-use super::native_step::StepArgs;
+use super::lanes::LaneTimes;
+#[cfg(target_arch = "x86_64")]
+use super::native_step;
 use super::time_table::TimeTable;
 use crate::model::ParamError;
 use crate::model::equations::tape::Registers;
@@ -221,29 +223,22 @@ impl System for EquationSystem {
         end: &mut Vector,
         dx: &mut Vector,
     ) -> Option<(Mode, bool)> {
-        let entry = self.model.inner.step_entry(1)?;
-        let [row_half, row_end] = self.regs.step_rows(step)?;
-        let (mut seen_diff, mut hit) = (0u64, 0u64);
-        let args = StepArgs {
-            registers: self.regs.values.as_ptr(),
-            modes: &mode,
-            x: x.as_ptr(),
-            k1: k1.as_ptr(),
-            h: &step.h,
-            t_half: &step.t_half,
-            t_end: &step.t_end,
-            row_half,
-            row_end,
-            end: end.as_mut_ptr(),
-            dx: dx.as_mut_ptr(),
-            seen: &mut seen_diff,
-            hit: &mut hit,
+        let times = LaneTimes {
+            h: [step.h],
+            t_half: [step.t_half],
+            t_end: [step.t_end],
         };
-        // SAFETY: the code reads the registers of this model's graph (the register file
-        // is made for it), the model's states (< MAX_DIM) of x, k1, end and dx, one value
-        // of each lane array (one lane), and the rows' columns of this model's table
-        unsafe { entry(&args) };
-        Some((seen_diff, hit != 0))
+        let ([seen_diff], [collided]) = native_step::run(
+            &self.model.inner,
+            &self.regs.values,
+            self.regs.table.as_deref(),
+            [step.phase, step.steps_per_period],
+            &times,
+            [x, k1],
+            &[mode],
+            [end, dx],
+        )?;
+        Some((seen_diff, collided))
     }
 
     fn tabulate(&mut self, n: usize) {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::graph::{Func, Graph, Node, NodeId, Op2};
 use super::time_table::TimeTable;
-use crate::model::system::{GridStep, MAX_DIM, Mode, Vector};
+use crate::model::system::{MAX_DIM, Mode, Vector};
 
 /// What an instruction does: one flat list, so that the loop dispatches once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -638,18 +638,6 @@ impl Registers {
                 }
             }
         }
-    }
-
-    /// The time-only values at the middle and end of `step` (see [`super::time_table::step_rows`]).
-    #[inline(always)]
-    pub fn step_rows(&self, step: &GridStep) -> Option<[*const f64; 2]> {
-        let table = self.table.as_deref();
-        super::time_table::step_rows(
-            table,
-            self.time_slot.is_some(),
-            step.phase,
-            step.steps_per_period,
-        )
     }
 
     #[inline(always)]

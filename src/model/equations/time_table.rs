@@ -30,27 +30,6 @@ pub struct GridTime {
     pub steps_per_period: usize,
 }
 
-/// The time-only values at the middle and end of step `phase` of a period of
-/// `steps_per_period`, as pointers to two rows of
-/// `table` (null where the model does not read the time); `None` where they are not
-/// tabulated.
-#[inline(always)]
-pub fn step_rows(
-    table: Option<&TimeTable>,
-    reads_time: bool,
-    phase: usize,
-    steps_per_period: usize,
-) -> Option<[*const f64; 2]> {
-    match table {
-        Some(table) => {
-            let [half, end] = table.step_rows(phase, steps_per_period)?;
-            Some([half.as_ptr(), end.as_ptr()])
-        }
-        None if !reads_time => Some([std::ptr::null(); 2]),
-        None => None,
-    }
-}
-
 impl GridTime {
     /// `s` (≤ 2) half-steps after the start of step `phase` (< `steps_per_period`) of a
     /// period.
@@ -123,16 +102,6 @@ impl TimeTable {
         let width = self.slots.len();
         let start = at.half_step * width;
         self.rows.get(start..start + width)
-    }
-
-    /// The rows at the middle and the end of step `phase` of a period of `steps_per_period`
-    /// (`None` if this table is of another grid).
-    #[inline(always)]
-    pub fn step_rows(&self, phase: usize, steps_per_period: usize) -> Option<[&[f64]; 2]> {
-        Some([
-            self.row_at(GridTime::in_step(phase, 1, steps_per_period))?,
-            self.row_at(GridTime::in_step(phase, 2, steps_per_period))?,
-        ])
     }
 
     /// The row for time `t`, if `t` is a grid time (else the values must be computed).

@@ -713,6 +713,19 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
             vec![lambda_p, 4.0],
         ),
         (
+            // the time read beside a state: nothing time-only to tabulate, the code reads τ
+            "paper, t inside a state's expression",
+            {
+                let m = paper_with_forcing("phi_dc*(1 + ADR*cos(omega*(t + eps*lambda_I)))");
+                let mut values = m.defaults();
+                values[m.parameter("omega").unwrap()] = 3.7;
+                let sys = m.system(&values).unwrap();
+                assert!(m.inner.time_tape.is_empty());
+                sys
+            },
+            vec![1.12, 0.0],
+        ),
+        (
             "viscoelastic",
             catalogue("user_model_viscoelastic.toml", &[]),
             vec![],
