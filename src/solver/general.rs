@@ -53,6 +53,8 @@ pub struct Trajectory {
     pub mode: Mode,
     /// Steps taken from τ = 0.
     pub steps: u64,
+    /// The step within the forcing period it is at (`steps` modulo the period's).
+    pub(super) phase: usize,
     /// Set once the trajectory has stopped; it is then frozen.
     pub stop: Option<Stop>,
 }
@@ -65,6 +67,7 @@ impl Trajectory {
             dx: [0.0; MAX_DIM],
             mode: 0,
             steps: 0,
+            phase: 0,
             stop: None,
         }
     }
@@ -116,6 +119,7 @@ impl GeneralRk4 {
             dx: [0.0; MAX_DIM],
             mode: 0,
             steps: 0,
+            phase: 0,
             stop: None,
         };
         if x0.iter().any(|v| !v.is_finite()) {
@@ -175,7 +179,7 @@ impl GeneralRk4 {
             // the model's compiled step, taken as it is where it stays on its piece
             let h = t_end - t;
             let step = GridStep {
-                phase: (traj.steps % self.n as u64) as usize,
+                phase: traj.phase,
                 steps_per_period: self.n,
                 h,
                 t_half: t + 0.5 * h,
@@ -188,7 +192,7 @@ impl GeneralRk4 {
                 let dim = sys.dim();
                 let finite = end[..dim].iter().chain(&dx[..dim]).all(|v| v.is_finite());
                 if seen_diff & mask == 0 && finite {
-                    traj.steps += 1;
+                    self.count_step(traj);
                     (traj.x, traj.dx) = (end, dx);
                     if collided {
                         traj.stop = Some(Stop::Collision {
@@ -261,7 +265,7 @@ impl GeneralRk4 {
             mode = sys.mode_at(t_end, &x) & mask;
             sys.field(t_end, &x, mode, &mut dx);
         }
-        traj.steps += 1;
+        self.count_step(traj);
         traj.x = x;
         traj.dx = dx;
         traj.mode = mode;
@@ -366,6 +370,17 @@ impl GeneralRk4 {
         }
         let (_, past) = bracket(sys, &real, past, end, ROOT_TOLERANCE);
         Some((past.theta, past.crossed, past.end))
+    }
+
+    /// One more step on `traj`'s clock.
+    fn count_step(&self, traj: &mut Trajectory) {
+        traj.steps += 1;
+        traj.phase = self.next_phase(traj.phase);
+    }
+
+    /// The step within the period after step `phase`.
+    pub(super) fn next_phase(&self, phase: usize) -> usize {
+        if phase + 1 == self.n { 0 } else { phase + 1 }
     }
 
     fn non_finite<S: System>(&self, sys: &mut S, tau: f64, x: &Vector) -> Stop {

@@ -87,6 +87,7 @@ impl<const L: usize> Lanes<L> {
         }
         traj.mode = self.mode[l];
         traj.steps = self.steps[l];
+        traj.phase = self.phase[l];
         traj.stop = self.stop[l].clone();
         traj
     }
@@ -99,6 +100,7 @@ impl<const L: usize> Lanes<L> {
         }
         self.mode[l] = traj.mode;
         self.steps[l] = traj.steps;
+        self.phase[l] = traj.phase;
         self.stop[l] = traj.stop;
     }
 
@@ -177,7 +179,6 @@ impl GeneralRk4 {
     ) {
         let traj = self.start(sys, &x0[..sys.dim()]);
         lanes.set_lane(l, traj);
-        lanes.phase[l] = 0;
         lanes.idle[l] = false;
     }
 
@@ -186,7 +187,6 @@ impl GeneralRk4 {
         let mut traj = Trajectory::parked();
         traj.x = *rest;
         lanes.set_lane(l, traj);
-        lanes.phase[l] = 0;
         lanes.idle[l] = true;
     }
 
@@ -244,9 +244,6 @@ impl GeneralRk4 {
                     finite,
                 };
                 self.advance_step_after(sys, &mut traj, Some(trial));
-                if traj.steps != lanes.steps[l] {
-                    lanes.phase[l] = self.next_phase(lanes.phase[l]);
-                }
                 lanes.set_lane(l, traj);
                 continue;
             }
@@ -266,15 +263,6 @@ impl GeneralRk4 {
             }
         }
         lanes.stages = Some(stages);
-    }
-
-    /// The step within the period after step `phase`.
-    fn next_phase(&self, phase: usize) -> usize {
-        if phase + 1 == self.steps_per_period() {
-            0
-        } else {
-            phase + 1
-        }
     }
 
     /// The step of its period every running lane is at, if they agree (their clocks then
