@@ -3,8 +3,7 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use clap::Args;
@@ -255,17 +254,18 @@ fn run_one(
     let shard = args.shard.unwrap_or(Shard::ALL);
     let progress = Arc::new(Progress::new(0));
     let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
-    let finished = Arc::new(AtomicBool::new(false));
+    // the reporter ends as soon as this sender is dropped, not at its next tick
+    let (finished, run_ended) = mpsc::channel::<()>();
     let reporter = out
         .shows_progress()
-        .then(|| spawn_reporter(label.to_string(), progress.clone(), finished.clone()));
+        .then(|| spawn_reporter(label.to_string(), progress.clone(), run_ended));
     let started = Instant::now();
     let role = Role {
         shard,
         worker: args.worker,
     };
     let outcome = ctx.run(|| run_analysis_as(session, entry, role, &progress));
-    finished.store(true, Ordering::Relaxed);
+    drop(finished);
     if let Some(reporter) = reporter {
         let _ = reporter.join();
     }
@@ -451,12 +451,19 @@ impl Summary for RunSummary {
     }
 }
 
-/// A progress bar on a terminal; a plain line every 10 s otherwise (nohup, batch jobs).
+/// A progress bar on a terminal; a plain line every 10 s otherwise (nohup, batch jobs). It
+/// ticks every 100 ms until `run_ended` disconnects, and then ends at once.
 fn spawn_reporter(
     name: String,
     progress: Arc<Progress>,
-    done: Arc<AtomicBool>,
+    run_ended: mpsc::Receiver<()>,
 ) -> std::thread::JoinHandle<()> {
+    let tick = move || {
+        matches!(
+            run_ended.recv_timeout(Duration::from_millis(100)),
+            Err(mpsc::RecvTimeoutError::Timeout)
+        )
+    };
     std::thread::spawn(move || {
         if std::io::stderr().is_terminal() {
             let bar = indicatif::ProgressBar::new(0);
@@ -468,21 +475,22 @@ fn spawn_reporter(
                 .progress_chars("=> "),
             );
             bar.set_message(name.clone());
-            while !done.load(Ordering::Relaxed) {
+            loop {
                 let (d, t) = progress.get();
                 bar.set_length(t as u64);
                 bar.set_position(d as u64);
                 if progress.in_open_phase() {
                     bar.set_message(format!("{name}: {} points", progress.open_steps()));
                 }
-                std::thread::sleep(Duration::from_millis(100));
+                if !tick() {
+                    break;
+                }
             }
             bar.finish_and_clear();
         } else {
             let started = Instant::now();
             let mut last = Instant::now();
-            while !done.load(Ordering::Relaxed) {
-                std::thread::sleep(Duration::from_millis(100));
+            while tick() {
                 if last.elapsed() >= Duration::from_secs(10) && progress.in_open_phase() {
                     eprintln!(
                         "{name}: continuing, {} points after {:.0} s",

@@ -127,15 +127,18 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
     let mut app = build_app(args)?;
     tracing::info!(session = %app.session.path.display(), "tui started");
     let terminate = terminal::termination_signal()?;
-    terminal::spawn_watchdog(terminate.clone())?;
+    let beat = terminal::LoopBeat::default();
+    terminal::spawn_watchdog(terminate.clone(), beat.clone())?;
     let mut guard = terminal::TerminalGuard::enter(app.mouse)?;
     let frame_time = Duration::from_millis(50);
     let mut last_draw = Instant::now() - frame_time;
     let mut key_pressed = false;
     loop {
+        beat.turn();
         let signal = terminate.load(Ordering::Relaxed);
         if signal != 0 && !app.should_quit {
             tracing::info!(signal, "signal: quitting");
+            beat.quitting();
             app.quit_now();
             app.exit_status = 128 + signal as u8;
         }

@@ -5,7 +5,7 @@
 
 use std::io::{Stdout, stdout};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use crossterm::execute;
@@ -94,18 +94,46 @@ pub fn termination_signal() -> anyhow::Result<Arc<AtomicUsize>> {
     Ok(received)
 }
 
+/// The main loop's heartbeat, read by the watchdog: the loop counts its turns, and says when
+/// it has seen the signal and is quitting (its jobs saving what they finished).
+#[derive(Clone, Default)]
+pub struct LoopBeat(Arc<AtomicU64>);
+
+impl LoopBeat {
+    const QUITTING: u64 = u64::MAX;
+
+    /// One more turn of the loop.
+    pub fn turn(&self) {
+        let _ = self
+            .0
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| {
+                (n != Self::QUITTING).then_some(n + 1)
+            });
+    }
+
+    /// The loop saw the signal and is quitting: it may take the whole grace period.
+    pub fn quitting(&self) {
+        self.0.store(Self::QUITTING, Ordering::Relaxed);
+    }
+
+    fn read(&self) -> u64 {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
 /// Watches, on a thread of its own, for the terminal going away (a hang-up: the SSH link or
 /// the tmux pane closed, which some terminals report only as end of input) and raises
-/// `terminate`; if the loop has not returned 3 s after `terminate` was raised, it restores
-/// what it can and exits, so that no orphan is left spinning on a dead terminal. Finished
-/// chunks are already on disk.
-pub fn spawn_watchdog(terminate: Arc<AtomicUsize>) -> anyhow::Result<()> {
+/// `terminate`. The loop then quits; if it has not turned within 500 ms of `terminate` (it is
+/// blocked reading the dead terminal) or has not returned within 3 s, this restores what it
+/// can and exits, so that no orphan is left on a dead terminal. Finished chunks are already
+/// on disk.
+pub fn spawn_watchdog(terminate: Arc<AtomicUsize>, beat: LoopBeat) -> anyhow::Result<()> {
     std::thread::Builder::new()
         .name("isola-watchdog".into())
         .spawn(move || {
-            let mut raised_at: Option<Instant> = None;
+            let mut raised: Option<(Instant, u64)> = None;
             loop {
-                std::thread::sleep(Duration::from_millis(200));
+                std::thread::sleep(Duration::from_millis(50));
                 if terminal_hung_up() {
                     let _ = terminate.compare_exchange(
                         0,
@@ -115,20 +143,24 @@ pub fn spawn_watchdog(terminate: Arc<AtomicUsize>) -> anyhow::Result<()> {
                     );
                 }
                 let signal = terminate.load(Ordering::Relaxed);
-                if signal != 0 {
-                    let raised = *raised_at.get_or_insert_with(Instant::now);
-                    if raised.elapsed() > Duration::from_secs(3) {
-                        tracing::warn!("the terminal is gone and the loop did not return: exiting");
-                        restore();
-                        std::process::exit(128 + signal as i32);
-                    }
+                if signal == 0 {
+                    continue;
+                }
+                let (at, turns) = *raised.get_or_insert_with(|| (Instant::now(), beat.read()));
+                let blocked = beat.read() == turns && at.elapsed() > Duration::from_millis(500);
+                if blocked || at.elapsed() > Duration::from_secs(3) {
+                    tracing::warn!(
+                        blocked,
+                        "the terminal is gone and the loop did not return: exiting"
+                    );
+                    restore();
+                    std::process::exit(128 + signal as i32);
                 }
             }
         })?;
     Ok(())
 }
 
-/// True when standard input, the terminal, has hung up.
 fn terminal_hung_up() -> bool {
     let mut fd = libc::pollfd {
         fd: 0,
