@@ -513,7 +513,9 @@ impl Followed {
     }
 
     /// Whether at `e_a` a stable response of this family, continued in ω_e over the paper's
-    /// range, runs into a frame.
+    /// range, runs into a frame. The family's orbits at `e_a` are continued one by one, but
+    /// not one that a branch continued already passes through (the low, middle and high
+    /// responses of a resonance are one branch: traced once, not three times).
     fn collides(&self, e_a: f64, progress: &Progress) -> Result<bool, ReproduceError> {
         if self.collides_at_fixed_omega().is_some_and(|c| c <= e_a) {
             return Ok(true);
@@ -521,8 +523,15 @@ impl Followed {
         let ea = ContinuationParameter::Model(FamilyParameter::EA);
         let at = self.base.with(self.base.resolve(ea)?, e_a)?;
         let spec = &self.in_omega;
+        let mut traced: Vec<ContinuedBranch> = Vec::new();
         for orbit in self.in_ea.orbits_at(&self.base, e_a, &spec.shooting)? {
             if orbit.period != self.k {
+                continue;
+            }
+            let on_a_traced_branch = traced.iter().any(|b| {
+                b.passes_through(&at, at.omega(), &orbit.poincare, SAME_ORBIT, &spec.shooting)
+            });
+            if on_a_traced_branch {
                 continue;
             }
             let b = continue_from_orbit(&at, &orbit, spec, progress)?;
@@ -533,10 +542,15 @@ impl Followed {
             if stable_collision {
                 return Ok(true);
             }
+            traced.push(b);
         }
         Ok(false)
     }
 }
+
+/// Two orbits whose Poincaré states are this close (max-norm) are one: both converged by
+/// shooting, to far better than this.
+const SAME_ORBIT: f64 = 1e-6;
 
 /// Fig 8: the smallest E_a (ADR 0.6, λ_p 1.02, c̃ 0.04) at which a stable response runs into a
 /// frame, bisected between 0.2² and 0.3²: at each trial E_a, the primary resonance's high
