@@ -401,8 +401,8 @@ fn the_duffing_isola_is_continued_and_born_where_an_independent_integration_says
     let in_omega = ContinuationSpec {
         min: 0.9,
         max: 1.2,
-        step: 0.005,
-        step_max: 0.005,
+        step: 0.01,
+        step_max: 0.01,
         ..ContinuationSpec::default()
     };
     let isola = continue_branch(&sys, 1, &start, &in_omega, &Progress::new(0)).unwrap();
@@ -438,8 +438,8 @@ fn the_duffing_isola_is_continued_and_born_where_an_independent_integration_says
         max: 0.0106,
         first_min: 0.9,
         first_max: 1.2,
-        step: 1e-3,
-        step_max: 2e-3,
+        step: 2e-3,
+        step_max: 5e-3,
         ..CurveSpec::default()
     };
     let curve = continue_bifurcation(

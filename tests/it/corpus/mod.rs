@@ -66,7 +66,7 @@ pub const BASES: [(&str, &str); 10] = [
     ),
     (
         "hunt",
-        "[analysis.settings.response]\nomega = { min = 3.6, max = 3.8, points = 3 }\ndx = { min = -0.6, max = 0.6, points = 3 }\nv = { min = -0.8, max = 0.8, points = 3 }\n[analysis.settings.continuation]\nmin = 3.5\nmax = 3.9\nmax_points = 20\n",
+        "[analysis.settings.response]\nomega = { min = 3.6, max = 3.8, points = 3 }\ndx = { min = -0.6, max = 0.6, points = 3 }\nv = { min = -0.8, max = 0.8, points = 3 }\n[analysis.settings.continuation]\nmin = 3.5\nmax = 3.9\nmax_points = 6\n",
     ),
     (
         "map",
