@@ -12,7 +12,7 @@ use super::output::{Done, Output, Summary};
 
 #[derive(Debug, Args)]
 pub struct ReproduceArgs {
-    /// Coarser grids of starts for the brute-force parts (about half a minute); the
+    /// Coarser grids of starts for the brute-force parts (about 20 s on two cores); the
     /// continuation-based locations are computed exactly as in the full run.
     #[arg(long)]
     quick: bool,

@@ -479,9 +479,14 @@ fn spawn_reporter(
                 let (d, t) = progress.get();
                 bar.set_length(t as u64);
                 bar.set_position(d as u64);
-                if progress.in_open_phase() {
-                    bar.set_message(format!("{name}: {} points", progress.open_steps()));
-                }
+                // the message follows the phase at every tick (it said "0 points" for a
+                // whole response, whose first tick came before it announced its work)
+                let points = progress.open_steps();
+                bar.set_message(if progress.in_open_phase() && points > 0 {
+                    format!("{name}: {points} points")
+                } else {
+                    name.clone()
+                });
                 if !tick() {
                     break;
                 }

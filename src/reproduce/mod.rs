@@ -22,7 +22,7 @@ use crate::model::ParamError;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mode {
-    /// Coarse grids of starts: about half a minute on two cores.
+    /// Coarse grids of starts: about 20 s on two cores.
     Quick,
     /// The paper's resolutions.
     Full,

@@ -147,8 +147,8 @@ pub fn spawn_watchdog(terminate: Arc<AtomicUsize>, beat: LoopBeat) -> anyhow::Re
                     continue;
                 }
                 let (at, turns) = *raised.get_or_insert_with(|| (Instant::now(), beat.read()));
-                let blocked = beat.read() == turns && at.elapsed() > Duration::from_millis(500);
-                if blocked || at.elapsed() > Duration::from_secs(3) {
+                let (blocked, give_up) = gives_up(turns, beat.read(), at.elapsed());
+                if give_up {
                     tracing::warn!(
                         blocked,
                         "the terminal is gone and the loop did not return: exiting"
@@ -161,6 +161,14 @@ pub fn spawn_watchdog(terminate: Arc<AtomicUsize>, beat: LoopBeat) -> anyhow::Re
     Ok(())
 }
 
+/// Whether the watchdog gives up on the loop, `since` the signal was seen with the loop at
+/// `turns` and now at `now`, and whether because the loop is blocked. A quitting loop may take
+/// the grace period, even if it said so before the watchdog saw the signal.
+fn gives_up(turns: u64, now: u64, since: Duration) -> (bool, bool) {
+    let blocked = now != LoopBeat::QUITTING && now == turns && since > Duration::from_millis(500);
+    (blocked, blocked || since > Duration::from_secs(3))
+}
+
 fn terminal_hung_up() -> bool {
     let mut fd = libc::pollfd {
         fd: 0,
@@ -170,4 +178,26 @@ fn terminal_hung_up() -> bool {
     // SAFETY: one valid pollfd, no timeout.
     let ready = unsafe { libc::poll(&mut fd, 1, 0) };
     ready > 0 && fd.revents & (libc::POLLHUP | libc::POLLERR | libc::POLLNVAL) != 0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_watchdog_gives_up_on_a_blocked_loop_at_once_and_on_a_quitting_one_after_its_grace() {
+        let ms = Duration::from_millis;
+        // the loop has not turned since the signal: blocked after 500 ms, not before
+        assert_eq!(gives_up(7, 7, ms(400)), (false, false));
+        assert_eq!(gives_up(7, 7, ms(600)), (true, true));
+        // it turned, or it is quitting (also if it said so first): the 3 s grace
+        for (turns, now) in [
+            (7, 9),
+            (7, LoopBeat::QUITTING),
+            (LoopBeat::QUITTING, LoopBeat::QUITTING),
+        ] {
+            assert_eq!(gives_up(turns, now, ms(2900)), (false, false));
+            assert_eq!(gives_up(turns, now, ms(3100)), (false, true));
+        }
+    }
 }
