@@ -479,11 +479,10 @@ fn spawn_reporter(
                 let (d, t) = progress.get();
                 bar.set_length(t as u64);
                 bar.set_position(d as u64);
-                // the message follows the phase at every tick (it said "0 points" for a
-                // whole response, whose first tick came before it announced its work)
-                let points = progress.open_steps();
-                bar.set_message(if progress.in_open_phase() && points > 0 {
-                    format!("{name}: {points} points")
+                // set at every tick, as the phase changes both ways: a response is open
+                // until it announces its work
+                bar.set_message(if progress.in_open_phase() {
+                    format!("{name}: {} points", progress.open_steps())
                 } else {
                     name.clone()
                 });

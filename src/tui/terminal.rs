@@ -169,6 +169,7 @@ fn gives_up(turns: u64, now: u64, since: Duration) -> (bool, bool) {
     (blocked, blocked || since > Duration::from_secs(3))
 }
 
+/// True when standard input, the terminal, has hung up.
 fn terminal_hung_up() -> bool {
     let mut fd = libc::pollfd {
         fd: 0,

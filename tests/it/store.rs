@@ -24,8 +24,10 @@ use isola::session::store::chunk::{self, ChunkId};
 const BASIN: &str = "schema = 1\n[model]\nadr = 1.0\nomega = 4.0\nc_tilde = 0.08\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\nresolution = 32\ndx = { min = -0.8, max = 0.8, points = 64 }\nv = { min = -1.0, max = 1.0, points = 64 }\n";
 const BASIN_CHUNKS: usize = 8;
 
-/// A longer basin for kills at random moments: 32 chunks (also at 32 steps per period).
-const LONG_BASIN: &str = "schema = 1\n[model]\nadr = 1.0\nomega = 4.0\nc_tilde = 0.08\n\n[[analysis]]\nname = \"basin\"\nkind = \"basin\"\n[analysis.settings]\nresolution = 32\ndx = { min = -0.8, max = 0.8, points = 128 }\nv = { min = -1.0, max = 1.0, points = 128 }\n";
+/// A longer basin for kills at random moments: [`BASIN`] on 128 × 128 cells, 32 chunks.
+fn long_basin() -> String {
+    BASIN.replace("points = 64", "points = 128")
+}
 const LONG_CHUNKS: usize = 32;
 
 /// A frequency response of 12 chunks (one per ω_e), with sweeps and seeding at assembly.
@@ -519,7 +521,7 @@ impl Lcg {
 #[test]
 fn kill_at_random_moments_then_resume() {
     const SPREAD: usize = 7;
-    let (_dir, uninterrupted) = session_dir(LONG_BASIN);
+    let (_dir, uninterrupted) = session_dir(&long_basin());
     let started = Instant::now();
     run_ok(&uninterrupted, &[]);
     let full = started.elapsed().as_secs_f64();
@@ -530,7 +532,7 @@ fn kill_at_random_moments_then_resume() {
         if trial >= SPREAD && outcomes[1] >= 3 {
             break;
         }
-        let (_dir, session) = session_dir(LONG_BASIN);
+        let (_dir, session) = session_dir(&long_basin());
         let mut child = spawn_run(&session, &[]);
         let at = if trial < SPREAD {
             full * (0.1 + (trial as f64 + rng.next()) / SPREAD as f64)
@@ -759,14 +761,14 @@ impl Drop for Mounted {
 /// small from the start is refused before any work.
 #[test]
 fn a_full_disk_ends_in_an_error_and_loses_nothing() {
-    let expected = reference(LONG_BASIN, &BASIN_FILES);
+    let expected = reference(&long_basin(), &BASIN_FILES);
     let dir = tempfile::tempdir().unwrap();
     let Some(disk) = Mounted::tmpfs(dir.path(), "1m") else {
         eprintln!("mounting a tmpfs is not allowed here: full-disk test skipped");
         return;
     };
     let session = dir.path().join("s.toml");
-    std::fs::write(&session, LONG_BASIN).unwrap();
+    std::fs::write(&session, long_basin()).unwrap();
     let out = run(&session, &[]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
