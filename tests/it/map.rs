@@ -48,7 +48,7 @@ fn a_map_over_adr_and_omega_around_the_merging() {
     assert_eq!(cell.largest_type.as_deref(), Some("1:2"));
     let a = cell.largest_amplitude.unwrap();
     assert!((a - 0.4156).abs() < 1e-3, "{a}");
-    // a fold curve turns at the merging: `isola_merge` (tests/it/bifurcation_curves.rs)
+    // a fold curve turns at the merging: `isola_merge` (`isola reproduce`, tests/it/reproduce.rs)
     // locates it at ADR 0.6452597 on the same kind of curve, and brackets it by bisection
     // to within 1e-4
     let turning: Vec<f64> = curves
