@@ -29,7 +29,8 @@ fn examples() -> Vec<PathBuf> {
 }
 
 /// Every figure of the paper has its session; each loads, and its cheapest analysis runs and
-/// writes its CSV with a complete manifest.
+/// writes its CSV with a complete manifest (a chirp sweep without a scalogram where the
+/// session has one).
 #[test]
 fn every_example_session_loads_and_its_cheapest_analysis_runs() {
     let files = examples();
@@ -64,7 +65,12 @@ fn every_example_session_loads_and_its_cheapest_analysis_runs() {
                 session
                     .analyses
                     .iter()
-                    .find(|a| matches!(a.settings, Settings::ChirpSweep(_)))
+                    // without a scalogram where the session has one (Fig 3's scalograms
+                    // are checked in global_analyses; their CSVs at a small size below)
+                    .filter(|a| matches!(a.settings, Settings::ChirpSweep(_)))
+                    .min_by_key(
+                        |a| matches!(&a.settings, Settings::ChirpSweep(c) if c.scalogram.is_some()),
+                    )
             })
             .expect("a cheap analysis");
         run_analysis(&session, cheap, Shard::ALL, &Progress::new(0)).unwrap();
