@@ -407,7 +407,7 @@ kind = "map"
 parameter = "adr"
 values = { min = 0.55, max = 0.7, points = 4 }
 [analysis.settings.response]
-omega = { min = 3.0, max = 6.0, points = 31 }
+omega = { min = 3.0, max = 6.0, points = 16 }
 dx = { min = -0.8, max = 0.8, points = 5 }
 v = { min = -1.0, max = 1.0, points = 5 }
 "#;
