@@ -398,9 +398,10 @@ fn fig3_sweeps_and_scalograms() {
     // 1e-16), a quarter to a half of the cost of the whole record's
     let ratio_range = |s: &isola::analysis::orbit::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
         let omega_e = |t: f64| 6.0 * t / 12000.0;
+        let tau = |w: f64| w * 12000.0 / 6.0;
         let sample = |t: f64| ((t / s.dt).round() as usize).min(s.lambda.len() - 1);
-        let from = sample((lo * 2000.0 - 1000.0).max(0.0));
-        let to = sample(hi * 2000.0 + 1000.0);
+        let from = sample((tau(lo) - 1000.0).max(0.0));
+        let to = sample(tau(hi) + 1000.0);
         let sc = scalogram(&s.lambda[from..=to], s.dt, &ScalogramSpec::default()).unwrap();
         let start = from as f64 * s.dt;
         let ratios = sc.ridge_ratio(|t| omega_e(start + t));
