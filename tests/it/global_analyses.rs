@@ -393,23 +393,23 @@ fn fig3_sweeps_and_scalograms() {
         peak_near(&backward, 1.8, 1.9)
     );
     assert!(peak_near(&forward, 1.8, 1.9) < 0.05);
-    // ω_r/ω_e where the forward sweep's ω_e is within [lo, hi): the scalogram of that stretch
-    // of the record with 1000 τ either side (the widest wavelet, at ω 0.2, is ±260 τ to
-    // 1e-16), a quarter to a half of the cost of the whole record's
+    // ω_r/ω_e where the sweep's ω_e is within [lo, hi), ω_e as the sweep recorded it: the
+    // scalogram of that stretch of the record with 1000 τ either side (the widest wavelet, at
+    // ω 0.2, is ±260 τ to 1e-16), a quarter to a half of the cost of the whole record's
     let ratio_range = |s: &isola::analysis::orbit::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
-        let omega_e = |t: f64| 6.0 * t / 12000.0;
-        let tau = |w: f64| w * 12000.0 / 6.0;
-        let sample = |t: f64| ((t / s.dt).round() as usize).min(s.lambda.len() - 1);
-        let from = sample((tau(lo) - 1000.0).max(0.0));
-        let to = sample(tau(hi) + 1000.0);
+        let margin = (1000.0 / s.dt).round() as usize;
+        let first = s.omega.iter().position(|&w| w >= lo).unwrap();
+        let last = s.omega.iter().rposition(|&w| w < hi).unwrap();
+        let (from, to) = (
+            first.saturating_sub(margin),
+            (last + margin).min(s.omega.len() - 1),
+        );
         let sc = scalogram(&s.lambda[from..=to], s.dt, &ScalogramSpec::default()).unwrap();
-        let start = from as f64 * s.dt;
-        let ratios = sc.ridge_ratio(|t| omega_e(start + t));
-        sc.times
-            .iter()
-            .zip(ratios)
-            .filter(|(t, _)| (lo..hi).contains(&omega_e(start + *t)))
-            .map(|(_, r)| r)
+        sc.forcing(&s.omega[from..=to])
+            .into_iter()
+            .zip(&sc.ridge)
+            .filter(|(w, _)| (lo..hi).contains(w))
+            .map(|(w, r)| r / w)
             .collect::<Vec<f64>>()
     };
     let ratios = ratio_range(&forward, 3.0, 5.0);
