@@ -335,6 +335,19 @@ impl Settings {
         }
     }
 
+    /// The version of numerics that only an analysis with these settings uses, for its
+    /// fingerprint beside [`crate::analysis::NUMERICS_VERSION`]: a chirp sweep's scalogram
+    /// ([`crate::analysis::orbit::scalogram::NUMERICS_VERSION`]), so that a change there makes
+    /// only such results stale.
+    pub fn own_numerics(&self) -> Option<serde_json::Value> {
+        match self {
+            Settings::ChirpSweep(spec) if spec.scalogram.is_some() => Some(serde_json::json!({
+                "scalogram": crate::analysis::orbit::scalogram::NUMERICS_VERSION
+            })),
+            _ => None,
+        }
+    }
+
     /// What of the model an analysis with these settings uses. Its fingerprint leaves out the
     /// rest, so an edit of something it does not use leaves its result current.
     pub fn model_use(&self) -> ModelUse {
@@ -688,19 +701,24 @@ impl Session {
     }
 
     /// What `entry` computes from, under numerics version `numerics`: the model's values it
-    /// uses, the device, its settings (with its kind) and the numerics version.
+    /// uses, the device, its settings (with its kind), the numerics version and, for the kinds
+    /// that have one, their own ([`Settings::own_numerics`]).
     pub fn fingerprint_input(&self, entry: &AnalysisEntry, numerics: u32) -> serde_json::Value {
         let used = entry.settings.model_use();
         let model = match &self.written {
             Some(w) => w.fingerprint_model(&entry.values, &used),
             None => self.built_in_fingerprint_model(entry, &used),
         };
-        serde_json::json!({
+        let mut input = serde_json::json!({
             "numerics": numerics,
             "device": self.device(),
             "model": model,
             "settings": &entry.settings,
-        })
+        });
+        if let Some(own) = entry.settings.own_numerics() {
+            input["own_numerics"] = own;
+        }
+        input
     }
 
     /// What of the built-in model `entry` uses, for its fingerprint: its parameters without

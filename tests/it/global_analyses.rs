@@ -393,19 +393,10 @@ fn fig3_sweeps_and_scalograms() {
         peak_near(&backward, 1.8, 1.9)
     );
     assert!(peak_near(&forward, 1.8, 1.9) < 0.05);
-    // ω_r/ω_e where the sweep's ω_e is within [lo, hi), ω_e as the sweep recorded it: the
-    // scalogram of that stretch of the record with 1000 τ either side (the widest wavelet, at
-    // ω 0.2, is ±260 τ to 1e-16), a quarter to a half of the cost of the whole record's
+    // ω_r/ω_e at the columns where the sweep's ω_e, as it recorded it, is within [lo, hi)
     let ratio_range = |s: &isola::analysis::orbit::chirp_sweep::ChirpSweep, lo: f64, hi: f64| {
-        let margin = (1000.0 / s.dt).round() as usize;
-        let first = s.omega.iter().position(|&w| w >= lo).unwrap();
-        let last = s.omega.iter().rposition(|&w| w < hi).unwrap();
-        let (from, to) = (
-            first.saturating_sub(margin),
-            (last + margin).min(s.omega.len() - 1),
-        );
-        let sc = scalogram(&s.lambda[from..=to], s.dt, &ScalogramSpec::default()).unwrap();
-        sc.forcing(&s.omega[from..=to])
+        let sc = scalogram(&s.lambda, s.dt, &ScalogramSpec::default()).unwrap();
+        sc.forcing(&s.omega)
             .into_iter()
             .zip(&sc.ridge)
             .filter(|(w, _)| (lo..hi).contains(w))

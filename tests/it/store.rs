@@ -377,6 +377,32 @@ fn numerics_version_is_part_of_the_fingerprint() {
     );
 }
 
+/// A chirp sweep that writes a scalogram has the scalogram's numerics version in its
+/// fingerprint; one without, and every other kind, do not depend on it.
+#[test]
+fn a_scalograms_numerics_version_is_part_of_its_sweeps_fingerprint() {
+    let sweep = |scalogram: &str| {
+        format!(
+            "schema = 1\n[[analysis]]\nname = \"up\"\nkind = \"chirp_sweep\"\n\
+             [analysis.settings]\nspan = 100.0\n{scalogram}"
+        )
+    };
+    let now = isola::analysis::NUMERICS_VERSION;
+    let with = Session::parse(Path::new("s.toml"), &sweep("scalogram = {}\n")).unwrap();
+    let input = with.fingerprint_input(&with.analyses[0], now);
+    assert_eq!(
+        input["own_numerics"]["scalogram"],
+        isola::analysis::orbit::scalogram::NUMERICS_VERSION,
+        "{input}"
+    );
+    let without = Session::parse(Path::new("s.toml"), &sweep("")).unwrap();
+    let input = without.fingerprint_input(&without.analyses[0], now);
+    assert!(input.get("own_numerics").is_none(), "{input}");
+    let basin = Session::parse(Path::new("s.toml"), BASIN).unwrap();
+    let input = basin.fingerprint_input(&basin.analyses[0], now);
+    assert!(input.get("own_numerics").is_none(), "{input}");
+}
+
 /// A written model's own numerics version is in its results' fingerprint (and the built-in
 /// model's results do not depend on it).
 #[test]
