@@ -94,15 +94,6 @@ pub struct Scalogram {
 }
 
 impl Scalogram {
-    /// ω_r/ω_e per column, given the forcing frequency at each column's time.
-    pub fn ridge_ratio(&self, omega_e: impl Fn(f64) -> f64) -> Vec<f64> {
-        self.times
-            .iter()
-            .zip(&self.ridge)
-            .map(|(&t, &w)| w / omega_e(t))
-            .collect()
-    }
-
     /// The forcing frequency at each column, from `omega` at every sample of the signal.
     pub fn forcing(&self, omega: &[f64]) -> Vec<f64> {
         self.samples.iter().map(|&j| omega[j]).collect()
