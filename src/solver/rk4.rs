@@ -456,6 +456,38 @@ impl Rk4 {
         [g(Membrane::I), g(Membrane::Ii)]
     }
 
+    /// Where membrane `m`'s switching function, negative at the step's end, crosses zero
+    /// (as a fraction of the step `h`): the root of its cubic Hermite interpolant from its
+    /// values and rates at both `ends`; 0 if it is negative at the start too, `None` if it is
+    /// not negative at the end. A method rather than a closure, so that it is compiled into
+    /// each instruction set's version of the step.
+    #[inline(always)]
+    fn end_switch(&self, m: Membrane, mode: Mode, ends: [SwitchEnd; 2], h: f64) -> Option<f64> {
+        let [(y0, a0, drive_start, g_start), (y1, a1, drive_end, g_end)] = ends;
+        let i = m.of((0, 1));
+        if g_end[i] >= 0.0 {
+            return None;
+        }
+        if g_start[i] < 0.0 {
+            return Some(0.0);
+        }
+        let rate = |[x, v]: [f64; 2], a: f64, (phi_sq, phi_sq_rate)| {
+            let r = self
+                .field
+                .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
+            mode.oriented(m, r)
+        };
+        let (d0, d1) = (rate(y0, a0, drive_start), rate(y1, a1, drive_end));
+        Some(hermite::crossing(
+            g_start[i],
+            d0,
+            g_end[i],
+            d1,
+            h,
+            NEWTON_TOLERANCE,
+        ))
+    }
+
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
     /// after `h`, on piece `mode`, where a membrane's tension crosses zero against its mode:
     /// (offset from t0, membrane). Where the step's end shows the switch (the usual case), it
@@ -487,24 +519,11 @@ impl Rk4 {
         let (s_root_i, s_root_ii) = if negative(g_end) {
             // the switching function's cubic Hermite interpolant from its values and rates at
             // both ends: no evaluation inside the step (rates only for a membrane that switches)
-            let rate = |m, (phi_sq, phi_sq_rate), [x, v]: [f64; 2], a: f64| {
-                let r = self
-                    .field
-                    .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
-                mode.oriented(m, r)
-            };
-            let root = |m: usize| {
-                (g_end[m] < 0.0).then(|| {
-                    if g_start[m] < 0.0 {
-                        return 0.0;
-                    }
-                    let membrane = [Membrane::I, Membrane::Ii][m];
-                    let d0 = rate(membrane, drive_start, y0, a0);
-                    let d1 = rate(membrane, drive_end, y1, a1);
-                    hermite::crossing(g_start[m], d0, g_end[m], d1, h, NEWTON_TOLERANCE)
-                })
-            };
-            (root(0), root(1))
+            let ends = [(y0, a0, drive_start, g_start), (y1, a1, drive_end, g_end)];
+            (
+                self.end_switch(Membrane::I, mode, ends, h),
+                self.end_switch(Membrane::Ii, mode, ends, h),
+            )
         } else {
             // a brief excursion: scan the switching functions along the state's interpolant
             let (mut s_prev, mut g_prev) = (0.0, g_start);
@@ -536,6 +555,10 @@ impl Rk4 {
         })
     }
 }
+
+/// One end of a step for [`Rk4::end_switch`]: state, acceleration, the drive's (φ_I², φ_II²)
+/// and their rates, and both switching functions.
+type SwitchEnd = ([f64; 2], f64, ((f64, f64), (f64, f64)), [f64; 2]);
 
 /// A step's start: state, acceleration and mode.
 type StepStart = ([f64; 2], f64, Mode);
