@@ -465,27 +465,29 @@ impl Rk4 {
     fn end_switch(&self, m: Membrane, mode: Mode, ends: [SwitchEnd; 2], h: f64) -> Option<f64> {
         let [(y0, a0, drive_start, g_start), (y1, a1, drive_end, g_end)] = ends;
         let i = m.of((0, 1));
-        if g_end[i] >= 0.0 {
-            return None;
+        // written as `< 0` so that a NaN is no switch
+        if g_end[i] < 0.0 {
+            if g_start[i] < 0.0 {
+                return Some(0.0);
+            }
+            let rate = |[x, v]: [f64; 2], a: f64, (phi_sq, phi_sq_rate)| {
+                let r = self
+                    .field
+                    .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
+                mode.oriented(m, r)
+            };
+            let (d0, d1) = (rate(y0, a0, drive_start), rate(y1, a1, drive_end));
+            Some(hermite::crossing(
+                g_start[i],
+                d0,
+                g_end[i],
+                d1,
+                h,
+                NEWTON_TOLERANCE,
+            ))
+        } else {
+            None
         }
-        if g_start[i] < 0.0 {
-            return Some(0.0);
-        }
-        let rate = |[x, v]: [f64; 2], a: f64, (phi_sq, phi_sq_rate)| {
-            let r = self
-                .field
-                .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
-            mode.oriented(m, r)
-        };
-        let (d0, d1) = (rate(y0, a0, drive_start), rate(y1, a1, drive_end));
-        Some(hermite::crossing(
-            g_start[i],
-            d0,
-            g_end[i],
-            d1,
-            h,
-            NEWTON_TOLERANCE,
-        ))
     }
 
     /// The first time inside a step from (`y0`, acceleration `a0`) at τ₀ + `t0` to (`y1`, `a1`)
