@@ -470,13 +470,13 @@ impl Rk4 {
             if g_start[i] < 0.0 {
                 return Some(0.0);
             }
-            let rate = |[x, v]: [f64; 2], a: f64, (phi_sq, phi_sq_rate)| {
-                let r = self
-                    .field
-                    .scaled_tension_rate(m, [x, v, a], phi_sq, phi_sq_rate);
-                mode.oriented(m, r)
-            };
-            let (d0, d1) = (rate(y0, a0, drive_start), rate(y1, a1, drive_end));
+            // no closure here either: a closure called twice may stay out of line
+            let f = &self.field;
+            let (d0, d1) = (
+                f.scaled_tension_rate(m, [y0[0], y0[1], a0], drive_start.0, drive_start.1),
+                f.scaled_tension_rate(m, [y1[0], y1[1], a1], drive_end.0, drive_end.1),
+            );
+            let (d0, d1) = (mode.oriented(m, d0), mode.oriented(m, d1));
             Some(hermite::crossing(
                 g_start[i],
                 d0,
