@@ -17,7 +17,6 @@ use super::orbit::force_curve::ForceCurveSpec;
 use super::orbit::steady_state::SteadyStateSpec;
 use super::orbit::time_history::TimeHistorySpec;
 use crate::model::ParamError;
-use crate::model::limits;
 
 /// Steps of the fixed-step integrator in one forcing period at most: beyond this a drive
 /// table alone takes tens of megabytes per thread.
@@ -112,8 +111,12 @@ struct Steady {
 /// The steps per period at `omega` (erring on `steady.resolution` if too many) and a
 /// trajectory's worst case; `prefix` is where the steady settings live (`steady.`).
 fn steady_cost(steady: &SteadyStateSpec, omega: f64, prefix: &str) -> Result<Steady, ParamError> {
-    let omega = omega.max(limits::OMEGA.0);
-    let per_period = steady.resolution.steps_for(2.0 * PI / omega);
+    // the ω_e itself: a written model's frequency may lie below the built-in's range, and
+    // its periods are as long as it says (a period of no positive length: no bound at all)
+    let per_period = match omega > 0.0 {
+        true => steady.resolution.steps_for(2.0 * PI / omega),
+        false => usize::MAX,
+    };
     if per_period > MAX_STEPS_PER_PERIOD {
         return Err(ParamError {
             field: format!("{prefix}resolution.max_step"),

@@ -639,6 +639,17 @@ fn a_written_model_gets_clear_errors() {
             "cos(omega*t) + (x < 0)",
             "a comparison is a condition",
         ),
+        (
+            "[model.let]",
+            "[model.functions]\n\"g(b, b)\" = \"b\"\n[model.let]",
+            "the argument `b` is named twice in `g(b, b)`",
+        ),
+        // a forcing period of 6.3e6 τ: refused by its steps per period, not run for hours
+        (
+            "omega = 1.0",
+            "omega = 1e-6",
+            "cuts a forcing period (ω_e 0.000001) into at most 1000000 steps",
+        ),
     ];
     for (from, to, want) in cases {
         let text = good.replace(from, to);

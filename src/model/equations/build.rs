@@ -385,6 +385,16 @@ impl<'d> Builder<'d> {
                 )
             })?;
             claim(&name, "function", key)?;
+            if let Some(twice) =
+                (args.iter().enumerate()).find_map(|(i, a)| args[..i].contains(a).then_some(a))
+            {
+                return Err(at(
+                    &place,
+                    format!(
+                        "the argument `{twice}` is named twice in `{head}`: give each its own name"
+                    ),
+                ));
+            }
             let ast = self.parse(&place, text.get_ref())?;
             self.functions.insert(name, (args, ast, place));
         }

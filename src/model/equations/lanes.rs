@@ -185,7 +185,16 @@ impl<const L: usize> EquationLanes<L> {
     ) -> ([f64; L], [f64; L]) {
         self.load(tau, x);
         let c = &*self.inner;
-        c.output_tape.run_lanes(&mut self.values, modes);
+        // as [`super::EquationSystem`]'s output: the output's own kinks by their signs
+        let own = c.output_tape.switch_mask & !c.field_tape.switch_mask;
+        let mut modes = *modes;
+        if own != 0 {
+            let free = c.output_tape.run_lanes_free(&mut self.values);
+            for (m, f) in modes.iter_mut().zip(free) {
+                *m = (*m & !own) | (f & own);
+            }
+        }
+        c.output_tape.run_lanes(&mut self.values, &modes);
         (
             self.values[c.output[0] as usize],
             self.values[c.output[1] as usize],
