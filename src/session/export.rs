@@ -58,6 +58,8 @@ pub struct ModelColumns {
     pub states: Vec<String>,
     /// The two states a grid spans (`poincare_STATE`).
     pub grid: [String; 2],
+    /// The indices in `states` of the grid's two.
+    pub grid_index: [usize; 2],
     /// The grid's two offsets from its origin (a basin's cells).
     pub offsets: [String; 2],
     /// The amplitude (max − min of the output).
@@ -72,6 +74,7 @@ impl ModelColumns {
         ModelColumns {
             states: vec!["lambda_i".into(), "v".into()],
             grid: ["lambda".into(), "v".into()],
+            grid_index: [0, 1],
             offsets: ["dx_stretch".into(), "v_per_tau".into()],
             amplitude: "amplitude_stretch".into(),
             output: "lambda".into(),
@@ -83,12 +86,14 @@ impl ModelColumns {
     /// expression where that is a name, else `output`).
     pub fn written(model: &crate::model::equations::EquationModel) -> ModelColumns {
         let states = model.states().to_vec();
-        let [a, b] = model.grid().map(|i| states[i].clone());
+        let grid_index = model.grid();
+        let [a, b] = grid_index.map(|i| states[i].clone());
         let output = model.amplitude_text();
         let is_name = output.chars().all(|c| c.is_alphanumeric() || c == '_');
         ModelColumns {
             offsets: [format!("{a}_offset"), format!("{b}_offset")],
             grid: [a, b],
+            grid_index,
             states,
             amplitude: "amplitude".into(),
             output: if is_name {
@@ -122,9 +127,33 @@ impl ModelColumns {
         self.grid.clone().map(|s| format!("poincare_{s}"))
     }
 
-    /// The first stroboscopic point's columns (beside a response).
-    fn start(&self) -> [String; 2] {
-        self.grid.clone().map(|s| format!("start_{s}"))
+    /// The first stroboscopic point's columns (beside a response): the grid's two states,
+    /// then a written model's others in its order (the whole state to start from).
+    fn start(&self) -> Vec<String> {
+        let others = self.others().map(|i| &self.states[i]);
+        self.grid
+            .iter()
+            .chain(others)
+            .map(|s| format!("start_{s}"))
+            .collect()
+    }
+
+    /// The indices of the states outside the grid, in the model's order.
+    fn others(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.states.len()).filter(|i| !self.grid_index.contains(i))
+    }
+
+    /// The first stroboscopic point under [`Self::start`]'s columns (at τ = 0 on the orbit:
+    /// where to start to see it again), empty without one; all the grid's points are in the
+    /// points table.
+    fn start_fields(&self, s: &SteadyState) -> Vec<String> {
+        let grid = [0, 1].map(|i| s.poincare.first().map(|p| p[i]));
+        let whole = s.states.first();
+        let others = self.others().map(|i| whole.and_then(|x| x.get(i).copied()));
+        grid.into_iter()
+            .chain(others)
+            .map(|x| x.map_or(String::new(), num))
+            .collect()
     }
 
     /// `omega` in Hz on the device, empty without one.
@@ -147,12 +176,6 @@ pub fn steady_fields(s: &SteadyState) -> [String; 8] {
         opt(s.lambda_min),
         opt(s.lambda_max),
     ]
-}
-
-/// The first stroboscopic point (at τ = 0 on the orbit: where to start to see it again),
-/// empty without one; all of them are in the points table.
-fn start_fields(s: &SteadyState) -> [String; 2] {
-    [0, 1].map(|i| s.poincare.first().map_or(String::new(), |p| num(p[i])))
 }
 
 /// The tables a basin writes beside its cells (`A.attractors.csv`, `A.points.csv`).
@@ -219,7 +242,7 @@ pub fn basin_csv(
                 num(b.fraction(a.id)),
             ];
             row.extend(steady_fields(&a.response));
-            row.extend(start_fields(&a.response));
+            row.extend(columns.start_fields(&a.response));
             w.write_record(&row)?;
         }
         Ok(())
@@ -312,7 +335,7 @@ impl ResponseTables<'_> {
                     num(r.share),
                 ];
                 rest.extend(steady_fields(&r.steady));
-                rest.extend(start_fields(&r.steady));
+                rest.extend(columns.start_fields(&r.steady));
                 w.write_record(self.row(value, rest))?;
             }
             Ok(())

@@ -60,9 +60,10 @@ pub fn coarse(
 ) -> Option<anyhow::Result<ResultView>> {
     let kind = Kind::of(&entry.settings)?;
     let named = |e: AnalysisError| anyhow::anyhow!("{}: {e}", entry.name);
+    let grid = session.grid();
     Some(match session.point(Some(entry)) {
-        Ok(ModelPoint::BuiltIn(params)) => picture(&params, kind, progress).map_err(named),
-        Ok(ModelPoint::Written(sys)) => picture(&sys, kind, progress).map_err(named),
+        Ok(ModelPoint::BuiltIn(params)) => picture(&params, kind, grid, progress).map_err(named),
+        Ok(ModelPoint::Written(sys)) => picture(&sys, kind, grid, progress).map_err(named),
         Err(e) => Err(anyhow::anyhow!("{}: {e}", entry.name)),
     })
 }
@@ -99,14 +100,16 @@ pub fn nearest(coarse: &Axis, value: f64) -> usize {
     (at.round().max(0.0) as usize).min(coarse.points - 1)
 }
 
+/// The coarse picture of `kind` on `osc`, whose grid spans states `grid`.
 fn picture<O: Oscillator>(
     osc: &O,
     kind: Kind,
+    grid: [usize; 2],
     progress: &Progress,
 ) -> Result<ResultView, AnalysisError> {
     match kind {
-        Kind::Basin(spec) => basin_picture(osc, spec, progress),
-        Kind::Response(spec) => response_picture(osc, spec, progress),
+        Kind::Basin(spec) => basin_picture(osc, spec, grid, progress),
+        Kind::Response(spec) => response_picture(osc, spec, grid, progress),
     }
 }
 
@@ -114,6 +117,7 @@ fn picture<O: Oscillator>(
 fn basin_picture<O: Oscillator>(
     osc: &O,
     spec: &BasinSpec,
+    grid: [usize; 2],
     progress: &Progress,
 ) -> Result<ResultView, AnalysisError> {
     spec.validate()?;
@@ -147,7 +151,7 @@ fn basin_picture<O: Oscillator>(
         })
         .map(|(ix, iv)| coarse_labels.get(ix * coarse_v.points + iv).copied())
         .collect();
-    let attractors = AttractorRow::of_table(&table, coarse_labels.len().max(1));
+    let attractors = AttractorRow::of_table(&table, coarse_labels.len().max(1), grid);
     Ok(ResultView::Basin(BasinView {
         dx,
         v,
@@ -160,6 +164,7 @@ fn basin_picture<O: Oscillator>(
 fn response_picture<O: Oscillator>(
     osc: &O,
     spec: &FrequencyResponseSpec,
+    grid: [usize; 2],
     progress: &Progress,
 ) -> Result<ResultView, AnalysisError> {
     let (dx, v) = (thinned(&spec.dx, STRIDE), thinned(&spec.v, STRIDE));
@@ -185,7 +190,7 @@ fn response_picture<O: Oscillator>(
         per_omega
             .iter()
             .flatten()
-            .map(ResponsePoint::from_response)
+            .map(|r| ResponsePoint::from_response(r, grid))
             .collect(),
     ))
 }

@@ -37,20 +37,32 @@ pub struct ResponsePoint {
     pub branch: Option<usize>,
     /// Share of the sampled initial states that reached it.
     pub share: f64,
-    /// A stroboscopic point of the orbit, [λ_I, v]: where to start to see it again.
-    pub start: Option<[f64; 2]>,
+    /// A stroboscopic point of the orbit: where to start to see it again. The grid's two
+    /// states ([λ_I, v]), then a written model's others in its order ([`start_of`]).
+    pub start: Option<Vec<f64>>,
+}
+
+/// The first stroboscopic point of `s` as a [`ResponsePoint::start`]: its grid states (at
+/// `grid` in the whole state), then the other states where `s` has them.
+pub fn start_of(s: &SteadyState, grid: [usize; 2]) -> Option<Vec<f64>> {
+    let mut start = s.poincare.first()?.to_vec();
+    if let Some(x) = s.states.first() {
+        start.extend((0..x.len()).filter(|i| !grid.contains(i)).map(|i| x[i]));
+    }
+    Some(start)
 }
 
 impl ResponsePoint {
-    pub(crate) fn from_response(r: &Response) -> Self {
-        let mut p = Self::from_steady(r.omega, &r.steady);
+    /// The point of a response of a model whose grid spans states `grid`.
+    pub(crate) fn from_response(r: &Response, grid: [usize; 2]) -> Self {
+        let mut p = Self::from_steady(r.omega, &r.steady, grid);
         p.hidden = r.hidden;
         p.branch = r.branch;
         p.share = r.share;
         p
     }
 
-    fn from_steady(omega: f64, s: &SteadyState) -> Self {
+    fn from_steady(omega: f64, s: &SteadyState, grid: [usize; 2]) -> Self {
         ResponsePoint {
             omega,
             amplitude: s.amplitude,
@@ -60,7 +72,7 @@ impl ResponsePoint {
             hidden: None,
             branch: None,
             share: 0.0,
-            start: s.poincare.first().copied(),
+            start: start_of(s, grid),
         }
     }
 }
@@ -118,12 +130,17 @@ pub struct AttractorRow {
     pub amplitude: Option<f64>,
     pub cells: usize,
     pub fraction: f64,
-    pub start: Option<[f64; 2]>,
+    /// As [`ResponsePoint::start`].
+    pub start: Option<Vec<f64>>,
 }
 
 impl AttractorRow {
     /// The rows of `table`, each attractor's share counted over `cells` cells.
-    pub(crate) fn of_table(table: &AttractorTable, cells: usize) -> Vec<AttractorRow> {
+    pub(crate) fn of_table(
+        table: &AttractorTable,
+        cells: usize,
+        grid: [usize; 2],
+    ) -> Vec<AttractorRow> {
         table
             .attractors
             .iter()
@@ -133,7 +150,7 @@ impl AttractorRow {
                 amplitude: a.response.amplitude,
                 cells: a.count,
                 fraction: a.count as f64 / cells as f64,
-                start: a.response.poincare.first().copied(),
+                start: start_of(&a.response, grid),
             })
             .collect()
     }
@@ -167,6 +184,24 @@ impl HistoryView {
     pub fn summarised(mut self, p: &crate::model::Params) -> Self {
         self.summary = steady_summary(p, &self.tau, &self.lambda, &self.v, &self.steady);
         self
+    }
+}
+
+impl HistoryView {
+    /// A written model's orbit, drawn in the two states its grid spans (`grid`).
+    pub fn of_states(
+        h: &crate::analysis::global::oscillator::history::StateHistory,
+        grid: [usize; 2],
+    ) -> Self {
+        let state = |i: usize| h.samples.iter().map(|s| s.state[i]).collect();
+        HistoryView {
+            tau: h.samples.iter().map(|s| s.tau).collect(),
+            lambda: state(grid[0]),
+            v: state(grid[1]),
+            steady: h.samples.iter().map(|s| s.steady).collect(),
+            summary: None,
+            states: Some(grid.map(|i| h.states[i].clone())),
+        }
     }
 }
 
@@ -320,6 +355,8 @@ pub struct ResultReader {
     stored: Option<(Manifest, std::sync::Arc<ResultView>)>,
     chunks_read: Vec<bool>,
     partial: Partial,
+    /// The indices of the states the model's grid spans, as at the last poll.
+    grid: [usize; 2],
     pub status: ResultStatus,
     pub view: Option<ResultView>,
     /// While a partial result of the current settings is shown, the complete result of the
@@ -361,6 +398,7 @@ impl ResultReader {
             stored: None,
             chunks_read: Vec::new(),
             partial: Partial::None,
+            grid: [0, 1],
             status: ResultStatus::Missing,
             view: None,
             previous: None,
@@ -375,6 +413,7 @@ impl ResultReader {
         }
         let paths = ResultPaths::new(session, &entry.name);
         let fingerprint = session.fingerprint(entry);
+        self.grid = session.grid();
         let before = (
             self.status,
             self.view.is_some(),
@@ -534,8 +573,10 @@ impl ResultReader {
                 let Partial::Response(per_omega) = &mut self.partial else {
                     unreachable!()
                 };
-                *per_omega.get_mut(i)? =
-                    responses.iter().map(ResponsePoint::from_response).collect();
+                *per_omega.get_mut(i)? = responses
+                    .iter()
+                    .map(|r| ResponsePoint::from_response(r, self.grid))
+                    .collect();
             }
             Settings::Family(spec) => {
                 let member: FamilyMember =
@@ -552,7 +593,7 @@ impl ResultReader {
                     .response
                     .responses
                     .iter()
-                    .map(ResponsePoint::from_response)
+                    .map(|r| ResponsePoint::from_response(r, self.grid))
                     .collect();
                 *members.get_mut(i)? = Some((member.value, points));
             }
@@ -581,7 +622,7 @@ impl ResultReader {
                     dx: spec.dx.values(),
                     v: spec.v.values(),
                     labels: labels.clone(),
-                    attractors: AttractorRow::of_table(table, done),
+                    attractors: AttractorRow::of_table(table, done, self.grid),
                 })
             }
             (Partial::Response(per_omega), Settings::Hunt(_)) => ResultView::Hunt(HuntView {
@@ -655,17 +696,6 @@ impl Columns {
                 add("lambda_max", i + 2, map);
             }
         }
-        let starting = |prefix: &str| -> Vec<usize> {
-            by_index
-                .iter()
-                .filter(|(_, n)| n.starts_with(prefix))
-                .map(|(i, _)| *i)
-                .collect()
-        };
-        if let [a, b, ..] = starting("start_")[..] {
-            add("start_lambda", a, map);
-            add("start_v", b, map);
-        }
         let offsets: Vec<usize> = by_index
             .iter()
             .filter(|(_, n)| n.ends_with("_offset"))
@@ -705,9 +735,17 @@ impl Columns {
         self.str(row, name).ok().and_then(|s| s.parse().ok())
     }
 
-    /// The first stroboscopic point, if the row has one.
-    fn start(&self, row: &csv::StringRecord) -> Option<[f64; 2]> {
-        Some([self.opt(row, "start_lambda")?, self.opt(row, "start_v")?])
+    /// The first stroboscopic point, if the row has one: every `start_` column, in order.
+    fn start(&self, row: &csv::StringRecord) -> Option<Vec<f64>> {
+        let mut columns: Vec<usize> = (self.0.iter())
+            .filter(|(name, _)| name.starts_with("start_"))
+            .map(|(_, &i)| i)
+            .collect();
+        columns.sort_unstable();
+        let start: Option<Vec<f64>> = (columns.iter())
+            .map(|&i| row.get(i).and_then(|s| s.parse().ok()))
+            .collect();
+        start.filter(|s| s.len() >= 2)
     }
 
     /// The ratio ω_r:ω_e of its two integer columns.

@@ -630,6 +630,11 @@ impl Session {
         Ok(())
     }
 
+    /// The indices of the two states a grid spans: λ_I and v for the built-in model.
+    pub fn grid(&self) -> [usize; 2] {
+        self.written.as_ref().map_or([0, 1], |w| w.model.grid())
+    }
+
     pub fn device(&self) -> Device {
         self.file.device.unwrap_or_default()
     }

@@ -7,22 +7,23 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-use isola::analysis::global::family::FamilySpec;
+use isola::analysis::Oscillator;
 use isola::analysis::orbit::scalogram::{Scalogram, ScalogramSpec};
-use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec};
 use isola::figure;
 use isola::session::output::{Protected, check_target};
 use isola::session::results::{BasinView, ChirpView, ResultStatus, ResultView};
 use isola::session::run::Outcome;
 use isola::session::store::ResultPaths;
+use isola::session::written::ModelPoint;
 use isola::session::{Session, Settings};
 
 use super::command::{self, Command, Which};
 use super::filter;
 use super::jobs::{JobList, JobState, Output, Work};
 use super::keymap::{Action, Keymap};
+use super::orbit::{self, OrbitHistory};
 use super::panes::params::{self, Edit, Row, Target};
-use super::plots::{self, Pick, Start};
+use super::plots::{self, Pick};
 use super::theme::Theme;
 use super::undo::{Version, Versions};
 use super::watcher::{Stored, Watcher};
@@ -112,7 +113,7 @@ pub struct Picked {
     pub label: String,
     pub job: usize,
     /// The orbit's time history, once integrated, and its view.
-    pub history: Option<Box<TimeHistory>>,
+    pub history: Option<Box<OrbitHistory>>,
     pub view: Option<ResultView>,
     /// Its own cursor: the plot's is kept for when the orbit is closed.
     pub cursor: (usize, usize),
@@ -380,7 +381,7 @@ impl App {
             }
             match (finished.result, &mut self.picked) {
                 (Ok(Output::Orbit { history, view }), Some(p)) if p.job == finished.id => {
-                    let s = &history.steady_state;
+                    let s = history.steady_state();
                     p.summary = Some(format!(
                         "{} {}",
                         s.response_type(),
@@ -1260,48 +1261,24 @@ impl App {
         let Some(entry) = self.session.analyses.get(self.selected) else {
             return;
         };
-        let params = self.session.params(Some(entry)).and_then(|p| {
-            let p = match (&entry.settings, member) {
-                (Settings::Family(FamilySpec { parameter, .. }), Some(v)) => {
-                    parameter.apply(&p, v)?
-                }
-                (Settings::Continuation(spec), Some(v)) => {
-                    spec.continuation.parameter.apply(&p, v)?
-                }
-                _ => p,
-            };
-            match omega {
-                Some(w) => p.with_omega(w),
-                None => Ok(p),
-            }
-        });
-        let params = match params {
-            Ok(p) => p,
+        let model = self
+            .session
+            .point(Some(entry))
+            .and_then(|model| orbit::at_pick(model, &entry.settings, member, omega));
+        let model = match model {
+            Ok(model) => model,
             Err(e) => {
                 self.say(e.to_string(), true);
                 return;
             }
         };
-        let [dx0, v0] = match start {
-            Start::Absolute([lambda, v]) => [lambda - params.lambda_p(), v],
-            Start::Offset(s) => s,
+        let omega = match &model {
+            ModelPoint::BuiltIn(p) => p.omega(),
+            ModelPoint::Written(sys) => sys.value_of(sys.frequency()),
         };
-        let spec = TimeHistorySpec {
-            dx0,
-            v0,
-            ..TimeHistorySpec::default()
-        };
-        let label = format!(
-            "orbit ω {:.3} from Δλ {dx0:+.3}, v {v0:+.3}",
-            params.omega()
-        );
-        let job = self.jobs.push(
-            label.clone(),
-            Work::Orbit {
-                params: Box::new(params),
-                spec,
-            },
-        );
+        let (model, spec, from) = orbit::orbit_from(model, &start);
+        let label = format!("orbit ω {omega:.3} {from}");
+        let job = self.jobs.push(label.clone(), Work::Orbit { model, spec });
         self.picked = Some(Picked {
             label,
             job,
@@ -1469,7 +1446,7 @@ impl App {
                         "an orbit is written whole: Esc closes it to export the analysis"
                     ))
                 } else {
-                    isola::session::export::history_bytes(history, &self.session.device())
+                    (history.csv_bytes(&self.session.device()))
                         .and_then(|bytes| Ok(check_target(to, &protected)?.write(&bytes)?))
                         .map(|()| format!("exported the orbit to {}", to.display()))
                 }
@@ -1506,14 +1483,32 @@ impl App {
             .picked
             .as_ref()
             .and_then(|p| Some((p.view.as_ref()?, &p.label)));
-        let Some((view, title)) = picked.or_else(|| Some((self.view()?, &entry.name))) else {
+        // a figure is of a current result, as `isola figure` draws it: never of a stale or
+        // partial one shown while its settings are computed
+        let current = self.status_of(self.selected) == ResultStatus::Complete;
+        let shown = current.then(|| self.view()).flatten();
+        let Some((view, title)) = picked.or_else(|| Some((shown?, &entry.name))) else {
             let run = self.keymap.label(super::keymap::Action::Run);
+            let what = match self.view() {
+                Some(_) => "no current result to draw (the one shown is not complete or stale)",
+                None => "no result to draw",
+            };
+            self.say(format!("{}: {what}; {run} runs it", entry.name), true);
+            return;
+        };
+        let reverse = figure::reverse_sweep(&self.session, entry);
+        let reverse_current = reverse.is_none_or(|i| self.status_of(i) == ResultStatus::Complete);
+        if picked.is_none() && !reverse_current {
+            let name = reverse.map_or("", |i| self.session.analyses[i].name.as_str());
             self.say(
-                format!("{}: no result to draw ({run} runs it)", entry.name),
+                format!(
+                    "{}: its reverse sweep {name} is not current; run it to draw both",
+                    entry.name
+                ),
                 true,
             );
             return;
-        };
+        }
         let path = path.unwrap_or_else(|| {
             let stem = self
                 .session
@@ -1537,8 +1532,7 @@ impl App {
         let written = (|| -> anyhow::Result<()> {
             let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
             let format: figure::Format = extension.parse()?;
-            let reverse = figure::reverse_sweep(&self.session, entry)
-                .and_then(|i| self.stored.get(i)?.view.as_deref());
+            let reverse = reverse.and_then(|i| self.stored.get(i)?.view.as_deref());
             let mut subject = figure::Subject::of(
                 &self.session,
                 entry,

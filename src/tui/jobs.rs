@@ -6,13 +6,14 @@ use std::time::{Duration, Instant};
 
 use isola::analysis::Progress;
 use isola::analysis::orbit::scalogram::{Scalogram, ScalogramSpec, scalogram};
-use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec, time_history};
+use isola::analysis::orbit::time_history::TimeHistorySpec;
 use isola::jobs::{Job, JobError, Priority};
-use isola::model::Params;
 use isola::session::Session;
 use isola::session::budget::{self, Budget};
 use isola::session::preview;
 use isola::session::results::{HistoryView, ResultView};
+
+use super::orbit::{OrbitHistory, OrbitModel, integrate};
 use isola::session::run::{Outcome, Shard, run_analysis};
 
 /// What a job computes.
@@ -21,7 +22,7 @@ pub enum Work {
     Analysis { session: Arc<Session>, name: String },
     /// One orbit, from a point picked on a plot.
     Orbit {
-        params: Box<Params>,
+        model: OrbitModel,
         spec: TimeHistorySpec,
     },
     /// The scalogram of a chirp's response.
@@ -39,7 +40,7 @@ pub enum Output {
     Analysis(Outcome),
     /// An orbit, and its view with the steady part summarised.
     Orbit {
-        history: Box<TimeHistory>,
+        history: Box<OrbitHistory>,
         view: Box<HistoryView>,
     },
     Scalogram(Scalogram),
@@ -282,10 +283,9 @@ fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
                 .map(Output::Analysis)
                 .map_err(|e| JobError::Failed(format!("{e:#}")))
         }
-        Work::Orbit { params, spec } => {
+        Work::Orbit { model, spec } => {
             ctx.progress.grow_total(1);
-            let h = time_history(&params, &spec).map_err(|e| JobError::Failed(e.to_string()))?;
-            let view = HistoryView::from(&h).summarised(&params);
+            let (h, view) = integrate(&model, &spec).map_err(JobError::Failed)?;
             ctx.progress.add(1);
             Ok(Output::Orbit {
                 history: Box::new(h),

@@ -10,6 +10,7 @@ pub mod filter;
 pub mod jobs;
 pub mod keymap;
 pub mod mouse;
+pub mod orbit;
 pub mod panes;
 pub mod plots;
 pub mod terminal;

@@ -653,6 +653,18 @@ fn the_view_is_written_as_a_figure_by_its_key_and_by_figure_file() {
     let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
     assert!(matches!(&said, Some((_, true))), "{said:?}");
     assert!(!stored.exists());
+    // once the settings change, the result on view is stale: no figure is drawn of it
+    command(&mut app, "set omega.points 21");
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+    let stale = path.with_file_name("stale.svg");
+    command(&mut app, &format!("figure {}", stale.display()));
+    let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
+    assert!(
+        matches!(&said, Some((text, true)) if text.contains("no current result to draw")),
+        "{said:?}"
+    );
+    assert!(!stale.exists());
 }
 
 /// Types `:` and a command line, then Enter.
@@ -1559,4 +1571,99 @@ fn a_run_draws_a_coarse_preview_first() {
         kinds.len() >= 2,
         "the preview finds the coexisting responses: {kinds:?}"
     );
+}
+
+/// A forced Duffing oscillator coupled to a first-order lag z: three states, a grid over two.
+const WRITTEN_LAG: &str = r#"schema = 1
+[model]
+states = ["x", "v", "z"]
+frequency = "omega"
+amplitude = "x"
+grid = ["x", "v"]
+[model.parameters]
+omega = { value = 1.2, min = 0.1, max = 5.0 }
+[model.derivatives]
+x = "v"
+v = "-0.1*v - x - x^3 + 0.5*(z - x) + 0.3*cos(omega*t)"
+z = "x - z"
+
+[[analysis]]
+name = "response"
+kind = "frequency_response"
+[analysis.settings]
+omega = { min = 1.0, max = 1.4, points = 3 }
+dx = { min = -0.5, max = 0.5, points = 2 }
+v = { min = -0.5, max = 0.5, points = 2 }
+"#;
+
+/// On a written model, Enter on a response integrates the orbit from the response's whole
+/// stroboscopic state (its lag state too, kept in the result's `start_` columns), at the
+/// point's ω, and the orbit is that response; `e` exports it as the model's time history.
+#[test]
+fn a_written_models_response_opens_its_orbit() {
+    use super::orbit::OrbitHistory;
+    let (_dir, path) = fixture("written-pick", WRITTEN_LAG);
+    let mut app = app(&path, ColorMode::None);
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    let csv = ResultPaths::new(&app.session, "response").csv;
+    let header = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        header
+            .lines()
+            .next()
+            .unwrap()
+            .ends_with(",start_x,start_v,start_z")
+    );
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Right);
+    let view = app.view().expect("a response view");
+    let pick = super::plots::pick(view, app.cursor).expect("a point under the cursor");
+    let Some(ResultView::Response(points)) = app.view() else {
+        panic!("no response view");
+    };
+    let point = points
+        .iter()
+        .find(|p| Some(p.omega) == pick.omega && p.start.as_ref() == start_of(&pick))
+        .expect("the picked point")
+        .clone();
+    let start = point.start.clone().unwrap();
+    assert_eq!(start.len(), 3);
+    assert!(
+        start[2].abs() > 1e-3,
+        "the lag state is away from its origin"
+    );
+    key(&mut app, KeyCode::Enter);
+    settle(&mut app);
+    let picked = app.picked.as_ref().expect("an orbit");
+    let Some(OrbitHistory::Written(h, grid)) = picked.history.as_deref() else {
+        panic!("no written orbit: {:?}", picked.summary);
+    };
+    assert_eq!(*grid, [0, 1]);
+    assert_eq!(
+        h.samples[0].state, start,
+        "it starts at the whole stroboscopic state"
+    );
+    let amplitude = h.steady_state.amplitude.unwrap();
+    assert!(
+        (amplitude - point.amplitude.unwrap()).abs() < 1e-6,
+        "{amplitude} against {:?}",
+        point.amplitude
+    );
+    assert!(picked.label.contains(&format!("ω {:.3}", point.omega)));
+    let orbit = path.with_file_name("orbit.csv");
+    command(&mut app, &format!("export {}", orbit.display()));
+    let text = std::fs::read_to_string(&orbit).unwrap();
+    assert!(
+        text.starts_with("tau,x,v,z,amplitude_output,steady\n"),
+        "{text:.80}"
+    );
+}
+
+fn start_of(pick: &super::plots::Pick) -> Option<&Vec<f64>> {
+    match &pick.start {
+        super::plots::Start::Absolute(x) => Some(x),
+        super::plots::Start::Offset(_) => None,
+    }
 }

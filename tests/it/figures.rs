@@ -32,7 +32,7 @@ fn response(omega: f64, amplitude: f64, k: u32, hidden: bool, branch: usize) -> 
         hidden: Some(hidden),
         branch: Some(branch),
         share: 0.5,
-        start: Some([1.0, 0.0]),
+        start: Some(vec![1.0, 0.0]),
     }
 }
 

@@ -94,17 +94,18 @@ impl<'a> PointCursor<'a> {
 }
 
 /// Where a picked orbit starts.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Start {
-    /// A stroboscopic point [λ_I, v] of a response.
-    Absolute([f64; 2]),
+    /// A stroboscopic point of a response: the grid's two states ([λ_I, v]), then a written
+    /// model's others ([`isola::session::results::ResponsePoint::start`]).
+    Absolute(Vec<f64>),
     /// A cell of a basin: [Δλ, v].
     Offset([f64; 2]),
 }
 
 /// A point picked off a plot: integrate from `start` at `omega` (and at `member`, the value of
 /// a family's or a continuation's parameter).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Pick {
     pub omega: Option<f64>,
     pub member: Option<f64>,
@@ -255,7 +256,7 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
             Some(Pick {
                 omega: Some(p.omega),
                 member: None,
-                start: Start::Absolute(p.start?),
+                start: Start::Absolute(p.start.clone()?),
             })
         }
         ResultView::Family(f) => {
@@ -268,7 +269,7 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
             Some(Pick {
                 omega: Some(p.omega),
                 member: c.member(cursor),
-                start: Start::Absolute(p.start?),
+                start: Start::Absolute(p.start.clone()?),
             })
         }
         ResultView::Basin(b) => Some(Pick {
@@ -281,7 +282,7 @@ pub fn pick(view: &ResultView, cursor: (usize, usize)) -> Option<Pick> {
             Some(Pick {
                 omega: Some(p.omega),
                 member: Some(p.parameter),
-                start: Start::Absolute(p.start),
+                start: Start::Absolute(p.start.to_vec()),
             })
         }
         _ => None,

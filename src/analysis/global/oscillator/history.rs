@@ -10,7 +10,7 @@ use crate::analysis::Oscillator;
 use crate::analysis::orbit::steady_state::SteadyState;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::model::equations::EquationSystem;
-use crate::model::system::System;
+use crate::model::system::{System, Vector};
 use crate::solver::general::{GeneralRk4, Stop};
 
 /// One sample: τ, the whole state, the amplitude's output.
@@ -40,11 +40,20 @@ pub fn state_history(
     sys: &EquationSystem,
     spec: &TimeHistorySpec,
 ) -> Result<StateHistory, AnalysisError> {
+    state_history_from(sys, &sys.grid_start([spec.dx0, spec.v0]), spec)
+}
+
+/// The same from the whole state `start` (a response's stroboscopic point with its internal
+/// states, picked off a plot); `spec`'s own start is not used.
+pub fn state_history_from(
+    sys: &EquationSystem,
+    start: &Vector,
+    spec: &TimeHistorySpec,
+) -> Result<StateHistory, AnalysisError> {
     spec.validate()?;
-    let start = sys.grid_start([spec.dx0, spec.v0]);
     let grid = sys.model().grid();
     let mut sys = sys.clone();
-    let steady = steady_state_of(&mut sys, &start, grid, &spec.steady)?;
+    let steady = steady_state_of(&mut sys, start, grid, &spec.steady)?;
     let k = steady.period.unwrap_or(1);
     let transient = steady.transient_periods.min(spec.max_transient_periods);
     let total_periods = transient + spec.steady_periods * k;
