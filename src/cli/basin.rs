@@ -123,7 +123,7 @@ pub fn run(args: &BasinArgs, out: Output) -> anyhow::Result<()> {
 
 impl Summary for BasinSummary<'_> {
     fn print_text(&self) {
-        println!(
+        say!(
             "basin {}x{} at ADR {}, ω_e {}: {} cells in {:.2} s ({} threads)",
             self.dx.points,
             self.v.points,
@@ -134,7 +134,7 @@ impl Summary for BasinSummary<'_> {
             self.threads
         );
         for a in &self.attractors {
-            println!(
+            say!(
                 "  #{}  {:<18} period {:<4} amplitude {:<10} fraction {:.4}",
                 a.id,
                 a.response_type,

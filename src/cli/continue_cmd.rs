@@ -203,21 +203,22 @@ impl Summary for ContinueSummary<'_> {
         for switch in &self.switches {
             match switch {
                 Switch::Known { at } => {
-                    println!("the branch born at {name} = {at:.9} is the one above (it ends there)")
+                    say!("the branch born at {name} = {at:.9} is the one above (it ends there)")
                 }
                 Switch::Continued { at, branch } => {
-                    println!("switching at the period doubling at {name} = {at:.9}:");
+                    say!("switching at the period doubling at {name} = {at:.9}:");
                     self.branches[*branch].print_text();
                 }
                 Switch::Failed { at, reason } => {
-                    println!("switching at the period doubling at {name} = {at:.9}:");
-                    println!("  no branch: {reason}");
+                    say!("switching at the period doubling at {name} = {at:.9}:");
+                    say!("  no branch: {reason}");
                 }
             }
         }
-        println!(
+        say!(
             "{} points in {:.2} s",
-            self.points, self.done.elapsed_seconds
+            self.points,
+            self.done.elapsed_seconds
         );
         self.done.print_wrote();
     }
@@ -227,7 +228,7 @@ impl Summary for BranchSummary<'_> {
     /// The shape of the branch, its arcs and its bifurcations, as lines of text.
     fn print_text(&self) {
         let name = self.parameter;
-        println!(
+        say!(
             "period-{} branch, {name} {:.6}–{:.6}, ends: {} / {}{}",
             self.period,
             self.parameter_min,
@@ -237,7 +238,7 @@ impl Summary for BranchSummary<'_> {
             if self.closed { " (closed)" } else { "" }
         );
         for a in &self.arcs {
-            println!(
+            say!(
                 "  {} arc: {name} {:.4} → {:.4}, amplitude {:.4} → {:.4}",
                 if a.stable { "stable  " } else { "unstable" },
                 a.parameter_start,
@@ -248,7 +249,7 @@ impl Summary for BranchSummary<'_> {
         }
         for f in self.bifurcations {
             let mu = f.multipliers.0[0];
-            println!(
+            say!(
                 "  {:<22} {name} = {:.9} (±{:.0e}), ω {:.6}, amplitude {:.6}, μ₁ = {:.6}{:+.6}i",
                 f.kind.as_str(),
                 f.parameter,

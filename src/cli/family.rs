@@ -135,7 +135,7 @@ impl Summary for MemberSummary<'_> {
             .filter(|b| b.branch.is_subharmonic())
             .map(|b| b.branch.describe())
             .collect();
-        println!(
+        say!(
             "{} = {:<8} {}",
             self.parameter,
             self.value,
@@ -151,7 +151,7 @@ impl Summary for MemberSummary<'_> {
 impl Summary for FamilySummary<'_> {
     /// The members were shown as each finished.
     fn print_text(&self) {
-        println!(
+        say!(
             "{} members in {:.2} s",
             self.members.len(),
             self.done.elapsed_seconds

@@ -167,7 +167,7 @@ struct FigureSummary {
 
 impl Summary for FigureSummary {
     fn print_text(&self) {
-        println!(
+        say!(
             "wrote the figure of {} ({}×{} {}) to {}",
             self.analysis,
             self.width,
@@ -243,7 +243,7 @@ struct ReportSummary {
 
 impl Summary for ReportSummary {
     fn print_text(&self) {
-        println!(
+        say!(
             "wrote the report of {} analyses to {}",
             self.analyses,
             self.done.wrote[0].display()

@@ -105,9 +105,13 @@ pub fn run(args: &ForceArgs, out: Output) -> anyhow::Result<()> {
 impl Summary for ForceSummary {
     fn print_text(&self) {
         for c in &self.curves {
-            println!(
+            say!(
                 "λ_p {:<5} φ_I {:<4}  {} points, force from {:.4} to {:.4}",
-                c.lambda_p, c.phi_i, c.points, c.force_min, c.force_max
+                c.lambda_p,
+                c.phi_i,
+                c.points,
+                c.force_min,
+                c.force_max
             );
         }
         self.done.print_wrote();

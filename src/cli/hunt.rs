@@ -291,7 +291,7 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
 
 impl Summary for HuntSummary<'_> {
     fn print_text(&self) {
-        println!(
+        say!(
             "hunt: {} ω values × {} initial states, {} subharmonic brute-force branches → {} continued, in {:.2} s ({:.2} s brute force, {:.2} s continuation; {} threads)",
             self.omega.points,
             self.initial_states,
@@ -303,22 +303,27 @@ impl Summary for HuntSummary<'_> {
             self.threads,
         );
         for (i, h) in self.branches.iter().enumerate() {
-            println!(
+            say!(
                 "#{i} {} (brute-force branches {:?}, {} points)",
                 h.hunted.describe(),
                 h.seeds,
                 h.branch.points
             );
             let ends = h.branch.ends;
-            println!(
+            say!(
                 "   ω {:.4}–{:.4} = {:.2}–{:.2} Hz; ends: {} / {}",
-                h.omega_min, h.omega_max, h.frequency_hz_min, h.frequency_hz_max, ends[0], ends[1]
+                h.omega_min,
+                h.omega_max,
+                h.frequency_hz_min,
+                h.frequency_hz_max,
+                ends[0],
+                ends[1]
             );
             for line in arc_lines(&h.branch) {
-                println!("   {line}");
+                say!("   {line}");
             }
             for b in h.branch.bifurcations {
-                println!(
+                say!(
                     "   {:<16} ω {:.9} (±{:.0e}), amplitude {:.6}",
                     b.kind.as_str(),
                     b.omega,
@@ -328,7 +333,7 @@ impl Summary for HuntSummary<'_> {
             }
         }
         for f in self.failures {
-            println!("brute-force branch {} not continued: {}", f.seed, f.reason);
+            say!("brute-force branch {} not continued: {}", f.seed, f.reason);
         }
         self.done.print_wrote();
     }
@@ -356,7 +361,7 @@ fn arc_lines(b: &BranchSummary) -> Vec<String> {
 impl Summary for MemberSummary<'_> {
     fn print_text(&self) {
         let line: Vec<String> = self.branches.iter().map(|b| b.hunted.describe()).collect();
-        println!(
+        say!(
             "{} {}: {}",
             self.parameter,
             self.value,
@@ -373,7 +378,7 @@ impl Summary for TransitionSummary<'_> {
     fn print_text(&self) {
         let (t, name) = (&self.transition, self.parameter);
         match &self.limit {
-            Some(l) => println!(
+            Some(l) => say!(
                 "{}: at {name} = {:.9} ± {:.0e} (ω {:.6}, amplitude {:.6})",
                 t.describe(name),
                 l.value,
@@ -381,7 +386,7 @@ impl Summary for TransitionSummary<'_> {
                 l.omega,
                 l.amplitude
             ),
-            None => println!("{}", t.describe(name)),
+            None => say!("{}", t.describe(name)),
         }
     }
 }
@@ -392,7 +397,7 @@ impl Summary for HuntFamilySummary<'_> {
         for t in &self.transitions {
             t.print_text();
         }
-        println!(
+        say!(
             "{} values in {:.2} s",
             self.members.len(),
             self.done.elapsed_seconds

@@ -209,7 +209,7 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
 impl Summary for MapSummary<'_> {
     fn print_text(&self) {
         let name = self.parameter;
-        println!(
+        say!(
             "map: {} {name} values × {} {} values, {} initial states per cell, in {:.2} s ({} threads)",
             self.values.points,
             self.x_values.points,
@@ -218,15 +218,17 @@ impl Summary for MapSummary<'_> {
             self.done.elapsed_seconds,
             self.threads
         );
-        println!(
+        say!(
             "  {} of {} cells with two or more stable responses (at most {})",
-            self.coexisting, self.cells, self.most_stable
+            self.coexisting,
+            self.cells,
+            self.most_stable
         );
         if let (Some(lo), Some(hi)) = (self.hidden_subharmonic_min, self.hidden_subharmonic_max) {
-            println!("  hidden subharmonic responses from {name} {lo:.4} to {hi:.4}");
+            say!("  hidden subharmonic responses from {name} {lo:.4} to {hi:.4}");
         }
         for c in &self.curves {
-            println!(
+            say!(
                 "  1:{} {} curve: {} points, ends {} / {}",
                 c.period,
                 c.kind.as_str(),
@@ -235,7 +237,7 @@ impl Summary for MapSummary<'_> {
                 c.ends[1]
             );
             for e in &c.extrema {
-                println!(
+                say!(
                     "    {} of {name}: {:.9} (±{:.0e}) at {} {:.6}",
                     if e.minimum { "minimum" } else { "maximum" },
                     e.point.second,
@@ -246,7 +248,7 @@ impl Summary for MapSummary<'_> {
             }
         }
         for message in &self.cut_messages {
-            println!("  note: {message}");
+            say!("  note: {message}");
         }
         self.done.print_wrote();
     }

@@ -1,5 +1,16 @@
 //! The command line: clap definitions and one module per command.
 
+/// `println!` that does not panic when stdout fails (a full disk behind `> log`): the
+/// command's work goes on and it ends with the error ([`output::print_line`]).
+macro_rules! say {
+    () => {
+        $crate::cli::output::print_line(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::output::print_line(format_args!($($arg)*))
+    };
+}
+
 mod basin;
 mod continue_cmd;
 mod docs;
@@ -189,6 +200,11 @@ fn check_memory(
 }
 
 fn finish(result: anyhow::Result<()>) -> ExitCode {
+    // the work is done (and saved); a summary that could not be printed is still an error
+    let result = result.and_then(|()| match output::stdout_failure() {
+        Some(e) => Err(anyhow::anyhow!("writing the summary to stdout failed: {e}")),
+        None => Ok(()),
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

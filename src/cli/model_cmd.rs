@@ -65,25 +65,28 @@ pub fn run(args: &ModelCmdArgs, out: Output) -> anyhow::Result<()> {
 impl Summary for ModelSummary {
     fn print_text(&self) {
         let (m, ph) = (&self.model, &self.physical);
-        println!("model      λ_p {}  J {}  c̃ {}", m.lambda_p, m.j, m.c_tilde);
-        println!(
+        say!("model      λ_p {}  J {}  c̃ {}", m.lambda_p, m.j, m.c_tilde);
+        say!(
             "drive I    E_a {:.6}  E_b {:.6}  E_c {:.6}  ADR {}",
             m.e_a,
             self.e_b,
             self.e_c,
             m.adr.map_or("-".into(), |a| format!("{a:.4}")),
         );
-        println!(
+        say!(
             "           φ_DC {:.6} ({:.3} kV)  φ_AC {:.6} ({:.3} kV)",
-            m.phi_dc, ph.phi_dc_kv, m.phi_ac, ph.phi_ac_kv
+            m.phi_dc,
+            ph.phi_dc_kv,
+            m.phi_ac,
+            ph.phi_ac_kv
         );
         match self.lambda_i_equilibrium {
-            Some(lambda) => println!(
+            Some(lambda) => say!(
                 "statics    λ_I* {lambda:.10} (Δλ {:+.3e}) under the mean drive",
                 lambda - m.lambda_p
             ),
             None => {
-                println!("statics    no equilibrium: the mean drive pulls the mass onto a frame")
+                say!("statics    no equilibrium: the mean drive pulls the mass onto a frame")
             }
         }
         match (
@@ -93,18 +96,16 @@ impl Summary for ModelSummary {
             ph.omega_parametric_hz,
         ) {
             (Some(w0), Some(w2), Some(hz0), Some(hz2)) => {
-                println!("natural    ω₀ {w0:.8} ({hz0:.3} Hz)");
-                println!(
-                    "parametric 2ω₀ {w2:.8} ({hz2:.3} Hz), the principal parametric resonance"
-                );
+                say!("natural    ω₀ {w0:.8} ({hz0:.3} Hz)");
+                say!("parametric 2ω₀ {w2:.8} ({hz2:.3} Hz), the principal parametric resonance");
             }
-            _ if self.lambda_i_equilibrium.is_some() => println!(
+            _ if self.lambda_i_equilibrium.is_some() => say!(
                 "natural    none: no linear restoring force there (a membrane exactly at loss of \
                  tension, or both slack)"
             ),
             _ => {}
         }
-        println!(
+        say!(
             "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"
         );
     }

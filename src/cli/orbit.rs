@@ -193,13 +193,16 @@ impl Summary for OrbitSummary {
     fn print_text(&self) {
         let (m, s, ph) = (&self.model, &self.steady, &self.physical);
         if let (Some(path), Some(n)) = (self.done.wrote.first(), self.history_samples) {
-            println!("wrote {} ({n} samples)", path.display());
+            say!("wrote {} ({n} samples)", path.display());
         }
-        println!(
+        say!(
             "model      λ_p {}  J {}  c̃ {} ({:.3} N·s/m)",
-            m.lambda_p, m.j, m.c_tilde, ph.damping_n_s_per_m
+            m.lambda_p,
+            m.j,
+            m.c_tilde,
+            ph.damping_n_s_per_m
         );
-        println!(
+        say!(
             "drive I    E_a {:.5}  ADR {}  φ_DC {:.4} ({:.2} kV)  φ_AC {:.4} ({:.2} kV)  peak {:.1} MV/m",
             m.e_a,
             m.adr.map_or("-".into(), |a| format!("{a:.4}")),
@@ -216,31 +219,34 @@ impl Summary for OrbitSummary {
             ph.phi_dc_ii_kv,
             ph.phi_ac_ii_kv,
         ) {
-            println!(
+            say!(
                 "drive II   φ_DC {dc:.4} ({dc_kv:.2} kV)  φ_AC {ac:.4} ({ac_kv:.2} kV)  phase {phase:.3} rad"
             );
         }
-        println!("forcing    ω_e {} ({:.2} Hz)", self.omega, ph.frequency_hz);
-        println!("start      Δλ {}  v {}  at τ = 0", self.x0, self.v0);
-        println!(
+        say!("forcing    ω_e {} ({:.2} Hz)", self.omega, ph.frequency_hz);
+        say!("start      Δλ {}  v {}  at τ = 0", self.x0, self.v0);
+        say!(
             "(physical units for the paper's silicone device: 20 × 200 × 0.1 mm, 50 g, μ 400 kPa)"
         );
-        println!();
+        say!();
         if let (Some(c), Some(seconds)) = (s.collision, ph.collision_seconds) {
-            println!(
+            say!(
                 "collision  the mass reached a frame at τ ≈ {:.3} ({seconds:.4} s), λ_I = {:.4}, after {} forcing periods",
-                c.tau, c.lambda_i, s.transient_periods
+                c.tau,
+                c.lambda_i,
+                s.transient_periods
             );
             return;
         }
         match (s.period, s.ratio) {
-            (Some(k), Some(r)) => println!(
+            (Some(k), Some(r)) => say!(
                 "response   periodic, period {k}: {} (strongest line ω_r:ω_e = {r})",
                 self.response_type
             ),
-            _ => println!(
+            _ => say!(
                 "response   non-periodic (no period up to {} found in {} forcing periods)",
-                self.max_period, self.max_forcing_periods
+                self.max_period,
+                self.max_forcing_periods
             ),
         }
         if let (Some(a), Some(mm), Some(lo), Some(hi), Some(mean)) = (
@@ -250,14 +256,15 @@ impl Summary for OrbitSummary {
             s.lambda_max,
             s.lambda_mean,
         ) {
-            println!("amplitude  {a:.6} ({mm:.3} mm)   λ_I in [{lo:.6}, {hi:.6}], mean {mean:.6}");
+            say!("amplitude  {a:.6} ({mm:.3} mm)   λ_I in [{lo:.6}, {hi:.6}], mean {mean:.6}");
         }
-        println!(
+        say!(
             "transient  {} forcing periods ({:.2} s)",
-            s.transient_periods, ph.transient_seconds
+            s.transient_periods,
+            ph.transient_seconds
         );
         for (i, pt) in s.poincare.iter().enumerate() {
-            println!("poincaré   #{i}  λ_I {:.8}  v {:.8}", pt[0], pt[1]);
+            say!("poincaré   #{i}  λ_I {:.8}  v {:.8}", pt[0], pt[1]);
         }
     }
 }

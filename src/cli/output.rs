@@ -2,10 +2,37 @@
 //! document (`--json`) or nothing (`--quiet`). Each command builds one summary value, the
 //! text and the JSON both come from it, and [`Output::report`] prints one or the other.
 
+use std::io::Write;
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 use isola::model::{Device, Params};
 use serde::Serialize;
+
+/// Why stdout stopped taking lines, once it has.
+static STDOUT_FAILED: OnceLock<String> = OnceLock::new();
+
+/// Prints a line on stdout (the `say!` macro). The first failure (a full disk, a closed
+/// descriptor) is kept and nothing more is printed: the command's work goes on, and it ends
+/// with that error ([`stdout_failure`]) instead of a panic half-way.
+pub fn print_line(line: std::fmt::Arguments) {
+    if STDOUT_FAILED.get().is_some() {
+        return;
+    }
+    let mut out = std::io::stdout().lock();
+    let written = out
+        .write_fmt(line)
+        .and_then(|()| out.write_all(b"\n"))
+        .and_then(|()| out.flush());
+    if let Err(e) = written {
+        let _ = STDOUT_FAILED.set(e.to_string());
+    }
+}
+
+/// The failure that stopped printing, if one did.
+pub fn stdout_failure() -> Option<&'static str> {
+    STDOUT_FAILED.get().map(String::as_str)
+}
 
 /// How a command reports, from the global flags `--json` and `--quiet`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,7 +65,7 @@ impl Output {
     pub fn report(self, summary: &impl Summary) -> anyhow::Result<()> {
         match self {
             Output::Text => summary.print_text(),
-            Output::Json => println!("{}", serde_json::to_string(summary)?),
+            Output::Json => say!("{}", serde_json::to_string(summary)?),
             Output::Quiet => {}
         }
         Ok(())
@@ -108,7 +135,7 @@ impl Done {
     /// Prints `wrote FILE` for each file written.
     pub fn print_wrote(&self) {
         for path in &self.wrote {
-            println!("wrote {}", path.display());
+            say!("wrote {}", path.display());
         }
     }
 }

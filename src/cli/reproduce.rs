@@ -85,7 +85,7 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 
 impl Summary for ReproduceSummary {
     fn print_text(&self) {
-        println!(
+        say!(
             "{} claims of the paper checked ({} mode) in {:.1} s: {} agree, {} differ, {} imprecise",
             self.claims.len(),
             match self.mode {
@@ -97,13 +97,15 @@ impl Summary for ReproduceSummary {
             self.differs,
             self.imprecise
         );
-        println!();
-        println!(
+        say!();
+        say!(
             "{:<22} {:<10} {:>22}  figure",
-            "claim", "verdict", "isola ± precision"
+            "claim",
+            "verdict",
+            "isola ± precision"
         );
         for c in &self.claims {
-            println!(
+            say!(
                 "{:<22} {:<10} {:>22}  {}",
                 c.id,
                 c.verdict.as_str(),
@@ -112,11 +114,11 @@ impl Summary for ReproduceSummary {
             );
         }
         for c in &self.claims {
-            println!();
-            println!("{} [{}] — {}", c.id, c.figure, c.verdict.as_str());
+            say!();
+            say!("{} [{}] — {}", c.id, c.figure, c.verdict.as_str());
             let field = |label: &str, text: &str| {
                 for (i, line) in wrap(text, 84).iter().enumerate() {
-                    println!("  {:<9} {line}", if i == 0 { label } else { "" });
+                    say!("  {:<9} {line}", if i == 0 { label } else { "" });
                 }
             };
             field("paper", c.paper);

@@ -138,7 +138,7 @@ pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
 
 impl Summary for ResponseSummary<'_> {
     fn print_text(&self) {
-        println!(
+        say!(
             "frequency response: {} ω values × {} initial states in {:.2} s ({} threads): {} responses, {} branches",
             self.omega.points,
             self.initial_states,
@@ -147,12 +147,12 @@ impl Summary for ResponseSummary<'_> {
             self.responses,
             self.branches.len()
         );
-        println!(
+        say!(
             "  branch  type                 ω_e range (Hz)                    peak amplitude at ω_e   hidden  response ω_r (Hz)"
         );
         for s in &self.branches {
             let b = s.branch;
-            println!(
+            say!(
                 "  #{:<5}  {:<19}  {:.2}–{:.2} ({:.1}–{:.1} Hz){:>8}  {:.4} at {:.2}{:>10}  {:.1}–{:.1}",
                 b.id,
                 b.response_type,

@@ -307,7 +307,7 @@ struct ConvergenceRun {
 
 impl Summary for ConvergenceRun {
     fn print_text(&self) {
-        println!(
+        say!(
             "{} at twice the resolution ({}; the result: {}) in {:.2} s → {}",
             self.name,
             self.doubled,
@@ -317,7 +317,7 @@ impl Summary for ConvergenceRun {
         );
         match &self.changes {
             Changes::Basin(b) => {
-                println!(
+                say!(
                     "  {} of {} cells changed attractor ({:.4} %); largest amplitude difference {:.2e}",
                     b.changed,
                     b.cells,
@@ -330,7 +330,7 @@ impl Summary for ConvergenceRun {
             Changes::Responses(r) => print_responses("  ", r),
             Changes::Family { members } => {
                 for m in members {
-                    println!("  member {}:", m.value);
+                    say!("  member {}:", m.value);
                     print_responses("    ", &m.changes);
                 }
             }
@@ -341,19 +341,21 @@ impl Summary for ConvergenceRun {
                 print_responses("  ", responses);
                 print_numbers(bifurcations);
             }
-            Changes::Map(m) => println!(
+            Changes::Map(m) => say!(
                 "  {} of {} cells changed their stable responses; largest amplitude difference {:.2e}",
-                m.changed, m.cells, m.largest_amplitude_difference
+                m.changed,
+                m.cells,
+                m.largest_amplitude_difference
             ),
             Changes::Numbers(n) => print_numbers(n),
-            Changes::Nothing => println!("  nothing is integrated"),
+            Changes::Nothing => say!("  nothing is integrated"),
         }
     }
 }
 
 fn print_seen(what: &str, seen: &[convergence::Seen]) {
     if seen.is_empty() {
-        println!("{what}: none");
+        say!("{what}: none");
         return;
     }
     let items: Vec<String> = seen
@@ -366,11 +368,11 @@ fn print_seen(what: &str, seen: &[convergence::Seen]) {
             format!("{}{at}{amplitude}", s.response_type)
         })
         .collect();
-    println!("{what}: {}", items.join("; "));
+    say!("{what}: {}", items.join("; "));
 }
 
 fn print_responses(indent: &str, r: &convergence::ResponseChanges) {
-    println!(
+    say!(
         "{indent}{} responses and {} other outcomes: {} gained, {} lost; largest amplitude \
          difference {:.2e}",
         r.responses,
@@ -381,15 +383,19 @@ fn print_responses(indent: &str, r: &convergence::ResponseChanges) {
     );
     print_seen(&format!("{indent}responses gained"), &r.gained);
     print_seen(&format!("{indent}responses lost"), &r.lost);
-    println!(
+    say!(
         "{indent}{} branches, {} with edges moved",
         r.branches,
         r.edges_moved.len()
     );
     for e in &r.edges_moved {
-        println!(
+        say!(
             "{indent}  {}: ω {}–{} → {}–{}",
-            e.response_type, e.omega_min[0], e.omega_max[0], e.omega_min[1], e.omega_max[1]
+            e.response_type,
+            e.omega_min[0],
+            e.omega_max[0],
+            e.omega_min[1],
+            e.omega_max[1]
         );
     }
     print_seen(&format!("{indent}branches gained"), &r.branches_gained);
@@ -397,9 +403,12 @@ fn print_responses(indent: &str, r: &convergence::ResponseChanges) {
 }
 
 fn print_numbers(n: &convergence::NumberChanges) {
-    println!(
+    say!(
         "  largest difference of {}: {:.2e} ({} compared, {} in one run only)",
-        n.of, n.largest_difference, n.compared, n.unmatched
+        n.of,
+        n.largest_difference,
+        n.compared,
+        n.unmatched
     );
 }
 
@@ -407,14 +416,14 @@ impl Summary for AnalysisRun {
     fn print_text(&self) {
         let (name, csv) = (&self.name, self.csv.display());
         match self.outcome {
-            RunOutcome::UpToDate => println!("{name}: up to date ({csv})"),
+            RunOutcome::UpToDate => say!("{name}: up to date ({csv})"),
             RunOutcome::Completed {
                 chunks_computed,
                 compute_seconds,
                 assembled_here,
                 ref notes,
             } => {
-                println!(
+                say!(
                     "{name}: done in {:.2} s ({chunks_computed} chunks computed now, {compute_seconds:.2} s in all; {}) → {csv}",
                     self.seconds,
                     if assembled_here {
@@ -424,21 +433,22 @@ impl Summary for AnalysisRun {
                     },
                 );
                 for note in notes {
-                    println!("  note: {note}");
+                    say!("  note: {note}");
                 }
             }
             RunOutcome::ShardDone {
                 chunks_computed,
                 missing,
-            } if self.shard == Shard::ALL => println!(
+            } if self.shard == Shard::ALL => say!(
                 "{name}: this run computed {chunks_computed} chunks; {missing} chunks still missing (other runs have them)"
             ),
             RunOutcome::ShardDone {
                 chunks_computed,
                 missing,
-            } => println!(
+            } => say!(
                 "{name}: shard {}/{} computed {chunks_computed} chunks; {missing} chunks still missing",
-                self.shard.index, self.shard.count
+                self.shard.index,
+                self.shard.count
             ),
         }
     }
@@ -447,7 +457,7 @@ impl Summary for AnalysisRun {
 impl Summary for RunSummary {
     /// The analyses were shown as each finished.
     fn print_text(&self) {
-        println!("session done in {:.2} s", self.done.elapsed_seconds);
+        say!("session done in {:.2} s", self.done.elapsed_seconds);
     }
 }
 
@@ -588,7 +598,7 @@ pub fn export(args: &ExportArgs, out: Output) -> anyhow::Result<()> {
 
 impl Summary for ExportSummary<'_> {
     fn print_text(&self) {
-        println!(
+        say!(
             "wrote {} rows of {} to {}",
             self.rows,
             self.analysis,

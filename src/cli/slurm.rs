@@ -275,18 +275,20 @@ impl Summary for SlurmSummary {
     fn print_text(&self) {
         self.done.print_wrote();
         match &self.submitted {
-            None => println!(
+            None => say!(
                 "submit with:\n  jobid=$(sbatch --parsable {})\n  sbatch --dependency=afterany:$jobid {}\nwatch with:\n  isola status {}",
                 shell_word(&self.work_script),
                 shell_word(&self.assemble_script),
                 shell_word(&self.session)
             ),
             Some(jobs) => {
-                println!(
+                say!(
                     "submitted job array {} ({} tasks) and assembly job {}",
-                    jobs.array_job, self.tasks, jobs.assembly_job
+                    jobs.array_job,
+                    self.tasks,
+                    jobs.assembly_job
                 );
-                println!("watch with: isola status {}", shell_word(&self.session));
+                say!("watch with: isola status {}", shell_word(&self.session));
             }
         }
     }

@@ -111,7 +111,7 @@ impl Chunks {
 
     /// Prints the chunks' lines of the text summary.
     fn print_text(&self) {
-        println!(
+        say!(
             "  chunks: {} of {} done, {} claimed, {} missing{}",
             self.done,
             self.total,
@@ -126,21 +126,28 @@ impl Chunks {
         if self.hosts.is_empty() {
             return;
         }
-        println!(
+        say!(
             "  {:<24} {:>6} {:>8} {:>11} {:>9}",
-            "host", "done", "claimed", "chunks/min", "s/chunk"
+            "host",
+            "done",
+            "claimed",
+            "chunks/min",
+            "s/chunk"
         );
         for h in &self.hosts {
             let per_chunk = h
                 .seconds_per_chunk
                 .map_or("-".into(), |s| format!("{s:.2}"));
-            println!(
+            say!(
                 "  {:<24} {:>6} {:>8} {:>11.1} {per_chunk:>9}",
-                h.host, h.done, h.claimed, h.chunks_per_minute
+                h.host,
+                h.done,
+                h.claimed,
+                h.chunks_per_minute
             );
         }
         if let (Some(left), Some(rate)) = (self.seconds_left, self.chunks_per_minute) {
-            println!("  at {rate:.1} chunks/min: about {left:.0} s to go");
+            say!("  at {rate:.1} chunks/min: about {left:.0} s to go");
         }
     }
 }
@@ -209,7 +216,7 @@ impl Summary for StatusSummary<'_> {
                 }
                 Stored::Missing { reason } => format!("none ({reason})"),
             };
-            println!("{} ({}): result {result}", a.name, a.kind);
+            say!("{} ({}): result {result}", a.name, a.kind);
             if let Some(chunks) = &a.chunks {
                 chunks.print_text();
             }

@@ -250,13 +250,13 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
 
 impl Summary for SteppedSummary<'_> {
     fn print_text(&self) {
-        println!(
+        say!(
             "stepped sweep, {} steps in {:.2} s",
             self.steps.len(),
             self.done.elapsed_seconds
         );
         for s in &self.steps {
-            println!(
+            say!(
                 "  ω_e {:.3} ({:.2} Hz)  {:<18} amplitude {}",
                 s.omega,
                 s.frequency_hz,
@@ -265,9 +265,9 @@ impl Summary for SteppedSummary<'_> {
             );
         }
         let amplitude = |a: Option<f64>| a.map_or("-".into(), |a| format!("{a:.5}"));
-        println!("jumps between steps: {}", self.jumps.len());
+        say!("jumps between steps: {}", self.jumps.len());
         for j in self.jumps {
-            println!(
+            say!(
                 "  {} ω_e {:.3} → {:.3}: {} {} → {} {}",
                 j.direction.map_or("type", |d| d.as_str()),
                 j.omega_before,
@@ -278,11 +278,14 @@ impl Summary for SteppedSummary<'_> {
                 amplitude(j.amplitude_after)
             );
         }
-        println!("peak amplitude per response type:");
+        say!("peak amplitude per response type:");
         for p in self.peaks {
-            println!(
+            say!(
                 "  {:<18} {:.5} at ω_e {:.3} ({} steps)",
-                p.response_type, p.peak_amplitude, p.peak_omega, p.steps
+                p.response_type,
+                p.peak_amplitude,
+                p.peak_omega,
+                p.steps
             );
         }
         self.done.print_wrote();
@@ -291,7 +294,7 @@ impl Summary for SteppedSummary<'_> {
 
 impl Summary for ChirpSummary {
     fn print_text(&self) {
-        println!(
+        say!(
             "chirp ω_e {} → {} over τ = {} ({:.1} s): {} samples in {:.2} s{}",
             self.omega_start,
             self.omega_end,
@@ -305,17 +308,20 @@ impl Summary for ChirpSummary {
                     ", hit a frame at τ = {t:.1} (ω_e {w:.3})"
                 ))
         );
-        println!(
+        say!(
             "  largest envelope {:.4} at ω_e {:.3}; λ_I from {:.4} to {:.4}",
-            self.largest_envelope, self.largest_envelope_omega, self.lambda_min, self.lambda_max
+            self.largest_envelope,
+            self.largest_envelope_omega,
+            self.lambda_min,
+            self.lambda_max
         );
-        println!(
+        say!(
             "  jumps of the envelope (×{} or more): {}",
             self.jump_ratio,
             self.jumps.len()
         );
         for j in &self.jumps {
-            println!(
+            say!(
                 "  {:<4} at ω_e {:.3} ({:.2} Hz), τ {:.0} ({:.2} s): envelope {:.4} → {:.4}",
                 j.direction.as_str(),
                 j.omega,

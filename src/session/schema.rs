@@ -1017,7 +1017,7 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
         Settings::Continuation(s) => {
             start(s.dx0, s.v0)?;
             s.steady.validate().map_err(|e| e.within("steady"))?;
-            on_model!(|m| s.continuation.validate(m)).map_err(|e| e.within("continuation"))
+            on_model!(|m| s.continuation.validate_from(m)).map_err(|e| e.within("continuation"))
         }
         Settings::Hunt(s) => {
             on_model!(|m| s.validate(m))?;

@@ -645,3 +645,42 @@ fn hunt_over_a_parameter_writes_where_the_isola_vanishes() {
     );
     assert_eq!(cell(&rows[0], "lambda_p_from"), "1.04");
 }
+
+/// A stdout that fails (`> log` on a full disk: `/dev/full`) ends the command with an error
+/// naming it, after the work: every analysis of the session is computed and stored, none is
+/// lost to a panic half-way through its summaries.
+#[test]
+fn a_full_stdout_is_an_error_after_the_work() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        eprintln!("skipped: this system has no /dev/full");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.toml");
+    let force = "[[analysis]]\nname = \"NAME\"\nkind = \"force_curve\"\n[analysis.settings]\nlambda_p = [1.0, 1.02]\npoints = 5\n";
+    let text = format!(
+        "schema = 1\n{}{}",
+        force.replace("NAME", "first"),
+        force.replace("NAME", "second")
+    );
+    std::fs::write(&session, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_isola"))
+        .arg("run")
+        .arg(&session)
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("writing the summary to stdout failed") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+    let status = isola(&["status", session.to_str().unwrap()]);
+    let status = String::from_utf8_lossy(&status.stdout);
+    assert_eq!(
+        status.matches("result complete, verified").count(),
+        2,
+        "{status}"
+    );
+}

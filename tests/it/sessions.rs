@@ -241,6 +241,30 @@ capture = 1e400",
     assert!(e.contains("schema = 2"), "{e}");
     let e = error_of(&good.replace("adr = 0.6", "omega = 3.7\nfrequency_hz = 50"));
     assert!(e.contains("omega") && e.contains("one form only"), "{e}");
+    // a continuation starts at the model's ω_e: a range without it is refused, as is a step
+    // too small to move the parameter past rounding
+    let branch = "schema = 1\n[model]\nomega = 3.7\n[[analysis]]\nname = \"c\"\nkind = \"continuation\"\n[analysis.settings]\ndx0 = 0.3\n[analysis.settings.continuation]\nmin = 3.0\nmax = 4.0\n";
+    assert!(Session::parse(Path::new("t.toml"), branch).is_ok());
+    let e = error_of(
+        &branch
+            .replace("min = 3.0", "min = 4.0\nmax = 6.0")
+            .replace("max = 4.0\n", ""),
+    );
+    assert!(
+        e.contains("continuation.min = 4")
+            && e.contains("<= 3.7, the omega the branch starts from"),
+        "{e}"
+    );
+    let e = error_of(&branch.replace("max = 4.0", "max = 3.5"));
+    assert!(
+        e.contains("continuation.max = 3.5") && e.contains(">= 3.7"),
+        "{e}"
+    );
+    let e = error_of(&branch.replace("max = 4.0", "max = 4.0\nstep_min = 1e-14\nstep = 1e-14"));
+    assert!(
+        e.contains("step_min = 1e-14") && e.contains("[1e-12, step_max"),
+        "{e}"
+    );
 }
 
 /// Physical units in the model table: Hz and kV are converted with the device.

@@ -74,7 +74,32 @@ impl ContinuationSpec {
         check_steps([self.step, self.step_min, self.step_max], self.max_points)?;
         self.shooting.validate().map_err(|e| e.within("shooting"))
     }
+
+    /// [`Self::validate`] for a branch that starts at `base` itself: its parameter's value
+    /// there must lie in [min, max], or the branch never enters its range.
+    pub fn validate_from<M: Continuable>(&self, base: &M) -> Result<(), ParamError> {
+        self.validate(base)?;
+        let start = base.value_of(base.resolve(self.parameter)?);
+        let name = self.parameter.name();
+        check(
+            "min",
+            self.min,
+            |m| m <= start,
+            format!("<= {start}, the {name} the branch starts from"),
+        )?;
+        check(
+            "max",
+            self.max,
+            |m| m >= start,
+            format!(">= {start}, the {name} the branch starts from"),
+        )?;
+        Ok(())
+    }
 }
+
+/// The smallest arclength step a continuation may take: below it a step moves the parameter
+/// by rounding alone (a branch of 1e-14 steps stood still and was called closed).
+const MIN_STEP: f64 = 1e-12;
 
 /// Checks a continuation's arclength steps [step, step_min, step_max] and its point limit.
 pub(crate) fn check_steps(
@@ -85,8 +110,8 @@ pub(crate) fn check_steps(
     check(
         "step_min",
         step_min,
-        |s| s > 0.0 && s < step_max,
-        format!("(0, step_max = {step_max})"),
+        |s| s >= MIN_STEP && s < step_max,
+        format!("[{MIN_STEP:e}, step_max = {step_max})"),
     )?;
     check(
         "step",

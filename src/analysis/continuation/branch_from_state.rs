@@ -30,7 +30,7 @@ pub fn branch_from_state<M: Continuable>(
     progress: &Progress,
 ) -> Result<ContinuedBranch, AnalysisError> {
     spec.steady.validate()?;
-    spec.continuation.validate(params)?;
+    spec.continuation.validate_from(params)?;
     let seed = params.steady_state(params.grid_start([spec.dx0, spec.v0]), &spec.steady)?;
     let k = seed.period.ok_or_else(|| AnalysisError::NoPeriodicSeed {
         dx0: spec.dx0,
