@@ -322,7 +322,7 @@ pub fn run_analysis_as(
     match store::verified(&paths) {
         Ok(m) if m.fingerprint == fingerprint => {
             tracing::info!(analysis = %entry.name, "up to date");
-            store::remove_unused_work(&paths);
+            store::remove_unused_work(&paths, &fingerprint);
             return Ok(Outcome::UpToDate);
         }
         Ok(m) => tracing::info!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint,

@@ -213,6 +213,29 @@ fn damaged_foreign_copied_and_recut_chunks_are_recomputed() {
     assert!(!work.exists(), "work folder kept after completion");
 }
 
+/// Half the chunks of settings A, then settings B run to completion, then A again: A's saved
+/// chunks were kept beside B's result (only B's own work folder went), so A computes only the
+/// half it had not, and gives the uninterrupted run's bytes.
+#[test]
+fn chunks_of_other_settings_survive_another_result() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let (_dir, session) = session_dir(BASIN);
+    run_ok(&session, &["--shard", "0/2"]);
+    let work_a = work_dir(&session, "basin");
+    std::fs::write(&session, BASIN.replace("c_tilde = 0.08", "c_tilde = 0.1")).unwrap();
+    let work_b = work_dir(&session, "basin");
+    run_ok(&session, &[]);
+    assert!(!work_b.exists(), "B's work is in its result");
+    assert!(
+        work_a.exists(),
+        "A's saved chunks were removed with B's work"
+    );
+    std::fs::write(&session, BASIN).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+}
+
 /// Chunks of the other shard survive damage to a few of this shard's: nothing finished is
 /// lost when one chunk is bad.
 #[test]

@@ -302,7 +302,7 @@ impl Work {
     }
 
     /// Leaves the work; if the result of this fingerprint is now complete, removes the work
-    /// folders that no run uses any more (this one's, and those of other settings).
+    /// folders that no run uses any more ([`remove_unused_work`]).
     pub fn retire(self) {
         let Work {
             paths,
@@ -312,45 +312,82 @@ impl Work {
         } = self;
         drop(_active);
         if is_current(&paths, &fingerprint) {
-            remove_unused_work(&paths);
+            remove_unused_work(&paths, &fingerprint);
         }
     }
 }
 
-/// Removes every work folder under `A.chunks/` that no run has joined (and old-format chunks).
-pub fn remove_unused_work(paths: &ResultPaths) {
+/// Work folders of other settings kept beside a complete result: an interrupted run of
+/// settings since changed resumes when they come back (an undo, a comparison), and the
+/// folder of settings long left does not stay for ever.
+const KEEP_OTHER_SETTINGS: usize = 4;
+
+/// Once the result of `current` is complete: removes its work folder (its work is in the
+/// result), all but the [`KEEP_OTHER_SETTINGS`] most recently written of the other settings'
+/// (and old-format chunks), each only if no run has joined it.
+pub fn remove_unused_work(paths: &ResultPaths, current: &str) {
     let Ok(entries) = std::fs::read_dir(&paths.chunks) else {
         return;
     };
+    let mut others: Vec<(std::time::SystemTime, PathBuf)> = Vec::new();
     for entry in entries.flatten() {
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().into_owned();
         if !path.is_dir() {
             // chunks of the unchecked format of earlier builds
             let _ = std::fs::remove_file(&path);
-            continue;
+        } else if name.starts_with(".trash-") || name == current {
+            remove_work_folder(paths, &path);
+        } else {
+            let written = newest_write(&path);
+            others.push((written, path));
         }
-        if name.starts_with(".trash-") {
-            let _ = std::fs::remove_dir_all(&path);
-            continue;
-        }
-        let Ok(Some(_unused)) = Lock::try_acquire(&path.join("active.lock"), Mode::Exclusive)
-        else {
-            continue;
-        };
-        // moved away first: a run that joins now sees the folder gone and makes a new one
-        let Ok(trash) = tempfile::Builder::new()
-            .prefix(".trash-")
-            .tempdir_in(&paths.chunks)
-        else {
-            continue;
-        };
-        if std::fs::rename(&path, trash.path().join(&name)).is_ok() {
-            tracing::debug!(folder = %path.display(), "work folder removed");
-        }
-        drop(trash); // removes what was moved into it
+    }
+    others.sort_by_key(|(written, _)| std::cmp::Reverse(*written));
+    for (_, path) in others.iter().skip(KEEP_OTHER_SETTINGS) {
+        remove_work_folder(paths, path);
     }
     let _ = std::fs::remove_dir(&paths.chunks); // only if empty
+}
+
+/// When anything in work folder `dir` was last written.
+fn newest_write(dir: &Path) -> std::time::SystemTime {
+    let modified = |m: std::fs::Metadata| m.modified().ok();
+    let folder = std::fs::metadata(dir).ok().and_then(modified);
+    let files = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|e| e.metadata().ok().and_then(modified));
+    folder
+        .into_iter()
+        .chain(files)
+        .max()
+        .unwrap_or(std::time::UNIX_EPOCH)
+}
+
+/// Removes work folder `path` unless a run has joined it (a trash folder: whatever it holds).
+fn remove_work_folder(paths: &ResultPaths, path: &Path) {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    let Some(name) = name else { return };
+    if name.starts_with(".trash-") {
+        let _ = std::fs::remove_dir_all(path);
+        return;
+    }
+    let Ok(Some(_unused)) = Lock::try_acquire(&path.join("active.lock"), Mode::Exclusive) else {
+        return;
+    };
+    // moved away first: a run that joins now sees the folder gone and makes a new one
+    let Ok(trash) = tempfile::Builder::new()
+        .prefix(".trash-")
+        .tempdir_in(&paths.chunks)
+    else {
+        return;
+    };
+    if std::fs::rename(path, trash.path().join(&name)).is_ok() {
+        tracing::debug!(folder = %path.display(), "work folder removed");
+    }
+    drop(trash); // removes what was moved into it
 }
 
 /// Polls `attempt` every 20 ms until it gives a lock or `cancelled` says stop.
