@@ -201,9 +201,7 @@ pub fn run(args: &SlurmArgs, output: Output) -> anyhow::Result<()> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let out = session_path
-        .with_file_name(format!("{name}.results"))
-        .join("slurm");
+    let out = isola::session::schema::results_dir_of(&session_path).join("slurm");
     std::fs::create_dir_all(&out).map_err(|e| anyhow::anyhow!("{}: {e}", out.display()))?;
     let mut run_args = quoted(&session_path.to_string_lossy());
     if let Some(only) = &args.only {

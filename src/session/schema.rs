@@ -944,13 +944,20 @@ impl Session {
 
     /// Where the results of this session live: `NAME.results/` beside the file.
     pub fn results_dir(&self) -> PathBuf {
-        let stem = self
-            .path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        self.path.with_file_name(format!("{stem}.results"))
+        results_dir_of(&self.path)
     }
+}
+
+/// The results folder of the session file at `path`: `NAME.results` beside `NAME.toml`, and
+/// for a file of another name its whole name's (`s.toml~.results`, `s.bak.results`), so that
+/// an editor's backup or a copy never shares the session's results.
+pub fn results_dir_of(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.strip_suffix(".toml").unwrap_or(&name);
+    path.with_file_name(format!("{stem}.results"))
 }
 
 /// An analysis' settings checked by the analysis' own rules, so a session fails at load time

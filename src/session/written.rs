@@ -118,13 +118,14 @@ impl WrittenModel {
     ) -> serde_json::Value {
         use crate::session::schema::ModelUse;
         let frequency = &self.model.parameters()[self.model.frequency()].name;
-        let mut values: BTreeMap<&str, f64> = self
+        let all: BTreeMap<&str, f64> = self
             .model
             .parameters()
             .iter()
             .zip(self.values(overrides))
             .map(|(p, v)| (p.name.as_str(), v))
             .collect();
+        let mut values = all.clone();
         match used {
             ModelUse::All => {}
             ModelUse::AllBut(keys) => {
@@ -138,8 +139,18 @@ impl WrittenModel {
             }
             ModelUse::Nothing => values.clear(),
         }
+        // the values as written of the parameters left out go too: the analysis sets them
+        let mut equations = serde_json::json!(self.definition);
+        for name in all.keys().filter(|name| !values.contains_key(*name)) {
+            if let Some(p) = equations["parameters"].get_mut(*name) {
+                match p.as_object_mut() {
+                    Some(full) => drop(full.remove("value")),
+                    None => *p = serde_json::Value::Null,
+                }
+            }
+        }
         serde_json::json!({
-            "equations": self.definition,
+            "equations": equations,
             "values": values,
             "numerics": crate::model::equations::NUMERICS_VERSION,
         })

@@ -447,6 +447,31 @@ fn a_written_models_numerics_version_is_part_of_its_fingerprint() {
     assert!(input["model"].get("numerics").is_none(), "{input}");
 }
 
+/// A written model's frequency response does not read the frequency parameter's value as
+/// written (its grid sets it): an edit of that value keeps its fingerprint, and a time
+/// history's (which reads it) changes. So does an edit of a value it reads.
+#[test]
+fn an_edit_of_a_written_frequencys_value_keeps_its_response_current() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_paper.toml"
+    ))
+    .unwrap();
+    let history = "\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"\n";
+    let before = Session::parse(Path::new("s.toml"), &format!("{text}{history}")).unwrap();
+    let edit = |from: &str, to: &str| {
+        let edited = text.replacen(from, to, 1);
+        assert_ne!(edited, text, "{from}");
+        Session::parse(Path::new("s.toml"), &format!("{edited}{history}")).unwrap()
+    };
+    let print = |s: &Session, name: &str| s.fingerprint(s.analysis(name).unwrap());
+    let omega = edit("omega = { value = 1.8,", "omega = { value = 2.5,");
+    assert_eq!(print(&before, "response"), print(&omega, "response"));
+    assert_ne!(print(&before, "h"), print(&omega, "h"));
+    let damping = edit("c = { value = 0.04,", "c = { value = 0.05,");
+    assert_ne!(print(&before, "response"), print(&damping, "response"));
+}
+
 /// Two runs of one session started together, six times: each chunk is computed once, one run
 /// assembles, both end "done" with the uninterrupted run's CSV.
 #[test]

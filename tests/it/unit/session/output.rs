@@ -72,3 +72,24 @@ fn session_and_results_are_protected() {
     assert!(check_target(&dir.path().join("out.csv"), &p).is_ok());
     assert_eq!(std::fs::read_to_string(&session).unwrap(), "schema = 1\n");
 }
+
+/// A session's results folder is named after its whole file name but `.toml`: an editor's
+/// backup, a copy or a file without the extension never shares the session's results.
+#[test]
+fn every_session_file_has_a_results_folder_of_its_own() {
+    use isola::session::schema::results_dir_of;
+    for (file, results) in [
+        ("/d/s.toml", "/d/s.results"),
+        ("/d/s.toml~", "/d/s.toml~.results"),
+        ("/d/s.bak", "/d/s.bak.results"),
+        ("/d/s.TOML", "/d/s.TOML.results"),
+        ("/d/s", "/d/s.results"),
+        ("/d/fig.06a.toml", "/d/fig.06a.results"),
+    ] {
+        assert_eq!(
+            results_dir_of(Path::new(file)),
+            Path::new(results),
+            "{file}"
+        );
+    }
+}
