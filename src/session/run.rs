@@ -338,6 +338,7 @@ pub fn run_analysis_as(
         progress,
         work: &work,
         chunks: chunk_count(&entry.settings),
+        as_on_disk: on_disk(session, &entry.name).as_ref() == Some(&fingerprint),
     };
     let outcome = run.run();
     work.retire();
@@ -357,6 +358,16 @@ struct Run<'a> {
     progress: &'a Progress,
     work: &'a Work,
     chunks: usize,
+    /// Whether it computes the analysis as the session file on disk had it at the start (a
+    /// headless run); not a workbench's edits not saved yet.
+    as_on_disk: bool,
+}
+
+/// The fingerprint of analysis `name` as the session file of `session` on disk has it now.
+fn on_disk(session: &Session, name: &str) -> Option<String> {
+    let on_disk = Session::load(&session.path).ok()?;
+    let entry = on_disk.analysis(name)?;
+    Some(on_disk.fingerprint(entry))
 }
 
 /// The chunks of a result in index order, read as they are taken; an error names a chunk
@@ -850,8 +861,14 @@ impl Run<'_> {
             assembled_unix: unix_now(),
             files: Vec::new(),
         };
+        // a run of the session file keeps a result of the file's settings now (edited during
+        // the run, and computed since); a workbench's run is of the settings it shows
+        let now = || match self.as_on_disk {
+            true => on_disk(self.session, &entry.name),
+            false => None,
+        };
         self.work
-            .commit(&output_files(&entry.settings, staged_csv), manifest)
+            .commit(&output_files(&entry.settings, staged_csv), manifest, &now)
     }
 }
 

@@ -236,6 +236,42 @@ fn chunks_of_other_settings_survive_another_result() {
     assert!(result_files(&session, &BASIN_FILES) == expected);
 }
 
+/// A run of the session file started before an edit, ending after a run of the edited file
+/// completed: it does not replace the current result with its stale one (it says it did not
+/// store it), and the current result stays complete.
+#[test]
+fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
+    let (_dir, session) = session_dir(&BASIN.replace("points = 64", "points = 160"));
+    let mut old = isola()
+        .arg("run")
+        .arg(&session)
+        .args(["--threads", "1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let edited = BASIN.replace("points = 64", "points = 24");
+    std::fs::write(&session, &edited).unwrap();
+    run_ok(&session, &[]);
+    assert!(
+        old.try_wait().unwrap().is_none(),
+        "the old run ended before the edited one: nothing tested"
+    );
+    let current = std::fs::read(session.with_file_name("s.results/basin.csv")).unwrap();
+    let old = old.wait_with_output().unwrap();
+    assert_eq!(old.status.code(), Some(1), "{}", text(&old));
+    assert!(
+        String::from_utf8_lossy(&old.stderr).contains("not stored: the session was edited"),
+        "{}",
+        text(&old)
+    );
+    let status = isola().arg("status").arg(&session).output().unwrap();
+    let status = String::from_utf8_lossy(&status.stdout).into_owned();
+    assert!(status.contains("result complete, verified"), "{status}");
+    assert!(std::fs::read(session.with_file_name("s.results/basin.csv")).unwrap() == current);
+}
+
 /// Chunks of the other shard survive damage to a few of this shard's: nothing finished is
 /// lost when one chunk is bad.
 #[test]

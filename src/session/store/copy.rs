@@ -43,7 +43,7 @@ pub fn copy_result(from: &ResultPaths, to: &ResultPaths) -> anyhow::Result<bool>
         Err(Unverified::Missing) => return Ok(false),
         Err(why) => anyhow::bail!("{}: not copied: {why}", from.csv.display()),
     };
-    work.commit(&files, manifest)?;
+    work.commit(&files, manifest, &|| None)?;
     work.retire();
     Ok(true)
 }

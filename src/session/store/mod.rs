@@ -252,8 +252,15 @@ impl Work {
 
     /// Moves the staged `files` into the results folder and writes the manifest last, under
     /// the result's exclusive lock; returns the manifest. The files are checksummed in
-    /// staging and checked again in place before the manifest says "complete".
-    pub fn commit(&self, files: &[PathBuf], manifest: Manifest) -> anyhow::Result<Manifest> {
+    /// staging and checked again in place before the manifest says "complete". A stored
+    /// result of other settings that `current` says the session now wants (edited while this
+    /// ran, and computed since) is kept: an error says this result was not stored.
+    pub fn commit(
+        &self,
+        files: &[PathBuf],
+        manifest: Manifest,
+        current: &dyn Fn() -> Option<String>,
+    ) -> anyhow::Result<Manifest> {
         let mut manifest = manifest;
         manifest.files = files
             .iter()
@@ -262,6 +269,16 @@ impl Work {
         let dir = &self.paths.dir;
         let _write = Lock::acquire(&self.paths.lock, Mode::Exclusive)?;
         let previous = Manifest::read(&self.paths.manifest).ok();
+        if let Some(old) = &previous
+            && old.fingerprint != manifest.fingerprint
+            && current().as_ref() == Some(&old.fingerprint)
+        {
+            anyhow::bail!(
+                "not stored: the session was edited while this ran, and the result of its \
+                 settings now is complete already (the one computed here is of the settings \
+                 before)"
+            );
+        }
         // the manifest goes first, so no old manifest vouches for half-replaced files
         match std::fs::remove_file(&self.paths.manifest) {
             Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
