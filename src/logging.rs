@@ -9,7 +9,8 @@ use anyhow::Context;
 /// this build and the instruction set its hot loops run on.
 pub fn log_to(path: &Path) -> anyhow::Result<()> {
     if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("results folder {}", dir.display()))?;
     }
     let file = std::fs::OpenOptions::new()
         .create(true)

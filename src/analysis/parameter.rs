@@ -79,9 +79,9 @@ impl FamilyParameter {
     pub fn parse(s: &str) -> Option<Self> {
         Some(match s {
             "adr" => FamilyParameter::Adr,
-            "e_a" | "ea" => FamilyParameter::EA,
-            "c_tilde" | "damping" => FamilyParameter::CTilde,
-            "lambda_p" | "lambda-p" => FamilyParameter::LambdaP,
+            "e_a" => FamilyParameter::EA,
+            "c_tilde" => FamilyParameter::CTilde,
+            "lambda_p" => FamilyParameter::LambdaP,
             "j" => FamilyParameter::J,
             _ => FamilyParameter::Named(Name::new(s)?),
         })
@@ -162,7 +162,7 @@ impl ContinuationParameter {
     /// or a written model's parameter).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
-            "omega" | "w" => Some(ContinuationParameter::Omega),
+            "omega" => Some(ContinuationParameter::Omega),
             _ => FamilyParameter::parse(s).map(ContinuationParameter::Model),
         }
     }

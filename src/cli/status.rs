@@ -95,7 +95,9 @@ impl Chunks {
             missing: s.missing(),
             damaged: s.bad.len(),
             chunks_per_minute: (!hosts.is_empty()).then(|| HostWork::total_per_minute(&hosts)),
-            seconds_left: s.seconds_left(&hosts).filter(|_| s.missing() > 0),
+            // a time to go only while some run computes (claims chunks)
+            seconds_left: (s.seconds_left(&hosts))
+                .filter(|_| s.missing() > 0 && !s.claimed.is_empty()),
             hosts: hosts
                 .into_iter()
                 .map(|h| Host {
@@ -148,6 +150,8 @@ impl Chunks {
         }
         if let (Some(left), Some(rate)) = (self.seconds_left, self.chunks_per_minute) {
             say!("  at {rate:.1} chunks/min: about {left:.0} s to go");
+        } else if self.missing > 0 && self.claimed == 0 {
+            say!("  nothing computing it now: isola run resumes it");
         }
     }
 }

@@ -681,6 +681,29 @@ fn a_written_model_gets_clear_errors() {
         let e = error_of(&text);
         assert!(e.contains(want), "{from} → {to}: {e}");
     }
+    // a parameter is the model's own by its name: `w` or `damping` is no other name for
+    // the forcing frequency or the built-in model's damping
+    for name in ["w", "damping", "ea"] {
+        let text = good
+            .replace("k = { value = 2,", &format!("{name} = 1.0\nk = {{ value = 2,"))
+            .replace(
+                "kind = \"time_history\"",
+                &format!(
+                    "kind = \"continuation\"\n[analysis.settings.continuation]\nparameter = \"{name}\"\nmin = 0.5\nmax = 1.5"
+                ),
+            );
+        let s = Session::parse(Path::new("t.toml"), &text).unwrap();
+        let Settings::Continuation(spec) = &s.analyses[0].settings else {
+            panic!("a continuation");
+        };
+        assert_eq!(spec.continuation.parameter.name(), name);
+        let Ok(isola::session::written::ModelPoint::Written(sys)) = s.point(None) else {
+            panic!("a written model");
+        };
+        use isola::analysis::Oscillator;
+        let resolved = sys.resolve(spec.continuation.parameter).unwrap();
+        assert_eq!(Some(resolved), sys.model().parameter(name), "{name}");
+    }
     // an override out of range names the parameter, its value as written and its range
     let e = error_of(&good.replace(
         "kind = \"time_history\"",

@@ -974,6 +974,11 @@ fn status_shows_the_work_by_host_and_verifies() {
         text_out.contains("4 of 8 done, 0 claimed, 4 missing"),
         "{text_out}"
     );
+    // nothing computes it: no time to go, but how to go on
+    assert!(
+        !text_out.contains("to go") && text_out.contains("nothing computing it now"),
+        "{text_out}"
+    );
     let host = isola::session::store::lock::host_name();
     assert!(
         text_out

@@ -104,16 +104,22 @@ pub(crate) fn not_finite(
         .state_names()
         .iter()
         .zip(state)
-        .map(|(name, v)| format!("{name} = {v}"))
+        .map(|(name, &v)| match v.abs() {
+            // a state running away reads as 1.2e150, not as 150 digits
+            a if a >= 1e9 => format!("{name} = {v:e}"),
+            _ => format!("{name} = {v}"),
+        })
         .collect::<Vec<_>>()
         .join(", ");
     AnalysisError::NotFinite {
         tau,
         state,
         expression: expression.clone().unwrap_or_else(|| {
-            // every named value is finite there: the next step overflowed
-            "every expression is finite there, the step from it overflowed (a state running \
-             away: a collision condition can end a trajectory where the model stops holding)"
+            // every named value is finite there: a stage of the next step is not
+            "every expression is finite there, but not at a stage of the step from it: the \
+             state left an expression's domain within one step (sqrt or ln of a negative, a \
+             division by zero) or ran away; a finer resolution, or a collision condition \
+             ending the trajectory where the model stops holding, can help"
                 .into()
         }),
     }
