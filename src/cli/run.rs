@@ -150,12 +150,16 @@ enum RunOutcome {
         chunks_computed: usize,
         missing: usize,
     },
+    /// Computed but not stored: the session was edited during the run, and the stored result
+    /// is of its settings now.
+    Superseded { chunks_computed: usize },
 }
 
 impl From<Outcome> for RunOutcome {
     fn from(outcome: Outcome) -> Self {
         match outcome {
             Outcome::UpToDate => RunOutcome::UpToDate,
+            Outcome::Superseded { chunks_computed } => RunOutcome::Superseded { chunks_computed },
             Outcome::Completed {
                 chunks_computed,
                 seconds,
@@ -417,6 +421,10 @@ impl Summary for AnalysisRun {
         let (name, csv) = (&self.name, self.csv.display());
         match self.outcome {
             RunOutcome::UpToDate => say!("{name}: up to date ({csv})"),
+            RunOutcome::Superseded { chunks_computed } => say!(
+                "{name}: not stored ({chunks_computed} chunks computed now): the session was \
+                 edited during the run, and the result of its settings now is complete ({csv})"
+            ),
             RunOutcome::Completed {
                 chunks_computed,
                 compute_seconds,

@@ -77,6 +77,9 @@ pub enum Outcome {
         chunks_computed: usize,
         missing: usize,
     },
+    /// Computed but not stored: the session file was edited during the run, and the stored
+    /// result is of its settings now.
+    Superseded { chunks_computed: usize },
 }
 
 impl Outcome {
@@ -602,7 +605,9 @@ impl Run<'_> {
             return Err(self.cancelled_error());
         }
         progress.add(1);
-        let m = self.commit(&csv, started.elapsed().as_secs_f64())?;
+        let Some(m) = self.commit(&csv, started.elapsed().as_secs_f64())? else {
+            return Ok(Outcome::Superseded { chunks_computed: 1 });
+        };
         Ok(Outcome::Completed {
             chunks_computed: 1,
             seconds: m.compute_seconds,
@@ -833,7 +838,11 @@ impl Run<'_> {
         if self.cancelled() {
             return Err(self.cancelled_error());
         }
-        let m = self.commit(&csv, chunk_seconds + started.elapsed().as_secs_f64())?;
+        let Some(m) = self.commit(&csv, chunk_seconds + started.elapsed().as_secs_f64())? else {
+            return Ok(Outcome::Superseded {
+                chunks_computed: computed,
+            });
+        };
         Ok(Outcome::Completed {
             chunks_computed: computed,
             seconds: m.compute_seconds,
@@ -842,8 +851,9 @@ impl Run<'_> {
         })
     }
 
-    /// Moves the staged result into place with its manifest.
-    fn commit(&self, staged_csv: &Path, seconds: f64) -> anyhow::Result<Manifest> {
+    /// Moves the staged result into place with its manifest; `None` where it is superseded
+    /// ([`Outcome::Superseded`]).
+    fn commit(&self, staged_csv: &Path, seconds: f64) -> anyhow::Result<Option<Manifest>> {
         let entry = self.entry;
         let manifest = Manifest {
             format: MANIFEST_FORMAT,

@@ -417,6 +417,9 @@ impl App {
                         Outcome::ShardDone { missing, .. } => {
                             format!("{name}: {missing} chunks still missing")
                         }
+                        Outcome::Superseded { .. } => format!(
+                            "{name}: not stored: the session file was edited during the run"
+                        ),
                     };
                     self.say(text, false);
                 }

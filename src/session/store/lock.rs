@@ -32,8 +32,9 @@ fn open(path: &Path) -> io::Result<File> {
         .truncate(false)
         .open(path)
         .or_else(|e| match e.kind() {
-            // a lock file in a folder shared read-only: a shared lock still works
-            io::ErrorKind::PermissionDenied => File::open(path),
+            // a lock file in a folder shared read-only (by its permissions or its mount): a
+            // shared lock still works
+            io::ErrorKind::PermissionDenied | io::ErrorKind::ReadOnlyFilesystem => File::open(path),
             _ => Err(e),
         })
 }

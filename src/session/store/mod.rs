@@ -254,13 +254,13 @@ impl Work {
     /// the result's exclusive lock; returns the manifest. The files are checksummed in
     /// staging and checked again in place before the manifest says "complete". A stored
     /// result of other settings that `current` says the session now wants (edited while this
-    /// ran, and computed since) is kept: an error says this result was not stored.
+    /// ran, and computed since) is kept, and this one not stored: `None`.
     pub fn commit(
         &self,
         files: &[PathBuf],
         manifest: Manifest,
         current: &dyn Fn() -> Option<String>,
-    ) -> anyhow::Result<Manifest> {
+    ) -> anyhow::Result<Option<Manifest>> {
         let mut manifest = manifest;
         manifest.files = files
             .iter()
@@ -273,11 +273,9 @@ impl Work {
             && old.fingerprint != manifest.fingerprint
             && current().as_ref() == Some(&old.fingerprint)
         {
-            anyhow::bail!(
-                "not stored: the session was edited while this ran, and the result of its \
-                 settings now is complete already (the one computed here is of the settings \
-                 before)"
-            );
+            tracing::info!(analysis = %self.paths.name, kept = %old.fingerprint,
+                "not stored: the session's settings now are those of the stored result");
+            return Ok(None);
         }
         // the manifest goes first, so no old manifest vouches for half-replaced files
         match std::fs::remove_file(&self.paths.manifest) {
@@ -315,7 +313,7 @@ impl Work {
             files = manifest.files.len(),
             "result committed"
         );
-        Ok(manifest)
+        Ok(Some(manifest))
     }
 
     /// Leaves the work; if the result of this fingerprint is now complete, removes the work
