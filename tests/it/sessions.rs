@@ -644,6 +644,16 @@ fn a_written_model_gets_clear_errors() {
             "value 20 is outside its range [0, 10]",
         ),
         (
+            "k = { value = 2, min = 0, max = 10 }",
+            "k = { value = 2, min = 10, max = 0 }",
+            "model.parameters.k: min = 10 and max = 0: give min ≤ max",
+        ),
+        (
+            "k = { value = 2,",
+            "k = { value = nan,",
+            "value = NaN: give a finite number",
+        ),
+        (
             "kind = \"time_history\"",
             "kind = \"chirp_sweep\"",
             "a written model runs",

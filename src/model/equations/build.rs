@@ -361,7 +361,20 @@ impl<'d> Builder<'d> {
             claim(name, "parameter", key.clone())?;
             let (lo, hi) = p.range();
             let place = Place { key, start: None };
-            if !p.value().is_finite() || lo > hi || !(lo..=hi).contains(&p.value()) {
+            // the range itself first: a NaN bound, or min above max, is the mistake to name
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                return Err(at(
+                    &place,
+                    format!("min = {lo} and max = {hi}: give min ≤ max, both numbers"),
+                ));
+            }
+            if !p.value().is_finite() {
+                return Err(at(
+                    &place,
+                    format!("value = {}: give a finite number", p.value()),
+                ));
+            }
+            if !(lo..=hi).contains(&p.value()) {
                 return Err(at(
                     &place,
                     format!("value {} is outside its range [{lo}, {hi}]", p.value()),
