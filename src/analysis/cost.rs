@@ -113,9 +113,10 @@ struct Steady {
 fn steady_cost(steady: &SteadyStateSpec, omega: f64, prefix: &str) -> Result<Steady, ParamError> {
     // the ω_e itself: a written model's frequency may lie below the built-in's range, and
     // its periods are as long as it says (a period of no positive length: no bound at all)
-    let per_period = match omega > 0.0 {
-        true => steady.resolution.steps_for(2.0 * PI / omega),
-        false => usize::MAX,
+    let per_period = if omega > 0.0 {
+        steady.resolution.steps_for(2.0 * PI / omega)
+    } else {
+        usize::MAX
     };
     if per_period > MAX_STEPS_PER_PERIOD {
         return Err(ParamError {

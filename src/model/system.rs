@@ -8,6 +8,12 @@ pub const MAX_DIM: usize = 8;
 /// A state, padded with zeros past the model's dimension.
 pub type Vector = [f64; MAX_DIM];
 
+/// The indices of a model's `dim` states other than the two its grid spans (`grid`), in the
+/// model's order: the order after the grid's two in which tables and starts list them.
+pub fn outside_grid(dim: usize, grid: [usize; 2]) -> impl Iterator<Item = usize> {
+    (0..dim).filter(move |i| !grid.contains(i))
+}
+
 /// The smooth piece in force: bit k set where switching function k is on its first branch.
 pub type Mode = u64;
 

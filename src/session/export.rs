@@ -7,6 +7,7 @@ use crate::analysis::global::basin::Basin;
 use crate::analysis::global::frequency_response::{FrequencyResponse, Response};
 use crate::analysis::{Class, SteadyState};
 use crate::model::Device;
+use crate::model::system::outside_grid;
 
 /// Writes a CSV file whole (see [`super::output`]: a regular file is replaced atomically, a
 /// FIFO or device written through): the rows are built in memory, so a failure while filling
@@ -130,7 +131,7 @@ impl ModelColumns {
     /// The first stroboscopic point's columns (beside a response): the grid's two states,
     /// then a written model's others in its order (the whole state to start from).
     fn start(&self) -> Vec<String> {
-        let others = self.others().map(|i| &self.states[i]);
+        let others = outside_grid(self.states.len(), self.grid_index).map(|i| &self.states[i]);
         self.grid
             .iter()
             .chain(others)
@@ -138,21 +139,13 @@ impl ModelColumns {
             .collect()
     }
 
-    /// The indices of the states outside the grid, in the model's order.
-    fn others(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..self.states.len()).filter(|i| !self.grid_index.contains(i))
-    }
-
     /// The first stroboscopic point under [`Self::start`]'s columns (at τ = 0 on the orbit:
     /// where to start to see it again), empty without one; all the grid's points are in the
     /// points table.
     fn start_fields(&self, s: &SteadyState) -> Vec<String> {
-        let grid = [0, 1].map(|i| s.poincare.first().map(|p| p[i]));
-        let whole = s.states.first();
-        let others = self.others().map(|i| whole.and_then(|x| x.get(i).copied()));
-        grid.into_iter()
-            .chain(others)
-            .map(|x| x.map_or(String::new(), num))
+        let start = crate::session::results::start_of(s, self.grid_index).unwrap_or_default();
+        (0..2 + outside_grid(self.states.len(), self.grid_index).count())
+            .map(|i| start.get(i).map_or(String::new(), |&x| num(x)))
             .collect()
     }
 
@@ -523,7 +516,7 @@ pub fn state_history_bytes(
     if grid[1] != grid[0] {
         order.push(grid[1]);
     }
-    order.extend((0..h.states.len()).filter(|i| !grid.contains(i)));
+    order.extend(outside_grid(h.states.len(), grid));
     csv_bytes(|w| {
         let mut header = vec!["tau"];
         header.extend(order.iter().map(|&i| h.states[i].as_str()));

@@ -47,7 +47,7 @@ pub struct ResponsePoint {
 pub fn start_of(s: &SteadyState, grid: [usize; 2]) -> Option<Vec<f64>> {
     let mut start = s.poincare.first()?.to_vec();
     if let Some(x) = s.states.first() {
-        start.extend((0..x.len()).filter(|i| !grid.contains(i)).map(|i| x[i]));
+        start.extend(crate::model::system::outside_grid(x.len(), grid).map(|i| x[i]));
     }
     Some(start)
 }
@@ -185,9 +185,7 @@ impl HistoryView {
         self.summary = steady_summary(p, &self.tau, &self.lambda, &self.v, &self.steady);
         self
     }
-}
 
-impl HistoryView {
     /// A written model's orbit, drawn in the two states its grid spans (`grid`).
     pub fn of_states(
         h: &crate::analysis::global::oscillator::history::StateHistory,

@@ -873,9 +873,10 @@ impl Run<'_> {
         };
         // a run of the session file keeps a result of the file's settings now (edited during
         // the run, and computed since); a workbench's run is of the settings it shows
-        let now = || match self.as_on_disk {
-            true => on_disk(self.session, &entry.name),
-            false => None,
+        let now = || {
+            (self.as_on_disk)
+                .then(|| on_disk(self.session, &entry.name))
+                .flatten()
         };
         self.work
             .commit(&output_files(&entry.settings, staged_csv), manifest, &now)

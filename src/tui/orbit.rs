@@ -7,7 +7,7 @@ use isola::analysis::orbit::steady_state::SteadyState;
 use isola::analysis::orbit::time_history::{TimeHistory, TimeHistorySpec, time_history};
 use isola::analysis::parameter::ContinuationParameter;
 use isola::model::equations::EquationSystem;
-use isola::model::system::{System, Vector};
+use isola::model::system::{System, Vector, outside_grid};
 use isola::model::{Device, ParamError, Params};
 use isola::session::export;
 use isola::session::results::HistoryView;
@@ -84,21 +84,26 @@ fn moved<O: Oscillator>(
     }
 }
 
-/// The orbit of `model` from `start`, with the spec it is integrated by (its start is the
-/// grid offset of `start`) and a label naming where it starts.
+/// The orbit of `model` from `start`, with the spec it is integrated by (the built-in
+/// model's start is the spec's offset; a written model's, its whole state) and a label
+/// naming where it starts.
 pub fn orbit_from(model: ModelPoint, start: &Start) -> (OrbitModel, TimeHistorySpec, String) {
-    let (model, [dx0, v0], from) = match model {
+    match model {
         ModelPoint::BuiltIn(p) => {
-            let offset = match start {
+            let [dx0, v0] = match start {
                 Start::Absolute(x) => [x[0] - p.lambda_p(), x[1]],
                 Start::Offset(s) => *s,
             };
-            let from = format!("from Δλ {:+.3}, v {:+.3}", offset[0], offset[1]);
-            (OrbitModel::BuiltIn(Box::new(p)), offset, from)
+            let spec = TimeHistorySpec {
+                dx0,
+                v0,
+                ..TimeHistorySpec::default()
+            };
+            let from = format!("from Δλ {dx0:+.3}, v {v0:+.3}");
+            (OrbitModel::BuiltIn(Box::new(p)), spec, from)
         }
         ModelPoint::Written(sys) => {
             let grid = sys.model().grid();
-            let origin = *sys.origin();
             let x = match start {
                 Start::Absolute(values) => whole_state(&sys, values),
                 Start::Offset(s) => sys.grid_start(*s),
@@ -108,20 +113,10 @@ pub fn orbit_from(model: ModelPoint, start: &Start) -> (OrbitModel, TimeHistoryS
                 "from {} {:.4}, {} {:.4}",
                 names[grid[0]], x[grid[0]], names[grid[1]], x[grid[1]]
             );
-            let offset = grid.map(|i| x[i] - origin[i]);
-            (
-                OrbitModel::Written(Box::new(sys), Box::new(x)),
-                offset,
-                from,
-            )
+            let model = OrbitModel::Written(Box::new(sys), Box::new(x));
+            (model, TimeHistorySpec::default(), from)
         }
-    };
-    let spec = TimeHistorySpec {
-        dx0,
-        v0,
-        ..TimeHistorySpec::default()
-    };
-    (model, spec, from)
+    }
 }
 
 /// The whole state of a response's start as a plot holds it: the grid's two states, then the
@@ -130,7 +125,7 @@ pub fn orbit_from(model: ModelPoint, start: &Start) -> (OrbitModel, TimeHistoryS
 fn whole_state(sys: &EquationSystem, values: &[f64]) -> Vector {
     let grid = sys.model().grid();
     let mut x = *sys.origin();
-    let others: Vec<usize> = (0..sys.dim()).filter(|i| !grid.contains(i)).collect();
+    let others: Vec<usize> = outside_grid(sys.dim(), grid).collect();
     if let [a, b, rest @ ..] = values {
         (x[grid[0]], x[grid[1]]) = (*a, *b);
         if rest.len() == others.len() {

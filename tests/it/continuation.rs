@@ -16,6 +16,8 @@ use isola::analysis::{Progress, SteadyStateSpec, steady_state};
 use isola::model::Params;
 use isola::solver::Resolution;
 
+use crate::common::written;
+
 fn spec(min: f64, max: f64) -> ContinuationSpec {
     ContinuationSpec {
         min,
@@ -233,15 +235,6 @@ fn written_paper(overrides: &[(&str, f64)]) -> isola::model::equations::Equation
     let written = isola::session::written::WrittenModel::read(&text).unwrap();
     let overrides = overrides.iter().map(|(k, v)| (k.to_string(), *v)).collect();
     written.system(&overrides).unwrap()
-}
-
-/// A written model from its `[model]` table's text.
-fn written(model: &str) -> isola::model::equations::EquationSystem {
-    let text = format!("schema = 1\n{model}");
-    isola::session::written::WrittenModel::read(&text)
-        .unwrap()
-        .system(&Default::default())
-        .unwrap()
 }
 
 /// The monodromy of `k` periods from `x0` against central differences of the k-period map

@@ -187,14 +187,13 @@ impl<const L: usize> EquationLanes<L> {
         let c = &*self.inner;
         // as [`super::EquationSystem`]'s output: the output's own kinks by their signs
         let own = c.output_tape.switch_mask & !c.field_tape.switch_mask;
-        let mut modes = *modes;
-        if own != 0 {
+        if own == 0 {
+            c.output_tape.run_lanes(&mut self.values, modes);
+        } else {
             let free = c.output_tape.run_lanes_free(&mut self.values);
-            for (m, f) in modes.iter_mut().zip(free) {
-                *m = (*m & !own) | (f & own);
-            }
+            let modes: [Mode; L] = std::array::from_fn(|l| (modes[l] & !own) | (free[l] & own));
+            c.output_tape.run_lanes(&mut self.values, &modes);
         }
-        c.output_tape.run_lanes(&mut self.values, &modes);
         (
             self.values[c.output[0] as usize],
             self.values[c.output[1] as usize],

@@ -186,9 +186,10 @@ impl System for EquationSystem {
         // the field's kinks on the trajectory's piece; the output's own (`abs(x)` as the
         // amplitude) by their signs here: the trajectory's mode does not follow them
         let own = c.output_tape.switch_mask & !c.field_tape.switch_mask;
-        let mode = match own {
-            0 => mode,
-            _ => (mode & !own) | (c.output_tape.run_free(&mut self.regs.values) & own),
+        let mode = if own == 0 {
+            mode
+        } else {
+            (mode & !own) | (c.output_tape.run_free(&mut self.regs.values) & own)
         };
         c.output_tape.run_in(&mut self.regs.values, mode);
         (self.regs.get(c.output[0]), self.regs.get(c.output[1]))

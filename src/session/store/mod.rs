@@ -354,7 +354,9 @@ pub fn remove_unused_work(paths: &ResultPaths, current: &str) {
         } else if name.starts_with(".trash-") || name == current {
             remove_work_folder(paths, &path);
         } else {
-            let written = newest_write(&path);
+            // chunks arrive by a rename into the folder, which sets its modification time
+            let written =
+                (entry.metadata().and_then(|m| m.modified())).unwrap_or(std::time::UNIX_EPOCH);
             others.push((written, path));
         }
     }
@@ -363,22 +365,6 @@ pub fn remove_unused_work(paths: &ResultPaths, current: &str) {
         remove_work_folder(paths, path);
     }
     let _ = std::fs::remove_dir(&paths.chunks); // only if empty
-}
-
-/// When anything in work folder `dir` was last written.
-fn newest_write(dir: &Path) -> std::time::SystemTime {
-    let modified = |m: std::fs::Metadata| m.modified().ok();
-    let folder = std::fs::metadata(dir).ok().and_then(modified);
-    let files = std::fs::read_dir(dir)
-        .into_iter()
-        .flatten()
-        .flatten()
-        .filter_map(|e| e.metadata().ok().and_then(modified));
-    folder
-        .into_iter()
-        .chain(files)
-        .max()
-        .unwrap_or(std::time::UNIX_EPOCH)
 }
 
 /// Removes work folder `path` unless a run has joined it (a trash folder: whatever it holds).

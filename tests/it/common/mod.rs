@@ -73,6 +73,15 @@ pub fn spawn_in_pty(command: Command, cols: u16, rows: u16) -> (Child, File, Own
     (child, File::from(master), slave)
 }
 
+/// A written model at its default values, from its `[model]` table's text.
+pub fn written(model: &str) -> isola::model::equations::EquationSystem {
+    let text = format!("schema = 1\n{model}");
+    isola::session::written::WrittenModel::read(&text)
+        .unwrap()
+        .system(&Default::default())
+        .unwrap()
+}
+
 /// The `isola` binary run with `args`, to its end.
 pub fn isola(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_isola"))

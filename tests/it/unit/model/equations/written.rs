@@ -772,7 +772,7 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
 
 /// A damped linear oscillator x'' + 0.2 x' + x = cos(1.5 t) whose amplitude is `amplitude`.
 fn linear_with_amplitude(amplitude: &str) -> EquationSystem {
-    let text = format!(
+    crate::common::written(&format!(
         r#"[model]
 states = ["x", "v"]
 frequency = "omega"
@@ -783,10 +783,7 @@ omega = 1.5
 x = "v"
 v = "cos(omega*t) - 0.2*v - x"
 "#
-    );
-    let def = ModelDefinition::from_text(&text).unwrap();
-    let m = EquationModel::new(&def, &text).unwrap();
-    m.system(&m.defaults()).unwrap()
+    ))
 }
 
 /// An amplitude whose expression has kinks of its own (`abs`, `max`, `if`: none of them in
