@@ -58,8 +58,12 @@ pub trait System: Clone + Send {
     ) -> f64;
     /// The output whose max − min is the amplitude, and its rate of change.
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64);
-    /// Whether (τ, x) has left the model (a collision ends the trajectory).
+    /// Whether (τ, x) has left the model (a collision ends the trajectory), or a collision
+    /// condition has no truth value there ([`System::undefined_collision`] says which).
     fn collided(&mut self, tau: f64, x: &Vector) -> bool;
+    /// The collision condition that has no truth value at (τ, x) (a comparison of NaN), as
+    /// `key = text`: the trajectory stops there with an error, not a collision.
+    fn undefined_collision(&mut self, tau: f64, x: &Vector) -> Option<String>;
     /// Why (τ, x) gives a value that is not finite: the expression that first does, if the
     /// model can say.
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String>;

@@ -606,6 +606,33 @@ impl Session {
                     ),
                 });
             }
+            if let Some(w) = &self.written
+                && let [state] = w.model.states()
+                && matches!(
+                    entry.settings,
+                    Settings::Basin(_)
+                        | Settings::FrequencyResponse(_)
+                        | Settings::Family(_)
+                        | Settings::Hunt(_)
+                        | Settings::Map(_)
+                )
+            {
+                // a scalar flow keeps its starts in order: its stroboscopic map is monotone,
+                // and settles on responses of one forcing period
+                let at = locate(&text, Table::Analysis(i), "kind");
+                return Err(SessionError::Syntax {
+                    path: self.path.clone(),
+                    message: format!(
+                        "{}analysis '{}' ({}): a grid of starts spans two states, and this model \
+                         has one (`{state}`), whose every response lasts one forcing period; \
+                         run a time_history, stepped_sweep or continuation, or write the model \
+                         with a second state",
+                        line_prefix(at.line),
+                        entry.name,
+                        entry.settings.kind()
+                    ),
+                });
+            }
             let point = self.point(Some(entry)).map_err(|e| {
                 value_error(
                     format!("analysis '{}' model", entry.name),

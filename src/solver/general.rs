@@ -127,7 +127,7 @@ impl GeneralRk4 {
             return traj;
         }
         if sys.collided(0.0, &x) {
-            traj.stop = Some(Stop::Collision { tau: 0.0, state: x });
+            traj.stop = Some(collision(sys, 0.0, &x));
             return traj;
         }
         traj.mode = sys.mode_at(0.0, &x) & sys.switch_mask();
@@ -195,10 +195,7 @@ impl GeneralRk4 {
                     self.count_step(traj);
                     (traj.x, traj.dx) = (end, dx);
                     if collided {
-                        traj.stop = Some(Stop::Collision {
-                            tau: t_end,
-                            state: end,
-                        });
+                        traj.stop = Some(collision(sys, t_end, &end));
                     }
                     return;
                 }
@@ -272,10 +269,7 @@ impl GeneralRk4 {
         if x.iter().chain(&dx).any(|v| !v.is_finite()) {
             traj.stop = Some(self.non_finite(sys, t_end, &x));
         } else if sys.collided(t_end, &x) {
-            traj.stop = Some(Stop::Collision {
-                tau: t_end,
-                state: x,
-            });
+            traj.stop = Some(collision(sys, t_end, &x));
         }
     }
 
@@ -389,6 +383,19 @@ impl GeneralRk4 {
             state: *x,
             expression: sys.explain_non_finite(tau, x),
         }
+    }
+}
+
+/// How a trajectory its collision conditions stopped at (τ, x) ends: a collision, or a value
+/// that is not finite where a condition has no truth value.
+pub(super) fn collision<S: System>(sys: &mut S, tau: f64, x: &Vector) -> Stop {
+    match sys.undefined_collision(tau, x) {
+        Some(expression) => Stop::NonFinite {
+            tau,
+            state: *x,
+            expression: Some(expression),
+        },
+        None => Stop::Collision { tau, state: *x },
     }
 }
 

@@ -256,10 +256,7 @@ impl GeneralRk4 {
             if hit[l] {
                 let mut state = [0.0; MAX_DIM];
                 (0..dim).for_each(|i| state[i] = end[i][l]);
-                lanes.stop[l] = Some(Stop::Collision {
-                    tau: t_end[l],
-                    state,
-                });
+                lanes.stop[l] = Some(super::general::collision(sys, t_end[l], &state));
             }
         }
         lanes.stages = Some(stages);

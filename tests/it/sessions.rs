@@ -743,6 +743,28 @@ fn a_written_model_gets_clear_errors() {
         &format!("a = \"{}x{}\"", "(".repeat(20_000), ")".repeat(20_000)),
     );
     assert!(Session::parse(Path::new("t.toml"), &deep).is_ok());
+    // a model of one state has no grid of starts: its time history runs, its basin is
+    // refused naming why (it ran over a second axis that was the first again)
+    let one = "schema = 1\n[model]\nstates = [\"x\"]\nfrequency = \"omega\"\namplitude = \"x\"\n[model.parameters]\nomega = 1.0\n[model.derivatives]\nx = \"-x + 0.5*max(x, 0) + cos(omega*t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"\n";
+    assert!(Session::parse(Path::new("t.toml"), one).is_ok());
+    for kind in ["basin", "frequency_response", "family", "hunt", "map"] {
+        let settings = match kind {
+            "family" => "\n[analysis.settings]\nparameter = \"k\"\nvalues = [0.5]",
+            "map" => {
+                "\n[analysis.settings]\nparameter = \"k\"\nvalues = { min = 0.4, max = 0.6, points = 2 }"
+            }
+            _ => "",
+        };
+        let text = one
+            .replace("omega = 1.0", "omega = 1.0\nk = 0.5")
+            .replace("0.5*max", "k*max")
+            .replace("\"time_history\"", &format!("\"{kind}\"{settings}"));
+        let e = error_of(&text);
+        assert!(
+            e.contains(&format!("line 14: analysis 'h' ({kind}): a grid of starts spans two states, and this model has one (`x`)")),
+            "{kind}: {e}"
+        );
+    }
     // a value that is not finite stops the run, saying where
     let dir = scratch("not-finite");
     let path = dir.path().join("nan.toml");
@@ -1093,4 +1115,77 @@ fn setting_a_scalogram_value_writes_the_scalogram() {
         .to_string();
     assert!(e.contains("scalogram.frequencies.max"), "{e}");
     assert_eq!(session.to_text(), before);
+}
+
+/// A NaN that decides a kink or a collision stops the run with an error naming the value,
+/// on one trajectory (its compiled steps) and in a basin's lanes alike; it never picks a
+/// branch. `&&` decides as it reads: `x < 2 && ln(2 - x) > 0` is false past x = 2 without
+/// its second half, in an `if` and in a collision.
+#[test]
+fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
+    // x'' + 0.1x' + x = cos t from rest: x passes 2 near τ = 8 (the resonance's amplitude
+    // grows to 10), where sqrt(2 - x) and ln(2 - x) have no value
+    let model = |a: &str, collision: &str, kind: &str| {
+        format!(
+            "schema = 1\n[model]\nstates = [\"x\", \"v\"]\nfrequency = \"omega\"\namplitude = \"x\"\ncollision = [{collision}]\n[model.parameters]\nomega = 1.0\n[model.let]\na = \"{a}\"\n[model.derivatives]\nx = \"v\"\nv = \"-x - 0.1*v + cos(omega*t) + 1e-9*a\"\n\n[[analysis]]\nname = \"run\"\nkind = \"{kind}\"\n{}",
+            if kind == "basin" {
+                "[analysis.settings]\ndx = { min = -0.1, max = 0.1, points = 3 }\nv = { min = -0.1, max = 0.1, points = 5 }\n"
+            } else {
+                ""
+            }
+        )
+    };
+    let dir = scratch("nan-kinks");
+    let run = |text: String| {
+        let path = dir.path().join("nan.toml");
+        std::fs::write(&path, &text).unwrap();
+        let s = Session::load(&path).unwrap();
+        run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0))
+            .map(|_| ())
+            .map_err(|e| format!("{e:#}"))
+    };
+    for kind in ["time_history", "basin"] {
+        for a in [
+            "max(sqrt(2 - x), 0)",
+            "min(1, sqrt(2 - x))",
+            "abs(sqrt(2 - x))",
+            "if(ln(2 - x) > -100, 1, 0)",
+        ] {
+            // named where a step ends in it, else the step it went wrong in
+            let e = run(model(a, "", kind)).expect_err(a);
+            assert!(
+                e.contains("not finite at τ = ")
+                    && (e.contains("model.let.a = NaN")
+                        || e.contains("the state left an expression's domain within one step")),
+                "{kind} {a}: {e}"
+            );
+        }
+        // a branch not taken may have no value, and `&&` needs no second half after a false
+        for a in [
+            "if(x < 2, sqrt(2 - x), 0)",
+            "if(x < 2 && ln(2 - x) > 0, 1, 0)",
+        ] {
+            run(model(a, "", kind)).unwrap_or_else(|e| panic!("{kind} {a}: {e}"));
+        }
+        for (collision, stops) in [
+            ("\"ln(2 - x) > 5\"", true),
+            ("\"x > -100 && ln(2 - x) > 5\"", true),
+            ("\"x < -100 || ln(2 - x) > 5\"", true),
+            ("\"x < 2 && ln(2 - x) > 5\"", false),
+            ("\"x > 2 || ln(2 - x) > 5\"", false),
+        ] {
+            let result = run(model("0", collision, kind));
+            if stops {
+                let e = result.expect_err(collision);
+                assert!(
+                    e.contains("not finite at τ = ")
+                        && e.contains("model.collision[0] = `")
+                        && e.contains("compares a value that is not a number"),
+                    "{kind} {collision}: {e}"
+                );
+            } else {
+                result.unwrap_or_else(|e| panic!("{kind} {collision}: {e}"));
+            }
+        }
+    }
 }

@@ -23,35 +23,66 @@ pub enum Cond {
 }
 
 impl Cond {
-    /// Whether the condition holds in each of `L` lanes, reading each node's lanes with
-    /// `value` (one lane for a single state). A comparison, the common condition, is
-    /// inlined; `&&` and `||` recurse.
+    /// Whether the condition stops a trajectory in each of `L` lanes, reading each node's
+    /// lanes with `value` (one lane for a single state): where it holds, and where it has no
+    /// truth value (a comparison of NaN that decides it; `a && b` with `a` false needs no
+    /// `b`). [`EquationSystem`](super::EquationSystem) tells the two apart.
     #[inline(always)]
-    pub(crate) fn holds<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
+    pub(crate) fn stops<const L: usize>(&self, value: &impl Fn(NodeId) -> [f64; L]) -> [bool; L] {
+        self.decide(value).1
+    }
+
+    /// Where it has no truth value in each lane (it stops, yet does not hold).
+    pub(crate) fn undefined<const L: usize>(
+        &self,
+        value: &impl Fn(NodeId) -> [f64; L],
+    ) -> [bool; L] {
+        let (holds, stops) = self.decide(value);
+        std::array::from_fn(|l| stops[l] && !holds[l])
+    }
+
+    /// Whether it holds in each lane, and whether it holds or has no truth value. A
+    /// comparison, the common condition, is inlined; `&&` and `||` recurse.
+    #[inline(always)]
+    fn decide<const L: usize>(
+        &self,
+        value: &impl Fn(NodeId) -> [f64; L],
+    ) -> ([bool; L], [bool; L]) {
         match self {
             Cond::Positive { value: id, strict } => {
                 let s = value(*id);
                 if *strict {
-                    s.map(|s| s > 0.0)
+                    (s.map(|s| s > 0.0), s.map(|s| s > 0.0 || s.is_nan()))
                 } else {
-                    s.map(|s| s >= 0.0)
+                    (s.map(|s| s >= 0.0), s.map(|s| s >= 0.0 || s.is_nan()))
                 }
             }
-            Cond::And(a, b) => Cond::both(a, b, value, |a, b| a && b),
-            Cond::Or(a, b) => Cond::both(a, b, value, |a, b| a || b),
+            Cond::And(a, b) => Cond::both(a, b, value, true),
+            Cond::Or(a, b) => Cond::both(a, b, value, false),
         }
     }
 
-    /// `a` and `b` combined lane by lane with `op` (out of line: the recursion).
+    /// `a && b` (`and`) or `a || b` decided lane by lane (out of line: the recursion).
     #[inline(never)]
     fn both<const L: usize>(
         a: &Cond,
         b: &Cond,
         value: &impl Fn(NodeId) -> [f64; L],
-        op: fn(bool, bool) -> bool,
-    ) -> [bool; L] {
-        let (a, b) = (a.holds(value), b.holds(value));
-        std::array::from_fn(|l| op(a[l], b[l]))
+        and: bool,
+    ) -> ([bool; L], [bool; L]) {
+        let ((a_holds, a_stops), (b_holds, b_stops)) = (a.decide(value), b.decide(value));
+        if and {
+            // a without a value stops; a true leaves it to b; a false does not stop
+            (
+                std::array::from_fn(|l| a_holds[l] && b_holds[l]),
+                std::array::from_fn(|l| a_stops[l] && (!a_holds[l] || b_stops[l])),
+            )
+        } else {
+            (
+                std::array::from_fn(|l| a_holds[l] || b_holds[l]),
+                std::array::from_fn(|l| a_stops[l] || b_stops[l]),
+            )
+        }
     }
 
     fn values(&self, out: &mut Vec<NodeId>) {
@@ -102,6 +133,8 @@ pub struct Compiled {
     /// The amplitude's expression as written.
     pub amplitude: String,
     pub collisions: Vec<Cond>,
+    /// Each collision condition as written.
+    pub collision_text: Vec<String>,
     /// Every named value (intermediates, then derivatives) in dependency order, to say which
     /// is the first that is not finite.
     pub named: Vec<(String, NodeId)>,
@@ -576,6 +609,11 @@ impl<'d> Builder<'d> {
             output: [y, rate],
             amplitude: def.amplitude.get_ref().trim().to_string(),
             collisions,
+            collision_text: def
+                .collision
+                .iter()
+                .map(|c| c.get_ref().trim().to_string())
+                .collect(),
             named: self.named,
             graph: self.graph,
             #[cfg(target_arch = "x86_64")]
@@ -593,7 +631,8 @@ impl<'d> Builder<'d> {
             None => self.def.states.iter().take(2).cloned().collect(),
         };
         if names.len() == 1 && self.def.grid.is_none() {
-            // a one-state model: its grid is that state alone, twice
+            // a one-state model: its grid is that state alone, twice (its time history and
+            // continuation start from it; grids of starts are refused)
             return Ok([0, 0]);
         }
         if names.len() != 2 || names[0] == names[1] {

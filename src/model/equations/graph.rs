@@ -24,6 +24,10 @@ pub enum Func {
     Asin,
     Acos,
     Atan,
+    /// 0 where its argument is a number, NaN where it is not (NaN or infinite): added to a
+    /// kink so that a switching function without a value gives the kink none, rather than
+    /// a branch. No session names it.
+    Undefined,
 }
 
 impl Func {
@@ -44,6 +48,13 @@ impl Func {
             Func::Asin => a.asin(),
             Func::Acos => a.acos(),
             Func::Atan => a.atan(),
+            Func::Undefined => {
+                if a.is_finite() {
+                    0.0
+                } else {
+                    f64::NAN
+                }
+            }
         }
     }
 
@@ -318,7 +329,11 @@ impl Graph {
                 self.switches.len() - 1
             }
         };
-        Ok(self.select(k as u8, on, off))
+        // NaN where the switching value is not a number (`max(sqrt(x - 5), 0)` below 5), not
+        // the branch a NaN comparison would pick
+        let kink = self.select(k as u8, on, off);
+        let undefined = self.un(Func::Undefined, value);
+        Ok(self.add(kink, undefined))
     }
 
     fn select(&mut self, k: u8, on: NodeId, off: NodeId) -> NodeId {
@@ -429,6 +444,7 @@ impl Graph {
                 let d = self.add(one, sq);
                 self.div(one, d)
             }
+            Func::Undefined => self.num(0.0),
         }
     }
 

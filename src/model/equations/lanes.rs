@@ -160,7 +160,7 @@ impl<const L: usize> EquationLanes<L> {
         )
     }
 
-    /// Whether each lane has met a collision condition.
+    /// Whether each lane has met a collision condition, or one has no truth value there.
     pub fn collided(&mut self, tau: &[f64; L], x: &LaneVectors<L>) -> [bool; L] {
         if self.inner.collisions.is_empty() {
             return [false; L];
@@ -170,8 +170,8 @@ impl<const L: usize> EquationLanes<L> {
         c.collision_tape.run_lanes_free(values);
         let mut hit = [false; L];
         for cond in &c.collisions {
-            let holds = cond.holds(&|id| values[id as usize]);
-            (0..L).for_each(|l| hit[l] |= holds[l]);
+            let stops = cond.stops(&|id| values[id as usize]);
+            (0..L).for_each(|l| hit[l] |= stops[l]);
         }
         hit
     }

@@ -352,6 +352,7 @@ impl<'a, 'f> Emitter<'a, 'f> {
                 Op::Powi => powi(self.b, x, i.n, float_one),
                 Op::Un(Func::Neg) => self.b.ins().fneg(x),
                 Op::Un(Func::Sqrt) => self.b.ins().sqrt(x),
+                Op::Un(Func::Undefined) => self.b.ins().fsub(x, x),
                 Op::Un(f) => self.call_each(self.unary, library(f), &[x]),
                 Op::Select => {
                     let m = if free { observed } else { mode };
@@ -449,6 +450,6 @@ fn library(f: Func) -> usize {
         };
     }
     via!(
-        Neg, Sin, Cos, Tan, Exp, Ln, Sqrt, Sinh, Cosh, Tanh, Asin, Acos, Atan
+        Neg, Sin, Cos, Tan, Exp, Ln, Sqrt, Sinh, Cosh, Tanh, Asin, Acos, Atan, Undefined
     )
 }

@@ -258,10 +258,10 @@ pub fn compile_step(c: &Compiled, lanes: usize) -> Option<Native> {
             );
             let mut hit = None;
             for cond in &c.collisions {
-                let holds = holds(e, cond, &mut known, &mut at_end, &mut reads);
+                let (_, stops) = decide(e, cond, &mut known, &mut at_end, &mut reads);
                 hit = Some(match hit {
-                    None => holds,
-                    Some(h) => e.b.ins().bor(h, holds),
+                    None => stops,
+                    Some(h) => e.b.ins().bor(h, stops),
                 });
             }
             let hit = hit.expect("a collision condition");
@@ -342,38 +342,54 @@ fn value(
     *known[r as usize].get_or_insert_with(|| reads.read(e.b, time, r))
 }
 
-/// Whether `cond` holds in each lane: a comparison's mask (all ones where it holds).
-fn holds(
+/// Whether `cond` holds in each lane, and whether it holds or has no truth value (it then
+/// stops the trajectory too), as [`Cond::stops`] decides it: masks, all ones where true.
+fn decide(
     e: &mut Emitter,
     cond: &Cond,
     known: &mut [Option<Value>],
     time: &mut Time,
     reads: &mut Reads,
-) -> Value {
+) -> (Value, Value) {
     match cond {
         Cond::Positive { value: id, strict } => {
             let s = value(e, known, time, reads, *id);
             let zero = e.float_const(0.0);
-            let cc = if *strict {
-                FloatCC::GreaterThan
+            let (holds, stops) = if *strict {
+                (FloatCC::GreaterThan, FloatCC::UnorderedOrGreaterThan)
             } else {
-                FloatCC::GreaterThanOrEqual
+                (
+                    FloatCC::GreaterThanOrEqual,
+                    FloatCC::UnorderedOrGreaterThanOrEqual,
+                )
             };
-            e.b.ins().fcmp(cc, s, zero)
+            (
+                e.b.ins().fcmp(holds, s, zero),
+                e.b.ins().fcmp(stops, s, zero),
+            )
         }
         Cond::And(a, b) => {
-            let (a, b) = (
-                holds(e, a, known, time, reads),
-                holds(e, b, known, time, reads),
-            );
-            e.b.ins().band(a, b)
+            let (a_holds, a_stops) = decide(e, a, known, time, reads);
+            let (b_holds, b_stops) = decide(e, b, known, time, reads);
+            // a without a value stops; a true leaves it to b; a false does not stop
+            let a_fails = if e.width == 1 {
+                e.b.ins().bxor_imm_u(a_holds, 1)
+            } else {
+                e.b.ins().bnot(a_holds)
+            };
+            let b_decides = e.b.ins().bor(a_fails, b_stops);
+            (
+                e.b.ins().band(a_holds, b_holds),
+                e.b.ins().band(a_stops, b_decides),
+            )
         }
         Cond::Or(a, b) => {
-            let (a, b) = (
-                holds(e, a, known, time, reads),
-                holds(e, b, known, time, reads),
-            );
-            e.b.ins().bor(a, b)
+            let (a_holds, a_stops) = decide(e, a, known, time, reads);
+            let (b_holds, b_stops) = decide(e, b, known, time, reads);
+            (
+                e.b.ins().bor(a_holds, b_holds),
+                e.b.ins().bor(a_stops, b_stops),
+            )
         }
     }
 }

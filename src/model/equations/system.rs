@@ -205,7 +205,25 @@ impl System for EquationSystem {
         let regs = &self.regs;
         c.collisions
             .iter()
-            .any(|cond| cond.holds(&|id| [regs.get(id)])[0])
+            .any(|cond| cond.stops(&|id| [regs.get(id)])[0])
+    }
+
+    fn undefined_collision(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        let c = &*self.model.inner;
+        if c.collisions.is_empty() {
+            return None;
+        }
+        self.regs.load(&c.time_tape, tau, x);
+        c.collision_tape.run_free(&mut self.regs.values);
+        let regs = &self.regs;
+        let i = c
+            .collisions
+            .iter()
+            .position(|cond| cond.undefined(&|id| [regs.get(id)])[0])?;
+        Some(format!(
+            "model.collision[{i}] = `{}`, which compares a value that is not a number",
+            c.collision_text[i]
+        ))
     }
 
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {

@@ -669,6 +669,9 @@ impl System for StageByStage {
     fn collided(&mut self, tau: f64, x: &Vector) -> bool {
         self.0.collided(tau, x)
     }
+    fn undefined_collision(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        self.0.undefined_collision(tau, x)
+    }
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
         self.0.explain_non_finite(tau, x)
     }
