@@ -15,12 +15,22 @@ SHA-256 and records what the result was computed from.
 Integers are pandas' nullable ``Int64``, flags ``boolean``, labels ``string``, the rest
 ``float64`` (empty cells are missing values). Only the standard library and pandas are
 needed: copy this file next to a notebook, or put its folder on ``sys.path``.
+
+A result is loaded only if it is what its session would compute now: with the session file
+beside the folder (``S.toml`` for ``S.results``) and an ``isola`` executable (the ``ISOLA``
+environment variable, else ``isola`` on the PATH), ``isola status`` is asked, and a result
+whose analysis was edited since it was computed raises :class:`StaleResult`
+(``current=False`` loads it anyway). Where isola cannot be asked, a warning says so.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import os
+import shutil
+import subprocess
+import warnings
 from pathlib import Path
 
 import pandas as pd
@@ -123,14 +133,62 @@ def read_table(path: str | Path) -> pd.DataFrame:
     return frame
 
 
-def load(results: str | Path, analysis: str, verify: bool = True) -> Tables:
+# `load`'s default: ask isola for the session's status
+_ASK = object()
+
+
+class StaleResult(Exception):
+    """A stored result its session no longer computes (its analysis was edited since)."""
+
+
+def session_status(results: str | Path) -> dict[str, str] | None:
+    """Each analysis' state as ``isola status`` tells it for the session beside the results
+    folder (``complete``, ``stale``, ``missing``...), or None with a warning where there is
+    no such session file or no isola to ask."""
+    folder = Path(results)
+    session = folder.with_suffix(".toml")
+    isola = os.environ.get("ISOLA") or shutil.which("isola")
+    if not session.exists() or not isola:
+        warnings.warn(
+            f"{folder}: not checked against its session ("
+            + ("no isola executable: set ISOLA" if session.exists() else f"no {session.name}")
+            + "); the result may be stale",
+            stacklevel=3,
+        )
+        return None
+    out = subprocess.run(
+        [isola, "status", str(session), "--json"], capture_output=True, text=True
+    )
+    if out.returncode != 0:
+        raise StaleResult(f"{session}: isola status failed: {out.stderr.strip()}")
+    return {a["name"]: a["result"] for a in json.loads(out.stdout)["analyses"]}
+
+
+def load(
+    results: str | Path,
+    analysis: str,
+    verify: bool = True,
+    current: bool = True,
+    status=_ASK,
+) -> Tables:
     """The tables of analysis ``analysis`` in the results folder ``results`` (as its
     manifest lists them), each checked against the manifest's SHA-256 unless ``verify`` is
-    false. A result without a manifest is not complete and is refused."""
+    false. A result without a manifest is not complete and is refused; one its session
+    would not compute now raises :class:`StaleResult` unless ``current`` is false
+    (``status``: :func:`session_status`'s answer, None where it could not be asked; asked
+    here if not given)."""
     folder = Path(results)
     manifest_path = folder / f"{analysis}.manifest.json"
     if not manifest_path.exists():
         raise FileNotFoundError(f"{manifest_path}: no complete result of {analysis!r}")
+    if current:
+        status = session_status(folder) if status is _ASK else status
+        state = None if status is None else status.get(analysis, "not in the session")
+        if state not in (None, "complete"):
+            raise StaleResult(
+                f"{manifest_path}: {analysis!r} is {state} for its session (edited since it "
+                "was computed): run isola on the session, or load it with current=False"
+            )
     manifest = json.loads(manifest_path.read_text())
     tables = Tables()
     tables.manifest = manifest
@@ -146,12 +204,16 @@ def load(results: str | Path, analysis: str, verify: bool = True) -> Tables:
     return tables
 
 
-def load_all(results: str | Path, verify: bool = True) -> dict[str, Tables]:
-    """Every complete analysis of a results folder, by name."""
+def load_all(
+    results: str | Path, verify: bool = True, current: bool = True
+) -> dict[str, Tables]:
+    """Every complete analysis of a results folder, by name (with ``current``, each current
+    for its session, as :func:`load` checks; the session is asked once)."""
     folder = Path(results)
+    status = session_status(folder) if current else None
     return {
         m.name.removesuffix(".manifest.json"): load(
-            folder, m.name.removesuffix(".manifest.json"), verify
+            folder, m.name.removesuffix(".manifest.json"), verify, current, status
         )
         for m in sorted(folder.glob("*.manifest.json"))
     }

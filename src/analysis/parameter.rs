@@ -116,8 +116,14 @@ impl FamilyParameter {
 fn not_built_in(name: &str) -> ParamError {
     ParamError {
         field: format!("parameter `{name}`"),
-        value: f64::NAN,
-        allowed: format!("one of the built-in model's: {BUILT_IN_PARAMETERS}"),
+        value: ParamError::NOT_NUMERIC,
+        allowed: match BUILT_IN_PARAMETERS.strip_prefix("omega, ") {
+            // each member of a family is a response over ω already
+            Some(others) if name == "omega" => {
+                format!("one of the built-in model's but omega, which each member spans: {others}")
+            }
+            _ => format!("one of the built-in model's: {BUILT_IN_PARAMETERS}"),
+        },
     }
 }
 

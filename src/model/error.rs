@@ -1,8 +1,8 @@
 //! The one error a model parameter or setting can raise: out of its allowed range.
 
 /// A parameter or setting outside its allowed range; names the field, the value and the range
-/// (a setting that is not a number, e.g. a choice of parameter, has the value NaN and is named
-/// without it).
+/// (a setting that is not a number, e.g. a choice of parameter, has the value
+/// [`ParamError::NOT_NUMERIC`] and is named without it).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{field}{} is out of range: allowed {allowed}", shown(*.value))]
 pub struct ParamError {
@@ -15,6 +15,10 @@ pub struct ParamError {
 }
 
 impl ParamError {
+    /// The value of an error about a setting that is not a number (a choice): a NaN of its
+    /// own bits, unlike the NaN a user writes, which is shown.
+    pub const NOT_NUMERIC: f64 = f64::from_bits(0x7ff8_0000_0000_0bad);
+
     /// The same error for a field inside `parent` (`max_step` inside `steady.resolution`).
     pub fn within(mut self, parent: &str) -> Self {
         self.field = format!("{parent}.{}", self.field);
@@ -41,7 +45,7 @@ impl ParamError {
 
 /// ` = value`, or nothing for a setting that is not a number.
 fn shown(value: f64) -> String {
-    if value.is_nan() {
+    if value.to_bits() == ParamError::NOT_NUMERIC.to_bits() {
         String::new()
     } else {
         format!(" = {}", compact(value))

@@ -202,6 +202,15 @@ pub fn check_all<'a>(
     let free = free_space(&folder);
     for entry in entries {
         let cost = cost_of(session, entry)?;
+        // one trajectory, or a sweep from each ω's state to the next, runs on one thread
+        let serial = matches!(
+            entry.settings,
+            Settings::TimeHistory(_) | Settings::ChirpSweep(_) | Settings::SteppedSweep(_)
+        );
+        let budget = Budget {
+            threads: if serial { 1 } else { budget.threads },
+            ..*budget
+        };
         budget.check(&entry.name, &cost)?;
         if let Some(free) = free.filter(|&f| cost.disk > f) {
             return Err(BudgetError::Disk {

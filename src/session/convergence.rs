@@ -370,8 +370,10 @@ fn bifurcation_changes(a: &[ContinuedView], b: &[ContinuedView]) -> NumberChange
     )
 }
 
+/// The first grid state (λ_I, or a written model's own) at each sample.
 fn history_changes(a: &HistoryView, b: &HistoryView) -> NumberChanges {
-    differences("λ_I at each sample", &a.lambda, &b.lambda)
+    let state = a.states.as_ref().map_or("λ_I", |[first, _]| first.as_str());
+    differences(&format!("{state} at each sample"), &a.lambda, &b.lambda)
 }
 
 /// The largest difference of `a` and `b` over the numbers both have.

@@ -117,6 +117,30 @@ pub fn plain(message: &str) -> String {
             .split_once("string ")
             .map(|(_, rest)| rest.split(", expected").next().unwrap_or(rest).to_string())
     });
+    // a number or a list where a table of settings goes
+    if let Some(name) = expected.strip_prefix("struct ") {
+        let fields = match name.split_whitespace().next().unwrap_or("") {
+            "Tolerance" => "{ rtol = …, atol = … }",
+            "Axis" => "{ min = …, max = …, points = … }",
+            _ => "of its settings",
+        };
+        let given = [
+            ("floating point", "a number"),
+            ("integer", "a number"),
+            ("string", "text"),
+            ("sequence", "a list"),
+            ("length", "a list"),
+            ("boolean", "true or false"),
+        ]
+        .into_iter()
+        .find(|(serde_word, _)| message.contains(serde_word));
+        if message.starts_with("invalid") {
+            return match given {
+                Some((_, given)) => format!("a table {fields} is expected, not {given}"),
+                None => format!("a table {fields} is expected"),
+            };
+        }
+    }
     match (what, found) {
         (Some(what), Some(found)) if message.starts_with("invalid") => {
             format!("{found} is not allowed: {what} is expected")

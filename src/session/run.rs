@@ -510,7 +510,8 @@ impl Run<'_> {
             |i| {
                 let first = i * CHUNK_CELLS;
                 let last = (first + CHUNK_CELLS).min(dx.len() * v.len()) - 1;
-                let at = |c: usize| format!("(Δλ {}, v {})", dx[c / v.len()], v[c % v.len()]);
+                // the offsets as the settings name them (a written model's grid states too)
+                let at = |c: usize| format!("(dx {}, v {})", dx[c / v.len()], v[c % v.len()]);
                 format!("cells {first}–{last}, {} to {}", at(first), at(last))
             },
             |chunks, csv| {
@@ -752,7 +753,15 @@ impl Run<'_> {
             Err(why) => work.reject(i, &why),
         }
         let started = Instant::now();
-        let Some(value) = compute(i)? else {
+        let at_chunk = || {
+            format!(
+                "{} ({}): chunk {i}, {}",
+                self.entry.name,
+                self.entry.settings.kind(),
+                describe(i)
+            )
+        };
+        let Some(value) = compute(i).with_context(at_chunk)? else {
             return Ok(Step::Cancelled);
         };
         if self.cancelled() {
@@ -760,14 +769,7 @@ impl Run<'_> {
             return Ok(Step::Cancelled);
         }
         work.save_chunk(i, n, &value, started.elapsed().as_secs_f64())
-            .with_context(|| {
-                format!(
-                    "{} ({}): chunk {i}, {}",
-                    self.entry.name,
-                    self.entry.settings.kind(),
-                    describe(i)
-                )
-            })?;
+            .with_context(at_chunk)?;
         drop(claim);
         Ok(Step::Computed)
     }

@@ -675,7 +675,7 @@ impl Session {
         if self.written.is_some() {
             return Err(ParamError {
                 field: "model".into(),
-                value: f64::NAN,
+                value: ParamError::NOT_NUMERIC,
                 allowed: "the built-in model (this session writes its own)".into(),
             });
         }

@@ -33,7 +33,12 @@ fn convergence(session: &Path, name: &str) -> serde_json::Value {
     ]);
     let runs = v["convergence"].as_array().unwrap();
     assert_eq!(runs.len(), 1);
-    assert_eq!(runs[0]["doubled"], "RK4 128 steps per period (h ≤ 0.025)");
+    // a time history names its Dormand–Prince tolerance after it
+    let doubled = runs[0]["doubled"].as_str().unwrap();
+    assert!(
+        doubled.starts_with("RK4 128 steps per period (h ≤ 0.025)"),
+        "{doubled}"
+    );
     runs[0]["changes"].clone()
 }
 
@@ -248,4 +253,16 @@ fn bad_resolutions_are_refused_with_the_field_the_value_and_the_range() {
         e.contains("--steps-per-period") && e.contains("--resolution"),
         "{e}"
     );
+}
+
+/// A written model's time history at twice the resolution compares its own first state by
+/// name (not the built-in's λ_I), and the orbit agrees to RK4's error at 64 steps.
+#[test]
+fn a_written_models_history_converges_under_its_own_names() {
+    let (_d, path) = paper_session("user_model_duffing_isola.toml", |t| t);
+    let c = convergence(&path, "orbit_main");
+    assert_eq!(c["of"], "x at each sample", "{c}");
+    assert_eq!(c["unmatched"], 0, "{c}");
+    let largest = c["largest_difference"].as_f64().unwrap();
+    assert!(largest > 0.0 && largest < 1e-8, "{c}");
 }

@@ -617,6 +617,17 @@ fn a_written_model_gets_clear_errors() {
             "line 13, column 28: expected a number, a name or `(` at `*`",
         ),
         ("-k*a", "-k*aa", "unknown name `aa`; did you mean `a`?"),
+        // a string with an escape: its characters are not the file's, its line is
+        (
+            "-k*a + cos(omega*t)",
+            "-k*a \\u002b * 2",
+            "model.derivatives.v, line 13, character 8 of its text: expected a number",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"time_history\"\n[analysis.settings]\ntolerance = 1e-20",
+            "settings.tolerance = 1e-20: a table { rtol = …, atol = … } is expected, not a number",
+        ),
         (
             "cos(omega*t)",
             "max(omega)",
@@ -652,6 +663,21 @@ fn a_written_model_gets_clear_errors() {
             "k = { value = 2,",
             "k = { value = nan,",
             "value = NaN: give a finite number",
+        ),
+        (
+            "k = { value = 2,",
+            "k = { value = 2, mni = 1,",
+            "line 8, column 5",
+        ),
+        (
+            "k = { value = 2,",
+            "k = { value = 2, mni = 1,",
+            "unknown field `mni`, expected one of `value`, `min`, `max`, `unit`, `about`",
+        ),
+        (
+            "omega = 1.0",
+            "omega = \"fast\"",
+            "a parameter is a number or { value, min, max, unit, about }, not a string",
         ),
         (
             "kind = \"time_history\"",
@@ -1025,7 +1051,8 @@ fn results_are_tidy_tables_that_pandas_reads_with_their_types() {
 }
 
 /// Checks, where Python with pandas is found, that `python/isola_results.py` loads every
-/// table of `results` with numbers as numbers, integers as integers and flags as booleans.
+/// table of `results` with numbers as numbers, integers as integers and flags as booleans,
+/// and refuses a result its session was edited since (isola asked through `ISOLA`).
 fn pandas_reads(results: &Path) {
     let python = std::env::var("ISOLA_PYTHON").unwrap_or_else(|_| "python3".into());
     let has_pandas = Command::new(&python)
@@ -1061,12 +1088,25 @@ assert not bad, bad
 response = found["response"]
 assert str(response["response"]["response_type"].dtype) == "string"
 assert response["points"]["point"].max() >= 0
+# a result its session was edited since is refused, unless asked for as it is
+session = isola_results.Path(sys.argv[2]).with_suffix(".toml")
+text = session.read_text()
+session.write_text(text.replace('name = "response"', 'name = "response"\nmodel = { adr = 0.7 }', 1))
+try:
+    isola_results.load(sys.argv[2], "response")
+    raise SystemExit("a stale result loaded")
+except isola_results.StaleResult as e:
+    assert "'response' is stale for its session" in str(e), e
+isola_results.load(sys.argv[2], "response", current=False)
+isola_results.load(sys.argv[2], "orbit")
+session.write_text(text)
 print(len(found), "analyses", columns, "columns")
 "#;
     let out = Command::new(&python)
         .args(["-c", script])
         .arg(&reader)
         .arg(results)
+        .env("ISOLA", env!("CARGO_BIN_EXE_isola"))
         .output()
         .unwrap();
     assert!(
@@ -1158,6 +1198,12 @@ fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
                     && (e.contains("model.let.a = NaN")
                         || e.contains("the state left an expression's domain within one step")),
                 "{kind} {a}: {e}"
+            );
+            // a basin's error names the analysis and the chunk of starts
+            assert!(
+                kind != "basin"
+                    || e.starts_with("run (basin): chunk 0, cells 0–14, (dx -0.1, v -0.1)"),
+                "{e}"
             );
         }
         // a branch not taken may have no value, and `&&` needs no second half after a false

@@ -85,7 +85,7 @@ impl CurveSpec {
         if second == first_p {
             return Err(ParamError {
                 field: "second".into(),
-                value: f64::NAN,
+                value: ParamError::NOT_NUMERIC,
                 allowed: format!("a parameter other than the branch's own ({})", first.name()),
             });
         }
@@ -275,7 +275,7 @@ impl<'a, M: Continuable> Curve<'a, M> {
             BifurcationKind::NeimarkSacker => {
                 return Err(ContinuationError::Param(ParamError {
                     field: "kind".into(),
-                    value: f64::NAN,
+                    value: ParamError::NOT_NUMERIC,
                     allowed: "a fold or a period doubling".into(),
                 }));
             }

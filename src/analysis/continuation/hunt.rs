@@ -40,7 +40,7 @@ impl HuntSpec {
         if self.continuation.parameter != ContinuationParameter::Omega {
             return Err(ParamError {
                 field: "continuation.parameter".into(),
-                value: f64::NAN,
+                value: ParamError::NOT_NUMERIC,
                 allowed: "omega (a hunt continues in the forcing frequency)".into(),
             });
         }

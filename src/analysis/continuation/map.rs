@@ -67,7 +67,7 @@ impl MapSpec {
         if x == rows {
             return Err(ParamError {
                 field: "x".into(),
-                value: f64::NAN,
+                value: ParamError::NOT_NUMERIC,
                 allowed: format!(
                     "a parameter other than the rows' ({})",
                     self.parameter.name()

@@ -274,6 +274,9 @@ struct Place {
     key: String,
     /// Where the expression's text starts in the document, if known.
     start: Option<usize>,
+    /// The line its value starts on, where its characters are not the document's (a
+    /// string with escapes).
+    line: Option<usize>,
 }
 
 struct Builder<'d> {
@@ -322,6 +325,8 @@ impl<'d> Builder<'d> {
         Place {
             key,
             start: expression_start(self.doc, value),
+            line: (value.span().start <= self.doc.len())
+                .then(|| line_column(self.doc, value.span().start).0),
         }
     }
 
@@ -332,7 +337,14 @@ impl<'d> Builder<'d> {
                 let (line, column) = line_column(self.doc, start + span.start);
                 format!("{}, line {line}, column {column}", place.key)
             }
-            None => format!("{}, character {}", place.key, span.start + 1),
+            None => match place.line {
+                Some(line) => format!(
+                    "{}, line {line}, character {} of its text",
+                    place.key,
+                    span.start + 1
+                ),
+                None => format!("{}, character {}", place.key, span.start + 1),
+            },
         };
         EquationError {
             place: key,
@@ -356,7 +368,11 @@ impl<'d> Builder<'d> {
         let def = self.def;
         let mut taken: BTreeMap<String, &str> = BTreeMap::new();
         let mut claim = |name: &str, what: &'static str, key: String| {
-            let place = Place { key, start: None };
+            let place = Place {
+                key,
+                start: None,
+                line: None,
+            };
             let valid = name
                 .chars()
                 .next()
@@ -381,6 +397,7 @@ impl<'d> Builder<'d> {
                 &Place {
                     key: "model.states".into(),
                     start: None,
+                    line: None,
                 },
                 format!("{} states: allowed 1 to {MAX_DIM}", def.states.len()),
             ));
@@ -393,7 +410,11 @@ impl<'d> Builder<'d> {
             let key = format!("model.parameters.{name}");
             claim(name, "parameter", key.clone())?;
             let (lo, hi) = p.range();
-            let place = Place { key, start: None };
+            let place = Place {
+                key,
+                start: None,
+                line: None,
+            };
             // the range itself first: a NaN bound, or min above max, is the mistake to name
             if lo.is_nan() || hi.is_nan() || lo > hi {
                 return Err(at(
@@ -455,6 +476,7 @@ impl<'d> Builder<'d> {
                     &Place {
                         key: format!("model.derivatives.{name}"),
                         start: None,
+                        line: None,
                     },
                     format!(
                         "`{name}` is not a state (states: {})",
@@ -470,6 +492,7 @@ impl<'d> Builder<'d> {
                     &Place {
                         key: "model.derivatives".into(),
                         start: None,
+                        line: None,
                     },
                     format!("the state `{s}` has no derivative"),
                 )
@@ -500,6 +523,7 @@ impl<'d> Builder<'d> {
                 &Place {
                     key: "model.frequency".into(),
                     start: None,
+                    line: None,
                 },
                 format!("`{}` is not a parameter", def.frequency),
             )
@@ -625,6 +649,7 @@ impl<'d> Builder<'d> {
         let place = Place {
             key: "model.grid".into(),
             start: None,
+            line: None,
         };
         let names: Vec<String> = match &self.def.grid {
             Some(g) => g.clone(),
@@ -668,6 +693,7 @@ impl<'d> Builder<'d> {
                     &Place {
                         key: format!("model.let.{name}"),
                         start: None,
+                        line: None,
                     },
                     message,
                 ),

@@ -41,7 +41,7 @@ pub struct ModelDefinition {
 }
 
 /// A parameter: a value, or a value with its allowed range, unit and meaning.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum ParameterDefinition {
     Value(f64),
@@ -56,6 +56,47 @@ pub enum ParameterDefinition {
         #[serde(default)]
         about: Option<String>,
     },
+}
+
+/// A parameter's table form, its keys checked (`mni = 0` is named, not ignored).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParameterTable {
+    value: f64,
+    #[serde(default)]
+    min: Option<f64>,
+    #[serde(default)]
+    max: Option<f64>,
+    #[serde(default)]
+    unit: Option<String>,
+    #[serde(default)]
+    about: Option<String>,
+}
+
+impl<'de> Deserialize<'de> for ParameterDefinition {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        match toml::Value::deserialize(d)? {
+            toml::Value::Table(t) => {
+                let p = ParameterTable::deserialize(toml::Value::Table(t))
+                    .map_err(|e| D::Error::custom(e.message().trim_end().trim_end_matches('.')))?;
+                Ok(ParameterDefinition::Full {
+                    value: p.value,
+                    min: p.min,
+                    max: p.max,
+                    unit: p.unit,
+                    about: p.about,
+                })
+            }
+            v @ (toml::Value::Float(_) | toml::Value::Integer(_)) => f64::deserialize(v)
+                .map(ParameterDefinition::Value)
+                .map_err(D::Error::custom),
+            other => Err(D::Error::custom(format!(
+                "a parameter is a number or {{ value, min, max, unit, about }}, not a {}",
+                other.type_str()
+            ))),
+        }
+    }
 }
 
 impl ParameterDefinition {

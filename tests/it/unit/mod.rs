@@ -40,6 +40,7 @@ mod model {
 }
 mod session {
     mod atomic;
+    mod budget;
     mod edit;
     mod locate;
     mod model_section;

@@ -173,7 +173,7 @@ impl Oscillator for EquationSystem {
             let names: Vec<&str> = model.parameters().iter().map(|p| p.name.as_str()).collect();
             ParamError {
                 field: format!("parameter `{name}`"),
-                value: f64::NAN,
+                value: ParamError::NOT_NUMERIC,
                 allowed: format!("one of the model's: {}", names.join(", ")),
             }
         })

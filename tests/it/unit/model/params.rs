@@ -136,4 +136,23 @@ fn every_bad_field_is_named_with_its_range() {
     .unwrap_err()
     .to_string();
     assert!(msg.contains("0.23607") && msg.contains("4.23607"), "{msg}");
+    // a NaN the user gave is shown; a choice that is not a number has no value to show
+    let msg = ParamSpec {
+        lambda_p: f64::NAN,
+        ..base
+    }
+    .build()
+    .unwrap_err()
+    .to_string();
+    assert!(msg.starts_with("lambda_p = NaN is out of range"), "{msg}");
+    let e = isola::analysis::parameter::FamilyParameter::parse("omega")
+        .unwrap()
+        .check_built_in()
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "parameter `omega` is out of range: allowed one of the built-in model's but omega, \
+         which each member spans: adr, e_a, c_tilde, lambda_p, j"
+    );
 }

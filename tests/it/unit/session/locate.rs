@@ -25,6 +25,15 @@ fn finds_lines_and_text_as_written() {
 
 #[test]
 fn serde_messages_in_plain_words() {
+    // a number or a list where a table goes names the table's keys
+    assert_eq!(
+        plain("invalid type: floating point `0.00000000000000000001`, expected struct Tolerance"),
+        "a table { rtol = …, atol = … } is expected, not a number"
+    );
+    assert_eq!(
+        plain("invalid length 1, expected struct Axis with 3 elements"),
+        "a table { min = …, max = …, points = … } is expected, not a list"
+    );
     assert_eq!(
         plain("invalid value: integer `-3`, expected usize"),
         "-3 is not allowed: a whole number >= 0 is expected"
