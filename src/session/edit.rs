@@ -3,23 +3,53 @@
 //! session is left as it was. Results stay on disk under the names they were computed for.
 
 use super::schema::{KINDS, Session, SessionError};
+use super::written::WrittenModel;
 
 /// The settings a new analysis of `kind` is written with: those it cannot do without (the
 /// rest take their defaults, shown in the workbench's parameter pane).
-fn required_settings(kind: &str) -> toml_edit::Table {
+fn required_settings(kind: &str, written: Option<&WrittenModel>) -> toml_edit::Table {
     let mut table = toml_edit::Table::new();
+    // the built-in model's ADR, or a written model's first parameter but its frequency,
+    // around its value within its range
+    let (parameter, [lo, value, hi]) = match written {
+        None => ("adr".to_string(), [0.2, 0.6, 1.0]),
+        Some(w) => {
+            let model = &w.model;
+            let Some(p) = (model.parameters().iter().enumerate())
+                .find(|&(i, _)| i != model.frequency())
+                .map(|(_, p)| p)
+            else {
+                return table; // a model of its frequency alone: nothing to vary
+            };
+            let v = p.default;
+            let d = if v == 0.0 { 1.0 } else { 0.5 * v.abs() };
+            let round = |x: f64| (x * 1e6).round() / 1e6;
+            (
+                p.name.clone(),
+                [round((v - d).max(p.min)), v, round((v + d).min(p.max))],
+            )
+        }
+    };
     match kind {
         "family" => {
-            table.insert("parameter", toml_edit::value("adr"));
-            let values: toml_edit::Array = [0.2, 0.6, 1.0].into_iter().collect();
+            table.insert("parameter", toml_edit::value(parameter));
+            let mut values = vec![lo, value, hi];
+            values.dedup();
+            let values: toml_edit::Array = values.into_iter().collect();
             table.insert("values", toml_edit::value(values));
         }
         "map" => {
-            table.insert("parameter", toml_edit::value("adr"));
+            table.insert("parameter", toml_edit::value(parameter));
             let mut axis = toml_edit::InlineTable::new();
-            axis.insert("min", 0.1.into());
-            axis.insert("max", 1.2.into());
-            axis.insert("points", 12.into());
+            // the built-in's ADR over the paper's range
+            let (lo, hi) = if written.is_none() {
+                (0.1, 1.2)
+            } else {
+                (lo, hi)
+            };
+            axis.insert("min", lo.into());
+            axis.insert("max", hi.into());
+            axis.insert("points", (if lo < hi { 12 } else { 1 }).into());
             table.insert("values", toml_edit::value(axis));
         }
         _ => {}
@@ -48,7 +78,7 @@ impl Session {
         let mut table = toml_edit::Table::new();
         table.insert("name", toml_edit::value(name));
         table.insert("kind", toml_edit::value(kind));
-        let mut settings = required_settings(kind);
+        let mut settings = required_settings(kind, self.written.as_ref());
         if !settings.is_empty() {
             settings.decor_mut().set_prefix("");
             table.insert("settings", toml_edit::Item::Table(settings));

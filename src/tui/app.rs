@@ -87,7 +87,7 @@ pub enum Overlay {
 pub enum Confirmed {
     /// Open this session, dropping unsaved edits.
     Open(PathBuf),
-    /// Save the session over this existing file.
+    /// Save the session over this existing file (or its own, changed on disk).
     SaveAs(PathBuf),
     /// Export over this existing file.
     Export(ExportRequest),
@@ -112,6 +112,9 @@ pub enum InputPurpose {
 pub struct Picked {
     pub label: String,
     pub job: usize,
+    /// The fingerprint of the analysis' settings it was integrated on: closed when they
+    /// change.
+    pub fingerprint: String,
     /// The orbit's time history, once integrated, and its view.
     pub history: Option<Box<OrbitHistory>>,
     pub view: Option<ResultView>,
@@ -437,8 +440,28 @@ impl App {
         if self.jobs.any_active() {
             self.dirty = true; // gauges move
         }
+        self.close_orbit_of_other_settings();
         self.poll_results(false);
         self.take_results();
+    }
+
+    /// Closes the picked orbit once the selected analysis' settings (or model) differ from
+    /// those it was integrated on: it would be drawn, exported and figured as theirs.
+    fn close_orbit_of_other_settings(&mut self) {
+        let Some(p) = &self.picked else { return };
+        let current = self
+            .session
+            .analyses
+            .get(self.selected)
+            .map(|e| self.session.fingerprint(e));
+        if current.as_ref() != Some(&p.fingerprint) {
+            self.picked = None;
+            self.dirty = true;
+            self.say(
+                "closed the orbit: it was of the settings before the edit",
+                false,
+            );
+        }
     }
 
     /// Asks for new result files to be read: the selected analysis' every 200 ms, all every
@@ -526,10 +549,14 @@ impl App {
         ) && a[i].model == a[self.selected].model
     }
 
-    /// The chirps drawn together with the selected one (same model), with their views.
+    /// The chirps drawn together with the selected one (same model), with their views: a
+    /// partner's only while it is of its current settings (a stale one is not drawn beside).
     pub fn sweep_group(&self) -> Vec<(usize, &ResultView)> {
         (0..self.session.analyses.len())
-            .filter(|&i| i == self.selected || self.is_sweep_partner(i))
+            .filter(|&i| {
+                i == self.selected
+                    || (self.is_sweep_partner(i) && self.status_of(i) != ResultStatus::Stale)
+            })
             .filter_map(|i| Some((i, self.stored.get(i)?.view.as_deref()?)))
             .collect()
     }
@@ -806,6 +833,18 @@ impl App {
                 let result = self.session.add_analysis(&kind, &name);
                 self.after_structure_edit(result, before, format!("added {name} ({kind})"));
             }
+            Command::Duplicate { name } | Command::Rename { name }
+                if self.has_stored_result(&name) =>
+            {
+                self.say(
+                    format!(
+                        "{name} has a result on disk (in {}), which that would replace: give \
+                         another name, or remove its files first",
+                        self.session.results_dir().display()
+                    ),
+                    true,
+                );
+            }
             Command::Duplicate { name } => {
                 let old = self.selected_name();
                 let before = self.version(format!("dup {name}"));
@@ -918,6 +957,13 @@ impl App {
             .analyses
             .get(self.selected)
             .map_or(String::new(), |e| e.name.clone())
+    }
+
+    /// Whether a result of an analysis named `name` is stored (complete, or the manifest
+    /// of one): a copy or a rename onto that name would replace it.
+    fn has_stored_result(&self, name: &str) -> bool {
+        let paths = ResultPaths::in_dir(&self.session.results_dir(), name);
+        paths.manifest.exists() || paths.csv.exists()
     }
 
     /// After a copy or a rename (if `done`): the stored result of analysis `from` copied as
@@ -1251,6 +1297,23 @@ impl App {
 
     /// Integrates the orbit under the plot cursor.
     fn pick(&mut self) {
+        // an orbit is integrated on the current settings: picked from their result only
+        if self.frozen.is_some() {
+            let key = self.keymap.label(super::keymap::Action::Freeze);
+            self.say(
+                format!("the plot is held: {key} resumes it, then pick"),
+                false,
+            );
+            return;
+        }
+        if self.status_of(self.selected) == ResultStatus::Stale {
+            let run = self.keymap.label(super::keymap::Action::Run);
+            self.say(
+                format!("the result shown is of other settings: {run} runs these, then pick"),
+                true,
+            );
+            return;
+        }
         let Some(view) = self.view() else { return };
         let Some(Pick {
             omega,
@@ -1282,9 +1345,11 @@ impl App {
         let (model, spec, from) = orbit::orbit_from(model, &start);
         let label = format!("orbit ω {omega:.3} {from}");
         let job = self.jobs.push(label.clone(), Work::Orbit { model, spec });
+        let fingerprint = self.session.fingerprint(entry);
         self.picked = Some(Picked {
             label,
             job,
+            fingerprint,
             history: None,
             view: None,
             cursor: (0, 0),
@@ -1355,8 +1420,28 @@ impl App {
         (*source == scalogram_source(c, &entry.settings.scalogram_spec())).then_some(s)
     }
 
+    /// Saves the session (as `path`), asking first if its own file changed on disk since it
+    /// was opened or saved (another editor's changes would be lost).
     fn save(&mut self, path: Option<PathBuf>) {
         let path = path.unwrap_or_else(|| self.session.path.clone());
+        let same = |a: &Path, b: &Path| a == b || a.canonicalize().ok() == b.canonicalize().ok();
+        let on_disk = std::fs::read_to_string(&path).ok();
+        if same(&path, &self.session.path) && on_disk.is_some_and(|t| t != self.saved_text) {
+            self.overlay = Some(Overlay::Confirm {
+                question: format!(
+                    "{} changed on disk since it was opened or saved: replace it with this \
+                     session, losing those changes? (n: :save FILE writes elsewhere)",
+                    path.display()
+                ),
+                then: Confirmed::SaveAs(path),
+            });
+            return;
+        }
+        self.save_over(path);
+    }
+
+    /// Writes the session to `path`, whatever is there.
+    fn save_over(&mut self, path: PathBuf) {
         let old_dir = self.session.results_dir();
         match self.session.save_as(&path) {
             Ok(()) => {
@@ -1489,7 +1574,10 @@ impl App {
         // a figure is of a current result, as `isola figure` draws it: never of a stale or
         // partial one shown while its settings are computed
         let current = self.status_of(self.selected) == ResultStatus::Complete;
-        let shown = current.then(|| self.view()).flatten();
+        // the stored result itself: a held plot (`f`) may show other settings'
+        let shown = current
+            .then(|| self.stored.get(self.selected)?.view.as_deref())
+            .flatten();
         let Some((view, title)) = picked.or_else(|| Some((shown?, &entry.name))) else {
             let run = self.keymap.label(super::keymap::Action::Run);
             let what = match self.view() {
@@ -1857,7 +1945,7 @@ impl App {
             Overlay::Confirm { question, then } => match key.code {
                 KeyCode::Char('y') | KeyCode::Char('Y') => match then {
                     Confirmed::Open(path) => self.open(&path),
-                    Confirmed::SaveAs(path) => self.save(Some(path)),
+                    Confirmed::SaveAs(path) => self.save_over(path),
                     Confirmed::Export(request) => self.export(&request),
                     Confirmed::Delete(index, name) => self.delete_analysis(index, &name),
                 },

@@ -1667,3 +1667,83 @@ fn start_of(pick: &super::plots::Pick) -> Option<&Vec<f64>> {
         super::plots::Start::Offset(_) => None,
     }
 }
+
+/// What the workbench draws, picks and saves is of the settings it shows: a figure is of the
+/// stored current result even while the plot is held on an older one; Enter on a stale result
+/// integrates nothing; an orbit closes once the settings it was integrated on change; a copy
+/// or a rename never replaces another stored result; a save asks before replacing a session
+/// file that changed on disk.
+#[test]
+fn what_is_drawn_picked_and_saved_is_of_the_current_settings() {
+    let (_dir, path) = fixture("current", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    // held on the 31-point result while a 21-point one is computed and stored
+    key(&mut app, KeyCode::Char('f'));
+    command(&mut app, "set omega.points 21");
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(app.frozen.is_some());
+    let (held, resumed) = (
+        path.with_file_name("held.svg"),
+        path.with_file_name("resumed.svg"),
+    );
+    command(&mut app, &format!("figure {}", held.display()));
+    key(&mut app, KeyCode::Char('f'));
+    assert!(app.frozen.is_none());
+    command(&mut app, &format!("figure {}", resumed.display()));
+    assert_eq!(
+        std::fs::read(&held).unwrap(),
+        std::fs::read(&resumed).unwrap(),
+        "the held plot's figure is the stored result's"
+    );
+    // Enter opens an orbit of the current result; an edit closes it
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Enter);
+    settle(&mut app);
+    assert!(app.picked.as_ref().is_some_and(|p| p.history.is_some()));
+    command(&mut app, "set adr 0.7");
+    app.tick();
+    assert!(app.picked.is_none(), "the orbit of ADR 0.6 is closed");
+    // the result is stale now: nothing is picked from it
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Enter);
+    assert!(app.picked.is_none());
+    let said = app
+        .message
+        .as_ref()
+        .map(|m| m.text.clone())
+        .unwrap_or_default();
+    assert!(said.contains("of other settings"), "{said}");
+    // a copy carries the result; a rename onto that copy's name would replace it: refused
+    command(&mut app, "dup copy");
+    let copy = ResultPaths::new(&app.session, "copy").csv;
+    let before = std::fs::read(&copy).unwrap();
+    command(&mut app, "select response");
+    command(&mut app, "rename copy");
+    let said = app.message.as_ref().map(|m| (m.text.clone(), m.error));
+    assert!(
+        matches!(&said, Some((t, true)) if t.contains("copy has a result on disk")),
+        "{said:?}"
+    );
+    assert_eq!(app.session.analyses[app.selected].name, "response");
+    assert_eq!(std::fs::read(&copy).unwrap(), before);
+    // another editor changed the file: a save asks, and `n` keeps that editor's text
+    let theirs = format!("{}# their note\n", std::fs::read_to_string(&path).unwrap());
+    std::fs::write(&path, &theirs).unwrap();
+    key(&mut app, KeyCode::Char('s'));
+    assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+    key(&mut app, KeyCode::Char('s'));
+    key(&mut app, KeyCode::Char('y'));
+    let ours = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        !ours.contains("their note") && ours.contains("adr = 0.7"),
+        "{ours}"
+    );
+}

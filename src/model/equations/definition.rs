@@ -45,49 +45,31 @@ pub struct ModelDefinition {
 #[serde(untagged)]
 pub enum ParameterDefinition {
     Value(f64),
-    Full {
-        value: f64,
-        #[serde(default)]
-        min: Option<f64>,
-        #[serde(default)]
-        max: Option<f64>,
-        #[serde(default)]
-        unit: Option<String>,
-        #[serde(default)]
-        about: Option<String>,
-    },
+    Full(ParameterTable),
 }
 
-/// A parameter's table form, its keys checked (`mni = 0` is named, not ignored).
-#[derive(Deserialize)]
+/// A parameter's table form; its keys are checked (`mni = 0` is named, not ignored).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct ParameterTable {
-    value: f64,
+pub struct ParameterTable {
+    pub value: f64,
     #[serde(default)]
-    min: Option<f64>,
+    pub min: Option<f64>,
     #[serde(default)]
-    max: Option<f64>,
+    pub max: Option<f64>,
     #[serde(default)]
-    unit: Option<String>,
+    pub unit: Option<String>,
     #[serde(default)]
-    about: Option<String>,
+    pub about: Option<String>,
 }
 
 impl<'de> Deserialize<'de> for ParameterDefinition {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         use serde::de::Error;
         match toml::Value::deserialize(d)? {
-            toml::Value::Table(t) => {
-                let p = ParameterTable::deserialize(toml::Value::Table(t))
-                    .map_err(|e| D::Error::custom(e.message().trim_end().trim_end_matches('.')))?;
-                Ok(ParameterDefinition::Full {
-                    value: p.value,
-                    min: p.min,
-                    max: p.max,
-                    unit: p.unit,
-                    about: p.about,
-                })
-            }
+            table @ toml::Value::Table(_) => ParameterTable::deserialize(table)
+                .map(ParameterDefinition::Full)
+                .map_err(|e| D::Error::custom(e.message().trim_end().trim_end_matches('.'))),
             v @ (toml::Value::Float(_) | toml::Value::Integer(_)) => f64::deserialize(v)
                 .map(ParameterDefinition::Value)
                 .map_err(D::Error::custom),
@@ -102,7 +84,8 @@ impl<'de> Deserialize<'de> for ParameterDefinition {
 impl ParameterDefinition {
     pub fn value(&self) -> f64 {
         match self {
-            ParameterDefinition::Value(v) | ParameterDefinition::Full { value: v, .. } => *v,
+            ParameterDefinition::Value(v) => *v,
+            ParameterDefinition::Full(p) => p.value,
         }
     }
 
@@ -110,23 +93,23 @@ impl ParameterDefinition {
     pub fn range(&self) -> (f64, f64) {
         match self {
             ParameterDefinition::Value(_) => (f64::NEG_INFINITY, f64::INFINITY),
-            ParameterDefinition::Full { min, max, .. } => (
-                min.unwrap_or(f64::NEG_INFINITY),
-                max.unwrap_or(f64::INFINITY),
+            ParameterDefinition::Full(p) => (
+                p.min.unwrap_or(f64::NEG_INFINITY),
+                p.max.unwrap_or(f64::INFINITY),
             ),
         }
     }
 
     pub fn unit(&self) -> Option<&str> {
         match self {
-            ParameterDefinition::Full { unit, .. } => unit.as_deref(),
+            ParameterDefinition::Full(p) => p.unit.as_deref(),
             ParameterDefinition::Value(_) => None,
         }
     }
 
     pub fn about(&self) -> Option<&str> {
         match self {
-            ParameterDefinition::Full { about, .. } => about.as_deref(),
+            ParameterDefinition::Full(p) => p.about.as_deref(),
             ParameterDefinition::Value(_) => None,
         }
     }

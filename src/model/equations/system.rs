@@ -96,6 +96,18 @@ impl EquationSystem {
     pub fn origin(&self) -> &Vector {
         &self.origin
     }
+
+    /// The collision conditions' values at (τ, x) into the registers; false if the model
+    /// has none.
+    fn load_collisions(&mut self, tau: f64, x: &Vector) -> bool {
+        let c = &*self.model.inner;
+        if c.collisions.is_empty() {
+            return false;
+        }
+        self.regs.load(&c.time_tape, tau, x);
+        c.collision_tape.run_free(&mut self.regs.values);
+        true
+    }
 }
 
 impl System for EquationSystem {
@@ -196,26 +208,20 @@ impl System for EquationSystem {
     }
 
     fn collided(&mut self, tau: f64, x: &Vector) -> bool {
-        let c = &*self.model.inner;
-        if c.collisions.is_empty() {
+        if !self.load_collisions(tau, x) {
             return false;
         }
-        self.regs.load(&c.time_tape, tau, x);
-        c.collision_tape.run_free(&mut self.regs.values);
-        let regs = &self.regs;
+        let (c, regs) = (&*self.model.inner, &self.regs);
         c.collisions
             .iter()
             .any(|cond| cond.stops(&|id| [regs.get(id)])[0])
     }
 
     fn undefined_collision(&mut self, tau: f64, x: &Vector) -> Option<String> {
-        let c = &*self.model.inner;
-        if c.collisions.is_empty() {
+        if !self.load_collisions(tau, x) {
             return None;
         }
-        self.regs.load(&c.time_tape, tau, x);
-        c.collision_tape.run_free(&mut self.regs.values);
-        let regs = &self.regs;
+        let (c, regs) = (&*self.model.inner, &self.regs);
         let i = c
             .collisions
             .iter()
