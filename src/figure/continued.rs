@@ -17,7 +17,7 @@ fn branch_type(b: &ContinuedView) -> String {
 }
 
 /// The marker of a bifurcation kind: a fold a square, a period doubling a triangle, a
-/// Neimark–Sacker point a cross.
+/// Neimark–Sacker point or a branch point a cross.
 fn bifurcation_marker(kind: &str) -> Marker {
     match kind {
         "fold" => Marker::Square,
@@ -120,6 +120,7 @@ where
             "period-doubling" => "period doubling",
             "parent-period-doubling" => "period doubling of the parent",
             "neimark-sacker" => "Neimark–Sacker",
+            "branch-point" => "branch point",
             other => other,
         };
         legend.add(

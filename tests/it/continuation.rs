@@ -494,3 +494,124 @@ fn a_four_state_model_is_shot_and_continued() {
     );
     liouville_ok(&b);
 }
+
+/// Two coupled oscillators, one meeting a stop (`max(x2 - d, 0)`): four multipliers, whose
+/// complex pairs meet on the real axis inside the unit circle near ω 1.062 and 1.079 (there
+/// the product of |μ|² − 1 over the pairs changes sign, and Neimark–Sacker points were
+/// reported where every |μ| is below 0.91). Only the two true ones below are: a pair of
+/// modulus 1 at ω 0.84629 and 0.89406 (an independent shooting, scipy DOP853 at 1e-12,
+/// put every |μ| at 1.000000 there).
+#[test]
+fn pairs_meeting_on_the_real_axis_are_no_neimark_sacker_points() {
+    use isola::analysis::Progress;
+    use isola::session::Session;
+    use isola::session::run::{Shard, run_analysis};
+    use isola::session::store::ResultPaths;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("coupled.toml");
+    std::fs::write(
+        &path,
+        r#"schema = 1
+[model]
+states = ["x1", "v1", "x2", "v2"]
+frequency = "omega"
+amplitude = "x1"
+[model.parameters]
+c = 0.05
+kc = 0.5
+a = 0.3
+kn = 5.0
+d = 0.3
+F = 0.3
+omega = 1.1
+[model.derivatives]
+x1 = "v1"
+v1 = "F*cos(omega*t) - c*v1 - x1 - kc*(x1 - x2) - a*x1^3"
+x2 = "v2"
+v2 = "-c*v2 - x2 - kc*(x2 - x1) - kn*max(x2 - d, 0)"
+
+[[analysis]]
+name = "cont"
+kind = "continuation"
+[analysis.settings]
+dx0 = 0.2
+[analysis.settings.continuation]
+min = 0.8
+max = 1.12
+"#,
+    )
+    .unwrap();
+    let s = Session::load(&path).unwrap();
+    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
+    let mut reader = csv::Reader::from_path(ResultPaths::new(&s, "cont").csv).unwrap();
+    let mut torus: Vec<f64> = reader
+        .records()
+        .map(|r| r.unwrap())
+        .filter(|r| &r[3] == "neimark-sacker")
+        .map(|r| r[4].parse().unwrap())
+        .collect();
+    torus.sort_by(f64::total_cmp);
+    assert_eq!(torus.len(), 2, "{torus:?}");
+    for (found, want) in torus.iter().zip([0.846293, 0.894064]) {
+        assert!((found - want).abs() < 1e-5, "{torus:?}");
+    }
+}
+
+/// A symmetric clearance oscillator's 1:3 branch: a real multiplier crosses +1 at ω
+/// 1.7993323 (an independent shooting, scipy DOP853 at 1e-12), where the branch goes on in
+/// ω (a symmetry-breaking pitchfork): a branch point, not a fold, which it was called.
+#[test]
+fn a_multiplier_through_one_where_the_branch_goes_on_is_a_branch_point() {
+    use isola::analysis::Progress;
+    use isola::session::Session;
+    use isola::session::run::{Shard, run_analysis};
+    use isola::session::store::ResultPaths;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("clearance.toml");
+    std::fs::write(
+        &path,
+        r#"schema = 1
+[model]
+states = ["x", "v"]
+frequency = "omega"
+amplitude = "x"
+[model.parameters]
+c = 0.05
+k0 = 0.2
+k1 = 2.0
+d = 0.5
+F = 0.3
+omega = 1.0
+[model.let]
+fs = "k1*(max(x - d, 0) + min(x + d, 0))"
+[model.derivatives]
+x = "v"
+v = "F*cos(omega*t) - c*v - k0*x - fs"
+
+[[analysis]]
+name = "c13"
+kind = "continuation"
+model = { omega = 1.9 }
+[analysis.settings]
+dx0 = -0.3628785814339019
+v0 = -0.3430263290485984
+[analysis.settings.continuation]
+min = 1.5
+max = 2.5
+"#,
+    )
+    .unwrap();
+    let s = Session::load(&path).unwrap();
+    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
+    let mut reader = csv::Reader::from_path(ResultPaths::new(&s, "c13").csv).unwrap();
+    let special: Vec<(String, f64)> = reader
+        .records()
+        .map(|r| r.unwrap())
+        .filter(|r| &r[3] != "point")
+        .map(|r| (r[3].to_string(), r[4].parse().unwrap()))
+        .collect();
+    assert_eq!(special.len(), 1, "{special:?}");
+    let (kind, omega) = &special[0];
+    assert_eq!(kind, "branch-point");
+    assert!((omega - 1.7993323).abs() < 2e-5, "{omega}");
+}

@@ -272,7 +272,7 @@ impl<'a, M: Continuable> Curve<'a, M> {
         let flip = match bif.kind {
             BifurcationKind::Fold => false,
             BifurcationKind::PeriodDoubling | BifurcationKind::ParentPeriodDoubling => true,
-            BifurcationKind::NeimarkSacker => {
+            BifurcationKind::NeimarkSacker | BifurcationKind::BranchPoint => {
                 return Err(ContinuationError::Param(ParamError {
                     field: "kind".into(),
                     value: ParamError::NOT_NUMERIC,

@@ -158,6 +158,9 @@ pub enum BifurcationKind {
     PeriodDoubling,
     /// A complex pair through the unit circle.
     NeimarkSacker,
+    /// A real multiplier through +1 where the branch goes on in the parameter (a
+    /// symmetry-breaking pitchfork or a transcritical point): another branch crosses it.
+    BranchPoint,
     /// The branch shrinks onto a response of a divisor period (a period doubling of that
     /// parent branch) and ends there.
     ParentPeriodDoubling,
@@ -169,6 +172,7 @@ impl BifurcationKind {
             BifurcationKind::Fold => "fold",
             BifurcationKind::PeriodDoubling => "period-doubling",
             BifurcationKind::NeimarkSacker => "neimark-sacker",
+            BifurcationKind::BranchPoint => "branch-point",
             BifurcationKind::ParentPeriodDoubling => "parent-period-doubling",
         }
     }
@@ -450,6 +454,40 @@ struct Solved {
     iterations: usize,
 }
 
+/// Where a monodromy's multipliers lie against the unit circle: what tells a complex pair
+/// crossing it (Neimark–Sacker) from complex pairs meeting on the real axis, which also
+/// changes the sign of the product of |μ|² − 1 over the pairs where n > 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct UnitCircle {
+    /// Complex pairs (counted once).
+    pairs: usize,
+    /// Multipliers of modulus above 1, and those of them complex.
+    outside: usize,
+    complex_outside: usize,
+}
+
+impl UnitCircle {
+    fn of(mu: &Multipliers) -> UnitCircle {
+        let outside = |z: &&crate::analysis::orbit::floquet::Multiplier| z.modulus() > 1.0;
+        UnitCircle {
+            pairs: mu.0.iter().filter(|z| z.im > 0.0).count(),
+            outside: mu.0.iter().filter(outside).count(),
+            complex_outside: mu.0.iter().filter(|z| z.im != 0.0).filter(outside).count(),
+        }
+    }
+
+    /// Whether a complex pair crossed the circle between `self` and `other`: as many pairs
+    /// on both, and the complex ones outside changed as all outside did (no real crossing
+    /// or pair meeting on the real axis in between).
+    fn torus_between(&self, other: &UnitCircle) -> bool {
+        let change = |a: usize, b: usize| b as isize - a as isize;
+        self.pairs == other.pairs
+            && change(self.complex_outside, other.complex_outside) != 0
+            && change(self.complex_outside, other.complex_outside)
+                == change(self.outside, other.outside)
+    }
+}
+
 /// Why a corrector failed: the orbit collides, or Newton gets nowhere (any other failure
 /// of the flow included).
 pub(crate) enum Failure {
@@ -577,6 +615,13 @@ impl<'a, M: Continuable> Problem<'a, M> {
         null_vector(&s.jac, prev)
     }
 
+    /// Whether the branch turns back in its parameter between the point of tangent `t` and
+    /// `b` (their tangents' parameter parts of opposite signs; a fold if unknown).
+    fn turns(b: &Solved, t: &DVector<f64>) -> bool {
+        let n = t.len() - 1;
+        Self::tangent(b, t).is_none_or(|tb| tb[n] * t[n] < 0.0)
+    }
+
     fn omega_at(&self, mu: f64) -> f64 {
         if self.parameter == self.base.frequency() {
             mu
@@ -692,13 +737,23 @@ impl<'a, M: Continuable> Problem<'a, M> {
             (BifurcationKind::PeriodDoubling, |t| Some(t.flip)),
             (BifurcationKind::NeimarkSacker, |t| t.torus),
         ];
+        let circle = [a, b].map(|s| UnitCircle::of(&Multipliers::of_matrix(&s.flow.monodromy)));
         for (kind, f) in tests {
             let (Some(ga), Some(gb)) = (f(&ta), f(&tb)) else {
                 continue;
             };
+            if kind == BifurcationKind::NeimarkSacker && !circle[0].torus_between(&circle[1]) {
+                // the product over complex pairs changed sign as pairs met on the real axis
+                continue;
+            }
             if (ga < 0.0) != (gb < 0.0) {
                 let g = |s: &Solved| f(&TestFunctions::of_matrix(&s.flow.monodromy)).unwrap_or(ga);
                 let (at, precision) = self.locate(a, t, (ga, gb, h, b), g);
+                // a multiplier through +1 is a fold only where the branch turns back
+                let kind = match kind {
+                    BifurcationKind::Fold if !Self::turns(b, t) => BifurcationKind::BranchPoint,
+                    kind => kind,
+                };
                 found.push(self.bifurcation(kind, &at, precision));
             }
         }
