@@ -46,8 +46,10 @@ pub enum AnalysisError {
     Param(#[from] crate::model::ParamError),
     #[error(transparent)]
     Shooting(#[from] orbit::shooting::ShootingError),
+    // the start as the settings name it, for the built-in model and a written one alike
     #[error(
-        "the trajectory from Δλ {dx0}, v {v0} settles to a {class} response: nothing to continue"
+        "the trajectory from dx0 = {dx0}, v0 = {v0} settles to a {class} response: nothing to \
+         continue"
     )]
     NoPeriodicSeed { dx0: f64, v0: f64, class: String },
     #[error("cancelled")]

@@ -1150,7 +1150,17 @@ impl App {
             }
             Focus::Plot => self.pick(),
             Focus::Analyses => self.focus = Focus::Plot,
-            Focus::Jobs => {}
+            // a failed job's whole error, which the pane and the status bar cut
+            Focus::Jobs => {
+                if let Some(entry) = self.jobs.entries.get(self.job_row)
+                    && let JobState::Failed(why) = &entry.state
+                {
+                    self.overlay = Some(Overlay::Notice {
+                        title: format!("{} failed", entry.label),
+                        text: why.clone(),
+                    });
+                }
+            }
         }
     }
 

@@ -1747,3 +1747,24 @@ fn what_is_drawn_picked_and_saved_is_of_the_current_settings() {
         "{ours}"
     );
 }
+
+/// Enter on a failed job shows its whole error, which the jobs pane and the status bar cut.
+#[test]
+fn enter_on_a_failed_job_shows_its_whole_error() {
+    let failing = "schema = 1\n[model]\nstates = [\"x\", \"v\"]\nfrequency = \"omega\"\namplitude = \"x\"\n[model.parameters]\nomega = 1.0\n[model.let]\na = \"sqrt(x - 10)\"\n[model.derivatives]\nx = \"v\"\nv = \"-a + cos(omega*t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"\n";
+    let (_dir, path) = fixture("failed-job", failing);
+    let mut app = app(&path, ColorMode::None);
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    app.focus = Focus::Jobs;
+    app.job_row = app.jobs.entries.len() - 1;
+    key(&mut app, KeyCode::Enter);
+    let Some(Overlay::Notice { title, text }) = &app.overlay else {
+        panic!("no notice: {:?}", app.message);
+    };
+    assert_eq!(title, "h failed");
+    assert!(
+        text.contains("not finite at τ = 0") && text.contains("model.let.a = NaN"),
+        "{text}"
+    );
+}

@@ -617,6 +617,11 @@ fn a_written_model_gets_clear_errors() {
             "line 13, column 28: expected a number, a name or `(` at `*`",
         ),
         ("-k*a", "-k*aa", "unknown name `aa`; did you mean `a`?"),
+        (
+            "-k*a + cos(omega*t)",
+            "-k*a + 1e999*x",
+            "line 13, column 13: a number beyond the largest a double holds (1.8e308) at `1e999`",
+        ),
         // a string with an escape: its characters are not the file's, its line is
         (
             "-k*a + cos(omega*t)",

@@ -95,6 +95,13 @@ fn tokens(text: &str) -> Result<Vec<(Tok, Span)>, SyntaxError> {
                 token: lit.to_string(),
                 message: "not a number".into(),
             })?;
+            if value.is_infinite() {
+                return Err(SyntaxError {
+                    span,
+                    token: lit.to_string(),
+                    message: "a number beyond the largest a double holds (1.8e308)".into(),
+                });
+            }
             out.push((Tok::Num(value), span));
             continue;
         }
