@@ -503,14 +503,8 @@ fn a_four_state_model_is_shot_and_continued() {
 /// put every |μ| at 1.000000 there).
 #[test]
 fn pairs_meeting_on_the_real_axis_are_no_neimark_sacker_points() {
-    use isola::analysis::Progress;
-    use isola::session::Session;
-    use isola::session::run::{Shard, run_analysis};
-    use isola::session::store::ResultPaths;
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("coupled.toml");
-    std::fs::write(
-        &path,
+    let mut torus: Vec<f64> = special_points(
+        "coupled",
         r#"schema = 1
 [model]
 states = ["x1", "v1", "x2", "v2"]
@@ -540,16 +534,10 @@ min = 0.8
 max = 1.12
 "#,
     )
-    .unwrap();
-    let s = Session::load(&path).unwrap();
-    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
-    let mut reader = csv::Reader::from_path(ResultPaths::new(&s, "cont").csv).unwrap();
-    let mut torus: Vec<f64> = reader
-        .records()
-        .map(|r| r.unwrap())
-        .filter(|r| &r[3] == "neimark-sacker")
-        .map(|r| r[4].parse().unwrap())
-        .collect();
+    .into_iter()
+    .filter(|(kind, _)| kind == "neimark-sacker")
+    .map(|(_, omega)| omega)
+    .collect();
     torus.sort_by(f64::total_cmp);
     assert_eq!(torus.len(), 2, "{torus:?}");
     for (found, want) in torus.iter().zip([0.846293, 0.894064]) {
@@ -562,14 +550,8 @@ max = 1.12
 /// ω (a symmetry-breaking pitchfork): a branch point, not a fold, which it was called.
 #[test]
 fn a_multiplier_through_one_where_the_branch_goes_on_is_a_branch_point() {
-    use isola::analysis::Progress;
-    use isola::session::Session;
-    use isola::session::run::{Shard, run_analysis};
-    use isola::session::store::ResultPaths;
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("clearance.toml");
-    std::fs::write(
-        &path,
+    let special = special_points(
+        "clearance",
         r#"schema = 1
 [model]
 states = ["x", "v"]
@@ -599,19 +581,31 @@ v0 = -0.3430263290485984
 min = 1.5
 max = 2.5
 "#,
-    )
-    .unwrap();
-    let s = Session::load(&path).unwrap();
-    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
-    let mut reader = csv::Reader::from_path(ResultPaths::new(&s, "c13").csv).unwrap();
-    let special: Vec<(String, f64)> = reader
-        .records()
-        .map(|r| r.unwrap())
-        .filter(|r| &r[3] != "point")
-        .map(|r| (r[3].to_string(), r[4].parse().unwrap()))
-        .collect();
+    );
     assert_eq!(special.len(), 1, "{special:?}");
     let (kind, omega) = &special[0];
     assert_eq!(kind, "branch-point");
     assert!((omega - 1.7993323).abs() < 2e-5, "{omega}");
+}
+
+/// The located special points (kind, parameter) of the one continuation in the session
+/// `text`, run as `isola run` would from a file `NAME.toml`.
+fn special_points(name: &str, text: &str) -> Vec<(String, f64)> {
+    use isola::analysis::Progress;
+    use isola::session::Session;
+    use isola::session::run::{Shard, run_analysis};
+    use isola::session::store::ResultPaths;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let s = Session::load(&path).unwrap();
+    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0)).unwrap();
+    let csv = ResultPaths::new(&s, &s.analyses[0].name).csv;
+    csv::Reader::from_path(csv)
+        .unwrap()
+        .records()
+        .map(|r| r.unwrap())
+        .filter(|r| &r[3] != "point")
+        .map(|r| (r[3].to_string(), r[4].parse().unwrap()))
+        .collect()
 }

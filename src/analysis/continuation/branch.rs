@@ -737,16 +737,17 @@ impl<'a, M: Continuable> Problem<'a, M> {
             (BifurcationKind::PeriodDoubling, |t| Some(t.flip)),
             (BifurcationKind::NeimarkSacker, |t| t.torus),
         ];
-        let circle = [a, b].map(|s| UnitCircle::of(&Multipliers::of_matrix(&s.flow.monodromy)));
+        let circle = |s: &Solved| UnitCircle::of(&Multipliers::of_matrix(&s.flow.monodromy));
         for (kind, f) in tests {
             let (Some(ga), Some(gb)) = (f(&ta), f(&tb)) else {
                 continue;
             };
-            if kind == BifurcationKind::NeimarkSacker && !circle[0].torus_between(&circle[1]) {
-                // the product over complex pairs changed sign as pairs met on the real axis
-                continue;
-            }
-            if (ga < 0.0) != (gb < 0.0) {
+            // (the multipliers again only where the torus test changed sign)
+            if (ga < 0.0) != (gb < 0.0)
+                && (kind != BifurcationKind::NeimarkSacker
+                    // pairs meeting on the real axis change the product's sign too
+                    || circle(a).torus_between(&circle(b)))
+            {
                 let g = |s: &Solved| f(&TestFunctions::of_matrix(&s.flow.monodromy)).unwrap_or(ga);
                 let (at, precision) = self.locate(a, t, (ga, gb, h, b), g);
                 // a multiplier through +1 is a fold only where the branch turns back
