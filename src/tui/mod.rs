@@ -148,7 +148,10 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
         }
         // a key is answered at once; background updates at most every frame_time
         if app.dirty && (key_pressed || last_draw.elapsed() >= frame_time) {
-            guard.terminal.draw(|f| ui::draw(f, &app))?;
+            let drawn = guard.terminal.draw(|f| ui::draw(f, &app)).map(drop);
+            if terminal::gone(drawn, &terminate)? {
+                continue;
+            }
             app.dirty = false;
             last_draw = Instant::now();
         }
@@ -161,8 +164,20 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
                 .saturating_sub(last_draw.elapsed())
                 .max(Duration::from_millis(5))
         };
-        if event::poll(wait)? {
-            match event::read()? {
+        let polled = event::poll(wait);
+        let ready = matches!(polled, Ok(true));
+        if terminal::gone(polled.map(drop), &terminate)? {
+            continue;
+        }
+        if ready {
+            let read = match event::read() {
+                Ok(read) => read,
+                Err(e) => {
+                    terminal::gone(Err(e), &terminate)?;
+                    continue;
+                }
+            };
+            match read {
                 Event::Key(key) if key.kind == KeyEventKind::Press => {
                     app.handle_key(key);
                     key_pressed = true;
@@ -172,7 +187,9 @@ pub fn run(args: &TuiArgs) -> anyhow::Result<u8> {
                     key_pressed = true;
                 }
                 Event::Resize(..) => {
-                    guard.terminal.autoresize()?;
+                    if terminal::gone(guard.terminal.autoresize(), &terminate)? {
+                        continue;
+                    }
                     app.dirty = true;
                     key_pressed = true;
                 }

@@ -4,6 +4,7 @@
 //! never printed over the screen.
 
 use std::io::{Stdout, stdout};
+use std::mem::ManuallyDrop;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -17,7 +18,9 @@ use ratatui::backend::CrosstermBackend;
 
 /// Owns the terminal while the TUI runs; dropping it gives the terminal back.
 pub struct TerminalGuard {
-    pub terminal: Terminal<CrosstermBackend<Stdout>>,
+    /// Never dropped: ratatui's drop prints to stderr, and panics, when the terminal is gone
+    /// (a hang-up); [`restore`] shows the cursor instead.
+    pub terminal: ManuallyDrop<Terminal<CrosstermBackend<Stdout>>>,
 }
 
 impl TerminalGuard {
@@ -41,13 +44,14 @@ impl TerminalGuard {
             stdout(),
             crossterm::terminal::Clear(crossterm::terminal::ClearType::All)
         )?;
-        Ok(TerminalGuard { terminal })
+        Ok(TerminalGuard {
+            terminal: ManuallyDrop::new(terminal),
+        })
     }
 }
 
 impl Drop for TerminalGuard {
     fn drop(&mut self) {
-        let _ = self.terminal.show_cursor();
         restore();
     }
 }
@@ -63,12 +67,14 @@ pub fn restore() {
     );
 }
 
-/// On a panic of the UI thread: restore the terminal, then print the message as usual.
+/// On a panic of the UI thread: log it, restore the terminal, then print the message as usual.
 /// On a worker's panic (the job turns it into an error): log it only.
 fn install_panic_hook() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         if std::thread::current().name() == Some("main") {
+            // logged too: the terminal it is printed on may be gone
+            tracing::error!("panic: {info}");
             restore();
             default(info);
         } else {
@@ -167,6 +173,25 @@ pub fn spawn_watchdog(terminate: Arc<AtomicUsize>, beat: LoopBeat) -> anyhow::Re
 fn gives_up(turns: u64, now: u64, since: Duration) -> (bool, bool) {
     let blocked = now != LoopBeat::QUITTING && now == turns && since > Duration::from_millis(500);
     (blocked, blocked || since > Duration::from_secs(3))
+}
+
+/// Whether a terminal operation failed because the terminal hung up (the loop may meet the
+/// dead terminal before the watchdog does): then the hang-up is raised as SIGHUP and the loop
+/// quits as on the signal. Any other failure is returned.
+pub fn gone(result: std::io::Result<()>, terminate: &AtomicUsize) -> std::io::Result<bool> {
+    match result {
+        Ok(()) => Ok(false),
+        Err(_) if terminal_hung_up() => {
+            let _ = terminate.compare_exchange(
+                0,
+                signal_hook::consts::SIGHUP as usize,
+                Ordering::Relaxed,
+                Ordering::Relaxed,
+            );
+            Ok(true)
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// True when standard input, the terminal, has hung up.

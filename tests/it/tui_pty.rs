@@ -159,20 +159,24 @@ fn session() -> (tempfile::TempDir, PathBuf) {
 fn the_workbench_runs_a_response_in_an_80x24_terminal_and_gives_the_terminal_back() {
     let (dir, session) = session();
     let mut pty = Pty::start(&session, dir.path());
-    let screen = pty.wait_for("the workbench", |s| {
-        s.contains("Analyses") && s.contains("not run")
+    // a frame is read as it arrives: what must be on screen is waited for, not asserted
+    pty.wait_for("the workbench with the response listed", |s| {
+        s.contains("Analyses") && s.contains("not run") && s.contains("response frequency response")
     });
-    assert!(screen.contains("response frequency response"), "{screen}");
     assert!(pty.screen.lock().unwrap().screen().alternate_screen());
     // r runs the response; the job pane shows it done, the plot its hidden isola
     pty.keys("r");
     // the result is stored complete a moment before its job (and its coarse preview's) ends
-    let screen = pty.wait_for("the response to finish and its plot", |s| {
-        s.contains("Jobs (0 active)") && s.contains("1:2 isola, hidden")
-    });
-    assert!(screen.contains("✓ done in"), "{screen}");
-    assert!(screen.contains("response · done"), "{screen}");
-    assert!(screen.contains("◇"), "hidden 1:2 points drawn: {screen}");
+    let screen = pty.wait_for(
+        "the response done, its hidden 1:2 points (◇) drawn",
+        |s| {
+            s.contains("Jobs (0 active)")
+                && s.contains("1:2 isola, hidden")
+                && s.contains("✓ done in")
+                && s.contains("response · done")
+                && s.contains("◇")
+        },
+    );
     // nothing drawn past 80×24 (combining marks, as in c̃, take no cell)
     let width = |l: &str| {
         l.chars()
@@ -253,12 +257,15 @@ fn an_analysis_made_in_the_workbench_is_saved_run_and_found_again() {
     pty.command("run");
     // the job's own message last: nothing comes after it to replace the save's
     pty.wait_for("b2's job to end", |s| s.contains("b2: done"));
-    let screen = pty.wait_for("b2 to finish", |s| s.contains("b2 · done"));
-    assert!(screen.contains("1:1"), "a basin legend: {screen}");
+    // a frame is read as it arrives: the title may be on screen before the legend
+    pty.wait_for("b2 to finish, with a basin legend", |s| {
+        s.contains("b2 · done") && s.contains("1:1")
+    });
     pty.keys("s");
     pty.wait_for("the save", |s| s.contains("saved"));
-    let screen = pty.wait_for("b2 still drawn", |s| s.contains("b2 · done"));
-    assert!(screen.contains("✓ b2"), "{screen}");
+    pty.wait_for("b2 still drawn, its result current", |s| {
+        s.contains("b2 · done") && s.contains("✓ b2")
+    });
     let csv = session.with_file_name("b2.csv");
     pty.command(&format!("export {}", csv.display()));
     pty.wait_for("the export", |s| s.contains("exported"));
