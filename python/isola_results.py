@@ -57,6 +57,7 @@ INTEGER = {
 }
 # Columns that hold true/false.
 BOOLEAN = {
+    "collision",
     "hidden",
     "located",
     "partly_hidden",

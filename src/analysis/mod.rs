@@ -54,6 +54,20 @@ pub enum AnalysisError {
     NoPeriodicSeed { dx0: f64, v0: f64, class: String },
     #[error("cancelled")]
     Cancelled,
+    #[error(
+        "the recorded orbit cannot meet its tolerance (rtol = {rtol:e}, atol = {atol:e}): at \
+         {steps} RK4 steps per forcing period, the most allowed, the error estimated over the \
+         period from τ = {tau} is still {excess:.3} times it (round-off, or an orbit too \
+         sensitive to follow that closely); allowed rtol in (1e-14, 1), and a larger one will do"
+    )]
+    ToleranceNotMet {
+        rtol: f64,
+        atol: f64,
+        steps: usize,
+        tau: f64,
+        /// The error estimate over the tolerance.
+        excess: f64,
+    },
     #[error("the model gives a value that is not finite at τ = {tau}, from {state}: {expression}")]
     NotFinite {
         tau: f64,

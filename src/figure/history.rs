@@ -118,6 +118,12 @@ where
         None => "steady".into(),
     };
     legend.add(Swatch::Line(steady_color, false), steady_text);
+    if let Some(tau) = h.collision {
+        legend.add(
+            Swatch::Line(p.response_type("collision"), false),
+            format!("ended by a collision at τ {tau:.4}"),
+        );
+    }
     // from the left of the plot: past its margin and the y labels
     legend.draw_row(&legend_area, (s.pad + s.text * 4) as i32)?;
     let mut phase = panel(

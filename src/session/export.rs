@@ -507,7 +507,8 @@ pub fn history_bytes(
 }
 
 /// One row per sample of a written model's time history: τ, its two grid states first, the
-/// other states, the amplitude's output, and whether the sample is on the steady response.
+/// other states, the amplitude's output, whether the sample is on the steady response, and
+/// whether it is where a collision ended the orbit (the last row only, if one did).
 pub fn state_history_bytes(
     h: &crate::analysis::global::oscillator::history::StateHistory,
     grid: [usize; 2],
@@ -520,12 +521,14 @@ pub fn state_history_bytes(
     csv_bytes(|w| {
         let mut header = vec!["tau"];
         header.extend(order.iter().map(|&i| h.states[i].as_str()));
-        header.extend(["amplitude_output", "steady"]);
+        header.extend(["amplitude_output", "steady", "collision"]);
         w.write_record(&header)?;
-        for s in &h.samples {
+        let last = h.samples.len().saturating_sub(1);
+        for (j, s) in h.samples.iter().enumerate() {
             let mut row = vec![num(s.tau)];
             row.extend(order.iter().map(|&i| num(s.state[i])));
-            row.extend([num(s.output), s.steady.to_string()]);
+            let collided = j == last && h.collision.is_some();
+            row.extend([num(s.output), s.steady.to_string(), collided.to_string()]);
             w.write_record(&row)?;
         }
         Ok(())

@@ -177,6 +177,8 @@ pub struct HistoryView {
     pub summary: Option<SteadySummary>,
     /// The names of the two states drawn, for a written model (λ_I and v otherwise).
     pub states: Option<[String; 2]>,
+    /// τ where a collision ended a written model's orbit (its last sample), if one did.
+    pub collision: Option<f64>,
 }
 
 impl HistoryView {
@@ -199,6 +201,7 @@ impl HistoryView {
             steady: h.samples.iter().map(|s| s.steady).collect(),
             summary: None,
             states: Some(grid.map(|i| h.states[i].clone())),
+            collision: h.collision.as_ref().map(|c| c.tau),
         }
     }
 }
@@ -212,6 +215,7 @@ impl From<&crate::analysis::orbit::time_history::TimeHistory> for HistoryView {
             steady: h.samples.iter().map(|s| s.steady).collect(),
             summary: None,
             states: None,
+            collision: None,
         }
     }
 }
@@ -847,6 +851,9 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 h.lambda.push(c.f64(r, &x)?);
                 h.v.push(c.f64(r, &v)?);
                 h.steady.push(c.str(r, "steady")? == "true");
+                if c.opt::<bool>(r, "collision") == Some(true) {
+                    h.collision = h.tau.last().copied();
+                }
             }
             ResultView::History(h)
         }

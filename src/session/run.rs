@@ -484,7 +484,7 @@ impl Run<'_> {
             Settings::Continuation(spec) => self.whole(|csv| {
                 let branch = branch_from_state(params, spec, progress)?;
                 finite(&branch, "the continued branch")?;
-                export::continued_csv(&[&branch], columns, csv)
+                export::continued_csv(&[&branch], columns, csv).map(|()| Vec::new())
             }),
             single => self.whole(|csv| params.run_single(single, columns, csv, progress)),
         }
@@ -562,8 +562,12 @@ impl Run<'_> {
         )
     }
 
-    /// An analysis computed whole, as chunk 0: by the run that claims it.
-    fn whole(&self, compute: impl FnOnce(&Path) -> anyhow::Result<()>) -> anyhow::Result<Outcome> {
+    /// An analysis computed whole, as chunk 0: by the run that claims it. `compute` writes the
+    /// result and returns what the user should know about it.
+    fn whole(
+        &self,
+        compute: impl FnOnce(&Path) -> anyhow::Result<Vec<String>>,
+    ) -> anyhow::Result<Outcome> {
         let progress = self.progress;
         if !self.shard.owns(0) {
             return Ok(Outcome::ShardDone {
@@ -601,7 +605,7 @@ impl Run<'_> {
         let started = Instant::now();
         let staging = self.work.staging()?;
         let csv = staging.join(file_name(&self.work.paths.csv));
-        compute(&csv).with_context(|| self.entry.name.clone())?;
+        let notes = compute(&csv).with_context(|| self.entry.name.clone())?;
         if self.cancelled() {
             return Err(self.cancelled_error());
         }
@@ -613,7 +617,7 @@ impl Run<'_> {
             chunks_computed: 1,
             seconds: m.compute_seconds,
             assembled_here: true,
-            notes: Vec::new(),
+            notes,
         })
     }
 
@@ -907,7 +911,7 @@ fn finite<T: serde::Serialize>(value: &T, what: &str) -> anyhow::Result<()> {
 }
 
 /// The analyses without chunks that depend on the model: computed at once and written to
-/// `csv`.
+/// `csv`; what the user should know about the result is returned.
 trait Single {
     fn run_single(
         &self,
@@ -915,7 +919,7 @@ trait Single {
         columns: &export::ModelColumns,
         csv: &Path,
         progress: &Progress,
-    ) -> anyhow::Result<()>;
+    ) -> anyhow::Result<Vec<String>>;
 }
 
 /// A written model's analyses that have no chunks.
@@ -926,7 +930,7 @@ impl Single for EquationSystem {
         columns: &export::ModelColumns,
         csv: &Path,
         progress: &Progress,
-    ) -> anyhow::Result<()> {
+    ) -> anyhow::Result<Vec<String>> {
         let sys = self;
         match settings {
             Settings::TimeHistory(spec) => {
@@ -934,7 +938,7 @@ impl Single for EquationSystem {
                 finite(&h, "the time history")?;
                 let bytes = export::state_history_bytes(&h, sys.model().grid())?;
                 super::output::write_output(csv, &bytes, &super::output::Protected::none())?;
-                Ok(())
+                Ok(h.collision.iter().map(|c| c.describe()).collect())
             }
             Settings::SteppedSweep(spec) => {
                 let start = sys.grid_start([spec.dx0, spec.v0]);
@@ -949,7 +953,8 @@ impl Single for EquationSystem {
                 )?;
                 finite(&swept, "the stepped sweep")?;
                 let found = SweepFindings::of(&swept, spec.jump_ratio);
-                export::stepped_csv(&swept, &found, columns, csv).map(drop)
+                export::stepped_csv(&swept, &found, columns, csv)?;
+                Ok(Vec::new())
             }
             other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
         }
@@ -964,19 +969,19 @@ impl Single for Params {
         columns: &export::ModelColumns,
         csv: &Path,
         progress: &Progress,
-    ) -> anyhow::Result<()> {
+    ) -> anyhow::Result<Vec<String>> {
         let params = self;
         let device = columns.device.unwrap_or_default();
         match settings {
             Settings::ForceCurve(spec) => {
                 let curves = force_curves(spec)?;
                 finite(&curves, "the force curves")?;
-                export::force_csv(&curves, csv)
+                export::force_csv(&curves, csv).map(|()| Vec::new())
             }
             Settings::TimeHistory(spec) => {
                 let h = time_history(params, spec)?;
                 finite(&h, "the time history")?;
-                export::history_csv(&h, &device, csv)
+                export::history_csv(&h, &device, csv).map(|()| Vec::new())
             }
             Settings::ChirpSweep(spec) => {
                 let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
@@ -987,7 +992,7 @@ impl Single for Params {
                     finite(&sc, "the scalogram")?;
                     export::scalogram_csv(&sc, &s, &device, &export::beside(csv, "scalogram"))?;
                 }
-                Ok(())
+                Ok(Vec::new())
             }
             Settings::SteppedSweep(spec) => {
                 let start = params.grid_start([spec.dx0, spec.v0]);
@@ -1001,7 +1006,7 @@ impl Single for Params {
                 )?;
                 finite(&steps, "the stepped sweep")?;
                 let found = SweepFindings::of(&steps, spec.jump_ratio);
-                export::stepped_csv(&steps, &found, columns, csv).map(drop)
+                export::stepped_csv(&steps, &found, columns, csv).map(|_| Vec::new())
             }
             Settings::Continuation(_)
             | Settings::Basin(_)

@@ -111,29 +111,35 @@ impl GeneralRk4 {
 
     /// A trajectory from `x0` at τ = 0 (stopped at once if `x0` is outside the model).
     pub fn start<S: System>(&self, sys: &mut S, x0: &[f64]) -> Trajectory {
+        self.start_at(sys, x0, 0)
+    }
+
+    /// A trajectory from `x0` at τ = `steps`·h (its piece found there afresh).
+    pub fn start_at<S: System>(&self, sys: &mut S, x0: &[f64], steps: u64) -> Trajectory {
         sys.tabulate(self.n);
         let mut x = [0.0; MAX_DIM];
         x[..x0.len()].copy_from_slice(x0);
+        let tau = self.tau(steps);
         let mut traj = Trajectory {
             x,
             dx: [0.0; MAX_DIM],
             mode: 0,
-            steps: 0,
-            phase: 0,
+            steps,
+            phase: (steps % self.n as u64) as usize,
             stop: None,
         };
         if x0.iter().any(|v| !v.is_finite()) {
-            traj.stop = Some(self.non_finite(sys, 0.0, &x));
+            traj.stop = Some(self.non_finite(sys, tau, &x));
             return traj;
         }
-        if sys.collided(0.0, &x) {
-            traj.stop = Some(collision(sys, 0.0, &x));
+        if sys.collided(tau, &x) {
+            traj.stop = Some(collision(sys, tau, &x));
             return traj;
         }
-        traj.mode = sys.mode_at(0.0, &x) & sys.switch_mask();
-        sys.field(0.0, &x, traj.mode, &mut traj.dx);
+        traj.mode = sys.mode_at(tau, &x) & sys.switch_mask();
+        sys.field(tau, &x, traj.mode, &mut traj.dx);
         if traj.dx.iter().any(|v| !v.is_finite()) {
-            traj.stop = Some(self.non_finite(sys, 0.0, &x));
+            traj.stop = Some(self.non_finite(sys, tau, &x));
         }
         traj
     }

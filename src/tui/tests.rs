@@ -1656,7 +1656,7 @@ fn a_written_models_response_opens_its_orbit() {
     command(&mut app, &format!("export {}", orbit.display()));
     let text = std::fs::read_to_string(&orbit).unwrap();
     assert!(
-        text.starts_with("tau,x,v,z,amplitude_output,steady\n"),
+        text.starts_with("tau,x,v,z,amplitude_output,steady,collision\n"),
         "{text:.80}"
     );
 }

@@ -164,6 +164,7 @@ fn history() -> HistoryView {
             slack_ii: 0.2,
         }),
         states: None,
+        collision: None,
     }
 }
 

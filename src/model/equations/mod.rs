@@ -43,7 +43,9 @@ pub use system::EquationSystem;
 /// stored results become stale.
 /// 2: a periodic forcing read from a table of one period, negative powers through one
 /// reciprocal: numbers moved by rounding (≤ 2e-13 in Fig 4's response).
-pub const NUMERICS_VERSION: u32 = 2;
+/// 3: a time history recorded within its tolerance (each period at N and 2N steps), and
+/// ended, with a `collision` column, where a collision ends the orbit.
+pub const NUMERICS_VERSION: u32 = 3;
 
 /// Why a written model cannot be used: where (the TOML key, and line and column when known)
 /// and what.

@@ -97,6 +97,20 @@ impl EquationSystem {
         &self.origin
     }
 
+    /// The collision condition (τ, x) meets, as `model.collision[i] = \`text\``; `None`
+    /// where it meets none.
+    pub fn collision_met(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        if !self.load_collisions(tau, x) {
+            return None;
+        }
+        let (c, regs) = (&*self.model.inner, &self.regs);
+        let i = c
+            .collisions
+            .iter()
+            .position(|cond| cond.stops(&|id| [regs.get(id)])[0])?;
+        Some(format!("model.collision[{i}] = `{}`", c.collision_text[i]))
+    }
+
     /// The collision conditions' values at (τ, x) into the registers; false if the model
     /// has none.
     fn load_collisions(&mut self, tau: f64, x: &Vector) -> bool {

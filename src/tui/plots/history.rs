@@ -58,6 +58,12 @@ pub fn draw(
             )),
         ]));
     }
+    if let Some(tau) = h.collision {
+        footer.push(Line::from(Span::styled(
+            format!("ended by a collision at τ {tau:.4}: nothing recorded after it"),
+            theme.error(),
+        )));
+    }
     if let Some(s) = &h.summary {
         let period = match (s.period_forcing_periods, ctx.device) {
             // a subharmonic's own frequency beside the forcing's

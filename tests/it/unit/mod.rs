@@ -7,6 +7,7 @@ mod analysis {
         mod batch;
         mod capture;
         mod ellipse;
+        mod history;
         mod stepped_sweep;
     }
     mod orbit {

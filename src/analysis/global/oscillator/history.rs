@@ -1,6 +1,12 @@
 //! The time history of one orbit of a written model: every state sampled through the transient
-//! and a few response periods, on the general engine at four times the classification's
-//! resolution.
+//! and a few response periods, its error held within the spec's `tolerance`.
+//!
+//! Each forcing period is integrated twice from the same state, with N and 2N RK4 steps, and N
+//! doubled until the two agree: the 2N run's error is about a fifteenth of their difference
+//! (RK4 is of fourth order, and the general engine keeps it across kinks), and it must be
+//! within `atol + rtol·|x|` in every state at every sample. The 2N run is recorded and the
+//! next period starts from its end; where the estimate is far inside the tolerance, N is
+//! halved again (2N never below 4× the classification's steps).
 
 use serde::Serialize;
 
@@ -10,8 +16,12 @@ use crate::analysis::Oscillator;
 use crate::analysis::orbit::steady_state::SteadyState;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::model::equations::EquationSystem;
-use crate::model::system::{System, Vector};
+use crate::model::system::{Mode, System, Vector};
+use crate::solver::Tolerance;
 use crate::solver::general::{GeneralRk4, Stop};
+
+/// Most RK4 steps per forcing period a recording takes to meet its tolerance.
+pub const MAX_STEPS_PER_PERIOD: usize = 1 << 17;
 
 /// One sample: τ, the whole state, the amplitude's output.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -32,6 +42,17 @@ pub struct StateHistory {
     pub steady_state: SteadyState,
     /// τ where the steady part begins.
     pub steady_from: f64,
+    /// The collision that ended the orbit, if one did: the last sample is where it was met
+    /// (at the end of the step that met it).
+    pub collision: Option<HistoryCollision>,
+}
+
+/// A collision that ended a recorded orbit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HistoryCollision {
+    pub tau: f64,
+    /// The condition met, as `model.collision[i] = \`text\``.
+    pub condition: String,
 }
 
 /// Records the orbit of `sys` from the grid offset (`dx0`, `v0`): the transient (at most
@@ -59,41 +80,162 @@ pub fn state_history_from(
     let total_periods = transient + spec.steady_periods * k;
     let period = sys.period();
     let steady_from = transient as f64 * period;
-    // four times the classification's steps, a whole number of them per sample
-    let per_sample =
-        (4 * spec.steady.resolution.steps_for(period)).div_ceil(spec.samples_per_period);
-    let rk = GeneralRk4::with_steps(&sys, per_sample * spec.samples_per_period);
     let dim = sys.dim();
-    let mut traj = rk.start(&mut sys, &start[..dim]);
-    let mut samples = Vec::with_capacity(total_periods * spec.samples_per_period + 1);
-    let sample =
-        |sys: &mut EquationSystem, tau: f64, x: &crate::model::system::Vector, mode| StateSample {
+    let spp = spec.samples_per_period;
+    let sample = |sys: &mut EquationSystem, tau: f64, x: &Vector, mode| StateSample {
+        tau,
+        state: x[..dim].to_vec(),
+        output: sys.output(tau, x, mode).0,
+        steady: tau >= steady_from - 1e-9,
+    };
+    let mut samples = Vec::with_capacity(total_periods * spp + 1);
+    let first = GeneralRk4::with_steps(&sys, spp).start(&mut sys, &start[..dim]);
+    samples.push(sample(&mut sys, 0.0, &first.x, first.mode));
+    let mut collision = None;
+    match first.stop {
+        Some(Stop::NonFinite {
             tau,
-            state: x[..dim].to_vec(),
-            output: sys.output(tau, x, mode).0,
-            steady: tau >= steady_from - 1e-9,
-        };
-    samples.push(sample(&mut sys, 0.0, &traj.x, traj.mode));
-    for _ in 0..total_periods * spec.samples_per_period {
-        for _ in 0..per_sample {
-            rk.advance_step(&mut sys, &mut traj);
+            state,
+            expression,
+        }) => return Err(not_finite(&sys, tau, &state, &expression)),
+        Some(Stop::Collision { tau, state }) => {
+            let condition = sys.collision_met(tau, &state).unwrap_or_default();
+            collision = Some(HistoryCollision { tau, condition });
         }
-        match &traj.stop {
-            Some(Stop::NonFinite {
+        None => {}
+    }
+    // nothing more to record after a collision at the start
+    let total_periods = if collision.is_some() {
+        0
+    } else {
+        total_periods
+    };
+    // the coarse run's steps per sample: twice the classification's steps, the fine run's four
+    // times, to begin with
+    let least = (2 * spec.steady.resolution.steps_for(period)).div_ceil(spp);
+    let most = MAX_STEPS_PER_PERIOD / spp;
+    let mut per_sample = least;
+    let (mut coarse_sys, mut fine_sys) = (sys.clone(), sys.clone());
+    let mut x = *start;
+    for p in 0..total_periods as u64 {
+        let mut coarse = run_period(&mut coarse_sys, per_sample, spp, p, &x);
+        let (fine, excess) = loop {
+            let fine = run_period(&mut fine_sys, 2 * per_sample, spp, p, &x);
+            if let Some(Stop::NonFinite {
                 tau,
                 state,
                 expression,
-            }) => return Err(not_finite(&sys, *tau, state, expression)),
-            Some(Stop::Collision { .. }) => break,
+            }) = &fine.stop
+            {
+                return Err(not_finite(&fine_sys, *tau, state, expression));
+            }
+            let excess = error_excess(&coarse, &fine, dim, spec.tolerance);
+            if excess <= 1.0 {
+                break (fine, excess);
+            }
+            if 2 * per_sample >= most {
+                return Err(AnalysisError::ToleranceNotMet {
+                    rtol: spec.tolerance.rtol,
+                    atol: spec.tolerance.atol,
+                    steps: 2 * per_sample * spp,
+                    tau: p as f64 * period,
+                    excess,
+                });
+            }
+            per_sample *= 2;
+            std::mem::swap(&mut coarse_sys, &mut fine_sys);
+            coarse = fine;
+        };
+        for (tau, state, mode) in &fine.samples {
+            samples.push(sample(&mut sys, *tau, state, *mode));
+        }
+        match fine.stop {
+            Some(Stop::Collision { tau, state }) => {
+                let condition = sys.collision_met(tau, &state).unwrap_or_default();
+                let mode = sys.mode_at(tau, &state) & sys.switch_mask();
+                samples.push(sample(&mut sys, tau, &state, mode));
+                collision = Some(HistoryCollision { tau, condition });
+                break;
+            }
+            Some(Stop::NonFinite { .. }) => unreachable!("returned as an error above"),
             None => {}
         }
-        let tau = rk.tau(traj.steps);
-        samples.push(sample(&mut sys, tau, &traj.x, traj.mode));
+        x = fine.samples.last().map_or(x, |s| s.1);
+        // far inside the tolerance (the coarse run's error, 16 times the fine one's, within
+        // a tenth of it): half the steps will do for the next period
+        if 16.0 * excess < 0.1 && per_sample / 2 >= least {
+            per_sample /= 2;
+            std::mem::swap(&mut coarse_sys, &mut fine_sys);
+        }
     }
     Ok(StateHistory {
         states: sys.model().states().to_vec(),
         samples,
         steady_state: steady,
         steady_from,
+        collision,
     })
+}
+
+impl HistoryCollision {
+    /// In words, for the user: where and how the orbit ended.
+    pub fn describe(&self) -> String {
+        format!(
+            "the orbit met a collision at τ = {:.6} ({}): its time history ends there",
+            self.tau, self.condition
+        )
+    }
+}
+
+/// One forcing period of a recording: its samples (τ, state, piece), and what stopped it.
+struct PeriodRun {
+    samples: Vec<(f64, Vector, Mode)>,
+    stop: Option<Stop>,
+}
+
+/// Period `p` from `x`, at `per_sample` steps per sample and `spp` samples.
+fn run_period(
+    sys: &mut EquationSystem,
+    per_sample: usize,
+    spp: usize,
+    p: u64,
+    x: &Vector,
+) -> PeriodRun {
+    let rk = GeneralRk4::with_steps(sys, per_sample * spp);
+    let dim = sys.dim();
+    let mut traj = rk.start_at(sys, &x[..dim], p * (per_sample * spp) as u64);
+    let mut samples = Vec::with_capacity(spp);
+    'period: for _ in 0..spp {
+        for _ in 0..per_sample {
+            if traj.stop.is_some() {
+                break 'period;
+            }
+            rk.advance_step(sys, &mut traj);
+        }
+        if traj.stop.is_some() {
+            break;
+        }
+        samples.push((rk.tau(traj.steps), traj.x, traj.mode));
+    }
+    PeriodRun {
+        samples,
+        stop: traj.stop,
+    }
+}
+
+/// The fine run's error estimated from its difference to the coarse one (a fifteenth of it),
+/// over the tolerance: the largest over the samples both have and every state. Infinite where
+/// the coarse run stopped on a value that is not finite and the fine one did not.
+fn error_excess(coarse: &PeriodRun, fine: &PeriodRun, dim: usize, tol: Tolerance) -> f64 {
+    if matches!(coarse.stop, Some(Stop::NonFinite { .. })) {
+        return f64::INFINITY;
+    }
+    let mut excess: f64 = 0.0;
+    for ((_, c, _), (_, f, _)) in coarse.samples.iter().zip(&fine.samples) {
+        for i in 0..dim {
+            let scale = tol.atol + tol.rtol * c[i].abs().max(f[i].abs());
+            excess = excess.max((f[i] - c[i]).abs() / 15.0 / scale);
+        }
+    }
+    excess
 }
