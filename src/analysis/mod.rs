@@ -57,8 +57,9 @@ pub enum AnalysisError {
     #[error(
         "the recorded orbit cannot meet its tolerance (rtol = {rtol:e}, atol = {atol:e}): at \
          {steps} RK4 steps per forcing period, the most allowed, the error estimated over the \
-         period from τ = {tau} is still {excess:.3} times it (round-off, or an orbit too \
-         sensitive to follow that closely); allowed rtol in (1e-14, 1), and a larger one will do"
+         sample interval from τ = {tau} is still {excess:.3} times its share of it (round-off, \
+         or an orbit too sensitive to follow that closely); allowed rtol in (1e-14, 1), and a \
+         larger one will do"
     )]
     ToleranceNotMet {
         rtol: f64,

@@ -512,6 +512,26 @@ pub(super) struct Trial {
     pub finite: bool,
 }
 
+/// One stage: dx/dτ at (t, y) held on `mode`, and the mode y is on. Where y has strayed off
+/// `mode`'s piece to where that piece is not defined (the branch not taken of
+/// `if(x < 2, sqrt(2 - x), 0)` past x = 2), the stage takes the piece y is on: the step
+/// crosses a switch there, and is located as any other.
+#[inline]
+fn stage<S: System>(
+    sys: &mut S,
+    dim: usize,
+    t: f64,
+    y: &Vector,
+    mode: Mode,
+    k: &mut Vector,
+) -> Mode {
+    let seen = sys.field(t, y, mode, k);
+    if seen != mode && k[..dim].iter().any(|v| !v.is_finite()) {
+        sys.field(t, y, seen, k);
+    }
+    seen
+}
+
 /// One RK4 step of length `h` from (t, x) with first stage `k1`, held on `mode`; with
 /// `with_end`, the derivative at its end too.
 #[allow(clippy::too_many_arguments)]
@@ -531,22 +551,22 @@ fn rk4<S: System>(
     for i in 0..dim {
         y[i] = x[i] + 0.5 * h * k1[i];
     }
-    let mut seen_diff = sys.field(t + 0.5 * h, &y, mode, &mut k2) ^ mode;
+    let mut seen_diff = stage(sys, dim, t + 0.5 * h, &y, mode, &mut k2) ^ mode;
     for i in 0..dim {
         y[i] = x[i] + 0.5 * h * k2[i];
     }
-    seen_diff |= sys.field(t + 0.5 * h, &y, mode, &mut k3) ^ mode;
+    seen_diff |= stage(sys, dim, t + 0.5 * h, &y, mode, &mut k3) ^ mode;
     for i in 0..dim {
         y[i] = x[i] + h * k3[i];
     }
-    seen_diff |= sys.field(t + h, &y, mode, &mut k4) ^ mode;
+    seen_diff |= stage(sys, dim, t + h, &y, mode, &mut k4) ^ mode;
     let mut end = [0.0; MAX_DIM];
     for i in 0..dim {
         end[i] = x[i] + h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     }
     let mut dx = [0.0; MAX_DIM];
     if with_end {
-        seen_diff |= sys.field(t + h, &end, mode, &mut dx) ^ mode;
+        seen_diff |= stage(sys, dim, t + h, &end, mode, &mut dx) ^ mode;
     }
     let finite = end[..dim].iter().chain(&dx[..dim]).all(|v| v.is_finite());
     Trial {

@@ -468,7 +468,11 @@ pub enum ShootingError {
     Singular,
     #[error("the model gives a value that is not finite at τ = {tau}: {detail}")]
     NonFinite { tau: f64, detail: String },
-    #[error("the integration stalled at τ = {tau} (step size below round-off)")]
+    #[error(
+        "the integration stalled at τ = {tau} (step size below round-off): the field or its \
+         Jacobian grows without bound there, as `sqrt(2 - x)`'s slope does at x = 2, or changes \
+         faster than any step can follow"
+    )]
     Stalled { tau: f64 },
 }
 

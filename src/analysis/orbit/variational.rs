@@ -91,6 +91,17 @@ impl<S: System> Flow<S> {
         self.n + self.n * self.n + 1
     }
 
+    /// Whether the field `f` (and, with `jacobian`, the Jacobian last evaluated) is finite.
+    #[inline(always)]
+    fn defined(&self, f: &Vector, jacobian: bool) -> bool {
+        let n = self.n;
+        f[..n].iter().all(|v| v.is_finite())
+            && (!jacobian
+                || self.jac[..n]
+                    .iter()
+                    .all(|r| r[..n].iter().all(|v| v.is_finite())))
+    }
+
     #[inline(always)]
     fn deriv(&mut self, t: f64, y: &Aug, mode: Mode) -> Aug {
         let n = self.n;
@@ -98,6 +109,16 @@ impl<S: System> Flow<S> {
         let mut f = [0.0; MAX_DIM];
         self.sys
             .field_and_jacobian(t, &x, mode, &mut f, &mut self.jac);
+        if !self.defined(&f, true) {
+            // a stage strayed off the piece to where it is not defined: the stage takes the
+            // piece it is on (the step crosses a switch, located as any other)
+            let seen = self.sys.mode_at(t, &x) & self.mask;
+            if seen != mode & self.mask {
+                let mode = (mode & !self.mask) | seen;
+                self.sys
+                    .field_and_jacobian(t, &x, mode, &mut f, &mut self.jac);
+            }
+        }
         let mut dy = [0.0; AUG];
         dy[..n].copy_from_slice(&f[..n]);
         for i in 0..n {
@@ -132,7 +153,11 @@ impl<S: System> Flow<S> {
                 x1 = xs;
             }
             let mut f = [0.0; MAX_DIM];
-            self.sys.field(t + C[s] * h, &xs, mode, &mut f);
+            let seen = self.sys.field(t + C[s] * h, &xs, mode, &mut f);
+            if seen != mode && !self.defined(&f, false) {
+                // as in `deriv`: the piece the stage is on
+                self.sys.field(t + C[s] * h, &xs, seen, &mut f);
+            }
             k[s] = f;
         }
         x1

@@ -1,13 +1,13 @@
 //! The library's unit tests, beside its integration tests in this one test binary (the
 //! library is then compiled once for the tests, not twice).
 
-mod analysis {
+pub mod analysis {
     mod cost;
-    mod global {
+    pub mod global {
         mod batch;
         mod capture;
         mod ellipse;
-        mod history;
+        pub mod history;
         mod stepped_sweep;
     }
     mod orbit {
@@ -19,6 +19,7 @@ mod analysis {
         mod shooting;
         mod steady_state;
         mod time_history;
+        mod variational;
     }
     mod resolution;
 }

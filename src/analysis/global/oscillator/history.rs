@@ -1,12 +1,16 @@
 //! The time history of one orbit of a written model: every state sampled through the transient
 //! and a few response periods, its error held within the spec's `tolerance`.
 //!
-//! Each forcing period is integrated twice from the same state, with N and 2N RK4 steps, and N
-//! doubled until the two agree: the 2N run's error is about a fifteenth of their difference
+//! Each sample interval is integrated twice from the same state, with N and 2N RK4 steps, and
+//! N doubled until the two agree: the 2N run's error is about a fifteenth of their difference
 //! (RK4 is of fourth order, and the general engine keeps it across kinks), and it must be
-//! within `atol + rtol·|x|` in every state at every sample. The 2N run is recorded and the
-//! next period starts from its end; where the estimate is far inside the tolerance, N is
-//! halved again (2N never below 4× the classification's steps).
+//! within the interval's share of `atol + rtol·|x|` in every state (1/`samples_per_period`
+//! of it: the tolerance holds for each forcing period). The 2N run is recorded and the next interval
+//! starts from its end; where the estimate is far inside the tolerance, N is halved again
+//! (2N never below 4× the classification's steps). Steps are refined only where the orbit
+//! needs them: near a singular kink (`sqrt` at its branch's end), not over the whole period.
+
+use std::collections::BTreeMap;
 
 use serde::Serialize;
 
@@ -21,7 +25,7 @@ use crate::solver::Tolerance;
 use crate::solver::general::{GeneralRk4, Stop};
 
 /// Most RK4 steps per forcing period a recording takes to meet its tolerance.
-pub const MAX_STEPS_PER_PERIOD: usize = 1 << 17;
+pub const MAX_STEPS_PER_PERIOD: usize = 1 << 20;
 
 /// One sample: τ, the whole state, the amplitude's output.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -115,21 +119,30 @@ pub fn state_history_from(
     let least = (2 * spec.steady.resolution.steps_for(period)).div_ceil(spp);
     let most = MAX_STEPS_PER_PERIOD / spp;
     let mut per_sample = least;
-    let (mut coarse_sys, mut fine_sys) = (sys.clone(), sys.clone());
+    // each sample interval's share of the tolerance, which holds for a whole period
+    let share = Tolerance {
+        rtol: spec.tolerance.rtol / spp as f64,
+        atol: spec.tolerance.atol / spp as f64,
+    };
+    // one system per step length: each keeps its forcing's table
+    let mut systems = Systems {
+        model: sys.clone(),
+        by_steps: BTreeMap::new(),
+    };
     let mut x = *start;
-    for p in 0..total_periods as u64 {
-        let mut coarse = run_period(&mut coarse_sys, per_sample, spp, p, &x);
+    for j in 0..(total_periods * spp) as u64 {
+        let mut coarse = systems.interval(per_sample, spp, j, &x);
         let (fine, excess) = loop {
-            let fine = run_period(&mut fine_sys, 2 * per_sample, spp, p, &x);
+            let fine = systems.interval(2 * per_sample, spp, j, &x);
             if let Some(Stop::NonFinite {
                 tau,
                 state,
                 expression,
             }) = &fine.stop
             {
-                return Err(not_finite(&fine_sys, *tau, state, expression));
+                return Err(not_finite(&sys, *tau, state, expression));
             }
-            let excess = error_excess(&coarse, &fine, dim, spec.tolerance);
+            let excess = error_excess(&coarse, &fine, dim, share);
             if excess <= 1.0 {
                 break (fine, excess);
             }
@@ -138,16 +151,16 @@ pub fn state_history_from(
                     rtol: spec.tolerance.rtol,
                     atol: spec.tolerance.atol,
                     steps: 2 * per_sample * spp,
-                    tau: p as f64 * period,
+                    tau: j as f64 * period / spp as f64,
                     excess,
                 });
             }
             per_sample *= 2;
-            std::mem::swap(&mut coarse_sys, &mut fine_sys);
             coarse = fine;
         };
-        for (tau, state, mode) in &fine.samples {
+        if let Some((tau, state, mode)) = &fine.end {
             samples.push(sample(&mut sys, *tau, state, *mode));
+            x = *state;
         }
         match fine.stop {
             Some(Stop::Collision { tau, state }) => {
@@ -160,12 +173,10 @@ pub fn state_history_from(
             Some(Stop::NonFinite { .. }) => unreachable!("returned as an error above"),
             None => {}
         }
-        x = fine.samples.last().map_or(x, |s| s.1);
         // far inside the tolerance (the coarse run's error, 16 times the fine one's, within
-        // a tenth of it): half the steps will do for the next period
+        // a tenth of it): half the steps will do for the next interval
         if 16.0 * excess < 0.1 && per_sample / 2 >= least {
             per_sample /= 2;
-            std::mem::swap(&mut coarse_sys, &mut fine_sys);
         }
     }
     Ok(StateHistory {
@@ -187,55 +198,58 @@ impl HistoryCollision {
     }
 }
 
-/// One forcing period of a recording: its samples (τ, state, piece), and what stopped it.
-struct PeriodRun {
-    samples: Vec<(f64, Vector, Mode)>,
+/// One sample interval of a recording: its end sample (τ, state, piece), unless it stopped
+/// first, and what stopped it.
+struct IntervalRun {
+    end: Option<(f64, Vector, Mode)>,
     stop: Option<Stop>,
 }
 
-/// Period `p` from `x`, at `per_sample` steps per sample and `spp` samples.
-fn run_period(
-    sys: &mut EquationSystem,
-    per_sample: usize,
-    spp: usize,
-    p: u64,
-    x: &Vector,
-) -> PeriodRun {
-    let rk = GeneralRk4::with_steps(sys, per_sample * spp);
-    let dim = sys.dim();
-    let mut traj = rk.start_at(sys, &x[..dim], p * (per_sample * spp) as u64);
-    let mut samples = Vec::with_capacity(spp);
-    'period: for _ in 0..spp {
+/// The model, and a copy of it per step length used (its forcing tabulated for that length).
+struct Systems {
+    model: EquationSystem,
+    by_steps: BTreeMap<usize, EquationSystem>,
+}
+
+impl Systems {
+    /// Sample interval `j` (from τ = j·T/`spp`) from `x`, at `per_sample` steps.
+    fn interval(&mut self, per_sample: usize, spp: usize, j: u64, x: &Vector) -> IntervalRun {
+        let n = per_sample * spp;
+        let sys = self.by_steps.entry(n).or_insert_with(|| self.model.clone());
+        let rk = GeneralRk4::with_steps(sys, n);
+        let dim = sys.dim();
+        let mut traj = rk.start_at(sys, &x[..dim], j * per_sample as u64);
         for _ in 0..per_sample {
             if traj.stop.is_some() {
-                break 'period;
+                break;
             }
             rk.advance_step(sys, &mut traj);
         }
-        if traj.stop.is_some() {
-            break;
+        IntervalRun {
+            end: traj
+                .stop
+                .is_none()
+                .then(|| (rk.tau(traj.steps), traj.x, traj.mode)),
+            stop: traj.stop,
         }
-        samples.push((rk.tau(traj.steps), traj.x, traj.mode));
-    }
-    PeriodRun {
-        samples,
-        stop: traj.stop,
     }
 }
 
 /// The fine run's error estimated from its difference to the coarse one (a fifteenth of it),
-/// over the tolerance: the largest over the samples both have and every state. Infinite where
-/// the coarse run stopped on a value that is not finite and the fine one did not.
-fn error_excess(coarse: &PeriodRun, fine: &PeriodRun, dim: usize, tol: Tolerance) -> f64 {
+/// over the tolerance: the largest over the states at the interval's end. Infinite where the
+/// coarse run stopped on a value that is not finite and the fine one did not; 0 where either
+/// stopped on a collision (the fine run's is taken).
+fn error_excess(coarse: &IntervalRun, fine: &IntervalRun, dim: usize, tol: Tolerance) -> f64 {
     if matches!(coarse.stop, Some(Stop::NonFinite { .. })) {
         return f64::INFINITY;
     }
-    let mut excess: f64 = 0.0;
-    for ((_, c, _), (_, f, _)) in coarse.samples.iter().zip(&fine.samples) {
-        for i in 0..dim {
+    let (Some((_, c, _)), Some((_, f, _))) = (&coarse.end, &fine.end) else {
+        return 0.0;
+    };
+    (0..dim)
+        .map(|i| {
             let scale = tol.atol + tol.rtol * c[i].abs().max(f[i].abs());
-            excess = excess.max((f[i] - c[i]).abs() / 15.0 / scale);
-        }
-    }
-    excess
+            (f[i] - c[i]).abs() / 15.0 / scale
+        })
+        .fold(0.0, f64::max)
 }
