@@ -256,7 +256,7 @@ impl GeneralRk4 {
                     break;
                 }
                 None => {
-                    traj.stop = Some(self.non_finite(sys, t, &x));
+                    traj.stop = Some(self.non_finite_ahead(sys, t, &x, &dx, rem, mode));
                     return;
                 }
             }
@@ -381,6 +381,61 @@ impl GeneralRk4 {
     /// The step within the period after step `phase`.
     pub(super) fn next_phase(&self, phase: usize) -> usize {
         if phase + 1 == self.n { 0 } else { phase + 1 }
+    }
+
+    /// [`Self::non_finite`] for a step from (τ, x) whose values stop being finite within it:
+    /// where every value at x is finite, the expression that is not is named where the step
+    /// heads (x + θ·rem·dx for θ = ¼, ½, 1, on the step's piece, then on the one it is on).
+    fn non_finite_ahead<S: System>(
+        &self,
+        sys: &mut S,
+        tau: f64,
+        x: &Vector,
+        dx: &Vector,
+        rem: f64,
+        mode: Mode,
+    ) -> Stop {
+        let stop = self.non_finite(sys, tau, x);
+        if !matches!(
+            stop,
+            Stop::NonFinite {
+                expression: None,
+                ..
+            }
+        ) {
+            return stop;
+        }
+        let dim = sys.dim();
+        for theta in [0.25, 0.5, 1.0] {
+            let t = tau + theta * rem;
+            let mut ahead = *x;
+            for i in 0..dim {
+                ahead[i] += theta * rem * dx[i];
+            }
+            let mut f = [0.0; MAX_DIM];
+            sys.field(t, &ahead, mode, &mut f);
+            if f[..dim].iter().all(|v| v.is_finite()) {
+                continue;
+            }
+            if let Some(expression) = sys.explain_non_finite(t, &ahead) {
+                let at = sys
+                    .state_names()
+                    .iter()
+                    .zip(&ahead)
+                    .map(|(name, v)| format!("{name} = {v:.6}"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                return Stop::NonFinite {
+                    tau,
+                    state: *x,
+                    expression: Some(format!(
+                        "{expression} where the step from there heads (τ = {t:.6}, {at}): the \
+                         orbit leaves the model's domain"
+                    )),
+                };
+            }
+        }
+        stop
     }
 
     fn non_finite<S: System>(&self, sys: &mut S, tau: f64, x: &Vector) -> Stop {
