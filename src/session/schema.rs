@@ -337,13 +337,19 @@ impl Settings {
 
     /// The version of numerics that only an analysis with these settings uses, for its
     /// fingerprint beside [`crate::analysis::NUMERICS_VERSION`]: a chirp sweep's scalogram
-    /// ([`crate::analysis::orbit::scalogram::NUMERICS_VERSION`]), so that a change there makes
-    /// only such results stale.
+    /// ([`crate::analysis::orbit::scalogram::NUMERICS_VERSION`]), the continuation's for the
+    /// kinds that continue branches ([`crate::analysis::continuation::NUMERICS_VERSION`]), so
+    /// that a change there makes only such results stale.
     pub fn own_numerics(&self) -> Option<serde_json::Value> {
         match self {
             Settings::ChirpSweep(spec) if spec.scalogram.is_some() => Some(serde_json::json!({
                 "scalogram": crate::analysis::orbit::scalogram::NUMERICS_VERSION
             })),
+            Settings::Continuation(_) | Settings::Hunt(_) | Settings::Map(_) => {
+                Some(serde_json::json!({
+                    "continuation": crate::analysis::continuation::NUMERICS_VERSION
+                }))
+            }
             _ => None,
         }
     }

@@ -546,7 +546,7 @@ max = 1.12
 }
 
 /// A symmetric clearance oscillator's 1:3 branch: a real multiplier crosses +1 at ω
-/// 1.7993323 (an independent shooting, scipy DOP853 at 1e-12), where the branch goes on in
+/// 1.7993322533 (an independent shooting, scipy DOP853 at 1e-12), where the branch goes on in
 /// ω (a symmetry-breaking pitchfork): a branch point, not a fold, which it was called.
 #[test]
 fn a_multiplier_through_one_where_the_branch_goes_on_is_a_branch_point() {
@@ -585,7 +585,9 @@ max = 2.5
     assert_eq!(special.len(), 1, "{special:?}");
     let (kind, omega) = &special[0];
     assert_eq!(kind, "branch-point");
-    assert!((omega - 1.7993323).abs() < 2e-5, "{omega}");
+    // the corrector lands on the crossing branch near it: the point of the smallest test is
+    // kept (1.7993267 was reported, 5.5e-6 off, before; 1.79933225 now, 8e-9)
+    assert!((omega - 1.7993322533).abs() < 1e-7, "{omega}");
 }
 
 /// The located special points (kind, parameter) of the one continuation in the session

@@ -676,6 +676,13 @@ impl<'a, M: Continuable> Problem<'a, M> {
         let n = self.n;
         let (mut lo, mut hi, mut g_lo, mut g_hi) = (0.0, h, g0, g1);
         let (mut s_lo, mut s_hi) = (from.clone(), end.clone());
+        // the corrected point of the smallest test met: near a branch point the corrector
+        // may land on the crossing branch, whose points then bracket nothing on this one
+        let mut best = if g0.abs() <= g1.abs() {
+            (g0.abs(), from.clone())
+        } else {
+            (g1.abs(), end.clone())
+        };
         let mut side = 0;
         for _ in 0..40 {
             if (s_hi.y[n] - s_lo.y[n]).abs() < 1e-11 && (&s_hi.y - &s_lo.y).amax() < 1e-9 {
@@ -689,6 +696,9 @@ impl<'a, M: Continuable> Problem<'a, M> {
                 break;
             };
             let gt = g(&trial);
+            if gt.abs() < best.0 {
+                best = (gt.abs(), trial.clone());
+            }
             if gt == 0.0 {
                 return (trial, 0.0);
             }
@@ -707,8 +717,7 @@ impl<'a, M: Continuable> Problem<'a, M> {
             }
         }
         let precision = (s_hi.y[n] - s_lo.y[n]).abs();
-        let best = if g_lo.abs() <= g_hi.abs() { s_lo } else { s_hi };
-        (best, precision)
+        (best.1, precision)
     }
 
     fn bifurcation(&self, kind: BifurcationKind, s: &Solved, precision: f64) -> Bifurcation {
