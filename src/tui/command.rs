@@ -153,7 +153,11 @@ pub const KIND_ABOUT: [(&str, &str); 10] = [
 
 /// Parses a command line.
 pub fn parse(line: &str) -> Result<Command, String> {
-    let words: Vec<&str> = line.split_whitespace().collect();
+    // split as a shell would: `--where "omega >= 3.5"`, `'my results.csv'`
+    let words = shlex::split(line).ok_or_else(|| {
+        format!("{line}: a quote is not closed (\" and ' quote a word with spaces)")
+    })?;
+    let words: Vec<&str> = words.iter().map(String::as_str).collect();
     let Some((&verb, args)) = words.split_first() else {
         return Err("no command: : then e.g. run, add basin b2, set adr 1.0, help".into());
     };
@@ -374,6 +378,37 @@ mod tests {
         );
         assert!(parse("fly").unwrap_err().contains("not a command"));
         assert!(parse("").is_err());
+    }
+
+    /// Quotes group words as a shell's do: a condition written as the README's command
+    /// lines write it, a path with spaces (both failed: `'3.5"' is not a finite number`,
+    /// `usage: figure FILE`); a quote left open is named.
+    #[test]
+    fn quoted_words_are_one_argument() {
+        let Command::Export {
+            path,
+            table,
+            filters,
+        } = parse(r#"export "my results.csv" --where "omega>=3.5" --table points"#).unwrap()
+        else {
+            panic!("not an export");
+        };
+        assert_eq!(path, PathBuf::from("my results.csv"));
+        assert_eq!(table.as_deref(), Some("points"));
+        assert_eq!(filters.len(), 1);
+        assert_eq!(
+            parse("figure 'fig 4.svg'").unwrap(),
+            Command::Figure(PathBuf::from("fig 4.svg"))
+        );
+        assert_eq!(
+            parse(r#"save "a b.toml""#).unwrap(),
+            Command::Save(Some(PathBuf::from("a b.toml")))
+        );
+        assert!(
+            parse(r#"export x.csv --where "omega >= 3"#)
+                .unwrap_err()
+                .contains("a quote is not closed")
+        );
     }
 
     #[test]
