@@ -3,7 +3,8 @@
 
 use std::sync::Arc;
 
-use super::build::EquationModel;
+use super::build::{Cond, EquationModel};
+use super::graph::NodeId;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::LaneTimes;
 #[cfg(target_arch = "x86_64")]
@@ -100,6 +101,17 @@ impl EquationSystem {
     /// The collision condition (τ, x) meets, as `model.collision[i] = \`text\``; `None`
     /// where it meets none.
     pub fn collision_met(&mut self, tau: f64, x: &Vector) -> Option<String> {
+        self.first_collision(tau, x, |cond, value| cond.stops(&value)[0])
+    }
+
+    /// The first collision condition for which `which` is true at (τ, x), as
+    /// `model.collision[i] = \`text\``.
+    fn first_collision(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        which: impl Fn(&Cond, &dyn Fn(NodeId) -> [f64; 1]) -> bool,
+    ) -> Option<String> {
         if !self.load_collisions(tau, x) {
             return None;
         }
@@ -107,7 +119,7 @@ impl EquationSystem {
         let i = c
             .collisions
             .iter()
-            .position(|cond| cond.stops(&|id| [regs.get(id)])[0])?;
+            .position(|cond| which(cond, &|id| [regs.get(id)]))?;
         Some(format!("model.collision[{i}] = `{}`", c.collision_text[i]))
     }
 
@@ -232,18 +244,8 @@ impl System for EquationSystem {
     }
 
     fn undefined_collision(&mut self, tau: f64, x: &Vector) -> Option<String> {
-        if !self.load_collisions(tau, x) {
-            return None;
-        }
-        let (c, regs) = (&*self.model.inner, &self.regs);
-        let i = c
-            .collisions
-            .iter()
-            .position(|cond| cond.undefined(&|id| [regs.get(id)])[0])?;
-        Some(format!(
-            "model.collision[{i}] = `{}`, which compares a value that is not a number",
-            c.collision_text[i]
-        ))
+        self.first_collision(tau, x, |cond, value| cond.undefined(&value)[0])
+            .map(|named| format!("{named}, which compares a value that is not a number"))
     }
 
     fn explain_non_finite(&mut self, tau: f64, x: &Vector) -> Option<String> {
