@@ -21,6 +21,7 @@ use super::command::{self, Command, Which};
 use super::filter;
 use super::jobs::{JobList, JobState, Output, Work};
 use super::keymap::{Action, Keymap};
+use super::line_edit::LineEdit;
 use super::orbit::{self, OrbitHistory};
 use super::panes::params::{self, Edit, Row, Target};
 use super::plots::{self, Pick};
@@ -54,7 +55,7 @@ pub enum Overlay {
     /// A line of text to type: a path to save as or export to.
     Input {
         purpose: InputPurpose,
-        text: String,
+        text: LineEdit,
     },
     /// Session files to open, and folders to look in, in `dir`.
     Picker {
@@ -151,7 +152,7 @@ pub struct App {
     pub param_rows: Vec<Row>,
     pub param_row: usize,
     /// The text being typed into the selected parameter.
-    pub editing: Option<String>,
+    pub editing: Option<LineEdit>,
     pub param_error: Option<String>,
     /// What is stored of each analysis' result, as the watcher last read it.
     pub stored: Vec<Stored>,
@@ -617,7 +618,7 @@ impl App {
             Action::SaveAs => {
                 self.overlay = Some(Overlay::Input {
                     purpose: InputPurpose::SaveAs,
-                    text: self.session.path.display().to_string(),
+                    text: LineEdit::new(self.session.path.display().to_string()),
                 })
             }
             Action::Open => self.open_picker(),
@@ -627,7 +628,7 @@ impl App {
             Action::Command => {
                 self.overlay = Some(Overlay::Input {
                     purpose: InputPurpose::Command,
-                    text: String::new(),
+                    text: LineEdit::default(),
                 })
             }
             Action::Add => self.overlay = Some(Overlay::KindPicker { selected: 0 }),
@@ -638,7 +639,7 @@ impl App {
             Action::Filter => {
                 self.overlay = Some(Overlay::Input {
                     purpose: InputPurpose::Filter,
-                    text: self.filter.clone(),
+                    text: LineEdit::new(self.filter.clone()),
                 })
             }
         }
@@ -1143,7 +1144,7 @@ impl App {
                         // nothing to type into: say what to edit instead
                         self.param_error = Some(format!("{}: {why}", row.label));
                     } else {
-                        self.editing = Some(row.value.clone());
+                        self.editing = Some(LineEdit::replacing(row.value.clone()));
                         self.param_error = None;
                     }
                 }
@@ -1174,14 +1175,12 @@ impl App {
                 self.param_error = None;
             }
             KeyCode::Enter => {
-                let text = text.clone();
+                let text = text.value().to_string();
                 self.commit_edit(&text);
             }
-            KeyCode::Backspace => {
-                text.pop();
+            _ => {
+                text.key(key);
             }
-            KeyCode::Char(c) => text.push(c),
-            _ => {}
         }
     }
 
@@ -1498,20 +1497,10 @@ impl App {
 
     fn export_prompt(&mut self) {
         if let Some(p) = self.picked.as_ref().filter(|p| p.history.is_some()) {
-            let name: String = p
-                .label
-                .chars()
-                .map(|c| {
-                    if c.is_alphanumeric() || c == '.' {
-                        c
-                    } else {
-                        '_'
-                    }
-                })
-                .collect();
+            let path = self.beside_session(&p.label, "csv");
             self.overlay = Some(Overlay::Input {
                 purpose: InputPurpose::Export,
-                text: format!("{name}.csv"),
+                text: LineEdit::new(path.display().to_string()),
             });
             return;
         }
@@ -1525,10 +1514,34 @@ impl App {
             );
             return;
         }
+        let path = self.beside_session(&entry.name, "csv");
         self.overlay = Some(Overlay::Input {
             purpose: InputPurpose::Export,
-            text: format!("{}.csv", entry.name),
+            text: LineEdit::new(path.display().to_string()),
         });
+    }
+
+    /// `SESSION-TITLE.EXTENSION` beside the session file (the title's characters other than
+    /// letters, digits and dots as `_`): where a figure or an export goes unless told.
+    fn beside_session(&self, title: &str, extension: &str) -> PathBuf {
+        let stem = self
+            .session
+            .path
+            .file_stem()
+            .map_or("session".into(), |s| s.to_string_lossy().into_owned());
+        let name: String = title
+            .chars()
+            .map(|c| {
+                if c.is_alphanumeric() || c == '.' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        self.session
+            .path
+            .with_file_name(format!("{stem}-{name}.{extension}"))
     }
 
     /// Writes what `request` asks for, atomically: the picked orbit's time history, the
@@ -1610,26 +1623,7 @@ impl App {
             );
             return;
         }
-        let path = path.unwrap_or_else(|| {
-            let stem = self
-                .session
-                .path
-                .file_stem()
-                .map_or("session".into(), |s| s.to_string_lossy().into_owned());
-            let name: String = title
-                .chars()
-                .map(|c| {
-                    if c.is_alphanumeric() || c == '.' {
-                        c
-                    } else {
-                        '_'
-                    }
-                })
-                .collect();
-            self.session
-                .path
-                .with_file_name(format!("{stem}-{name}.svg"))
-        });
+        let path = path.unwrap_or_else(|| self.beside_session(title, "svg"));
         let written = (|| -> anyhow::Result<()> {
             let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
             let format: figure::Format = extension.parse()?;
@@ -1816,29 +1810,20 @@ impl App {
             } => match key.code {
                 KeyCode::Esc => self.apply_filter(String::new()),
                 KeyCode::Enter => {}
-                KeyCode::Backspace | KeyCode::Char(_) => {
-                    match key.code {
-                        KeyCode::Char(c) => text.push(c),
-                        _ => {
-                            text.pop();
-                        }
+                _ => {
+                    if text.key(key) {
+                        self.apply_filter(text.value().to_string());
                     }
-                    self.apply_filter(text.clone());
                     self.overlay = Some(Overlay::Input {
                         purpose: InputPurpose::Filter,
                         text,
                     });
                 }
-                _ => {
-                    self.overlay = Some(Overlay::Input {
-                        purpose: InputPurpose::Filter,
-                        text,
-                    })
-                }
             },
             Overlay::Input { purpose, mut text } => match key.code {
                 KeyCode::Esc => {}
                 KeyCode::Enter => {
+                    let text = text.value();
                     let path = PathBuf::from(text.trim());
                     match purpose {
                         InputPurpose::SaveAs => self.save_as_asking(path),
@@ -1848,7 +1833,7 @@ impl App {
                             filters: Vec::new(),
                         }),
                         InputPurpose::Open => self.open_asking(path),
-                        InputPurpose::Command => self.execute(&text),
+                        InputPurpose::Command => self.execute(text),
                         InputPurpose::Filter => {}
                         InputPurpose::NewName(kind) => {
                             let kind = isola::session::schema::KINDS[kind];
@@ -1863,20 +1848,15 @@ impl App {
                         .iter()
                         .map(|a| a.name.clone())
                         .collect();
-                    if let Some(completed) = command::complete(&text, &names) {
-                        text = completed;
+                    if let Some(completed) = command::complete(text.value(), &names) {
+                        text = LineEdit::new(completed);
                     }
                     self.overlay = Some(Overlay::Input { purpose, text });
                 }
-                KeyCode::Backspace => {
-                    text.pop();
+                _ => {
+                    text.key(key);
                     self.overlay = Some(Overlay::Input { purpose, text });
                 }
-                KeyCode::Char(c) => {
-                    text.push(c);
-                    self.overlay = Some(Overlay::Input { purpose, text });
-                }
-                _ => self.overlay = Some(Overlay::Input { purpose, text }),
             },
             Overlay::Picker {
                 dir,
@@ -1904,7 +1884,7 @@ impl App {
                 (KeyCode::Char('/'), _) => {
                     self.overlay = Some(Overlay::Input {
                         purpose: InputPurpose::Open,
-                        text: String::new(),
+                        text: LineEdit::default(),
                     })
                 }
                 (_, Some(Action::Up | Action::Down)) => {
@@ -1935,7 +1915,7 @@ impl App {
                     let kind = isola::session::schema::KINDS[selected];
                     self.overlay = Some(Overlay::Input {
                         purpose: InputPurpose::NewName(selected),
-                        text: self.unused_name(kind),
+                        text: LineEdit::replacing(self.unused_name(kind)),
                     });
                 }
                 (_, Some(Action::Up)) => {

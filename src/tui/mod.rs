@@ -9,6 +9,7 @@ pub mod config;
 pub mod filter;
 pub mod jobs;
 pub mod keymap;
+pub mod line_edit;
 pub mod mouse;
 pub mod orbit;
 pub mod panes;

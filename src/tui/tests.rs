@@ -16,6 +16,7 @@ use ratatui::backend::TestBackend;
 use super::app::{App, Focus, Overlay};
 use super::jobs::JobState;
 use super::keymap::Keymap;
+use super::line_edit::LineEdit;
 use super::theme::{ColorMode, Theme};
 use super::ui;
 
@@ -492,7 +493,7 @@ fn a_parameter_edit_is_checked_applied_and_saved() {
         key(&mut app, KeyCode::Down);
     }
     key(&mut app, KeyCode::Enter);
-    assert_eq!(app.editing.as_deref(), Some("0.6"));
+    assert_eq!(app.editing.as_ref().map(LineEdit::value), Some("0.6"));
     // an invalid value is refused, named with its range, and the edit stays open
     for _ in 0..3 {
         key(&mut app, KeyCode::Backspace);
@@ -519,6 +520,21 @@ fn a_parameter_edit_is_checked_applied_and_saved() {
     assert!(app.editing.is_none() && app.param_error.is_none());
     assert_eq!(app.session.file.model.adr, Some(0.8));
     assert!(app.modified);
+    // the old value is selected: what is typed replaces it (QA: 0.8 then 0.7 gave 0.80.7)
+    key(&mut app, KeyCode::Enter);
+    keys(&mut app, "0.7");
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.session.file.model.adr, Some(0.7));
+    // a move edits it in place; Ctrl-U clears it, and types no u
+    key(&mut app, KeyCode::Enter);
+    key(&mut app, KeyCode::End);
+    keys(&mut app, "5");
+    assert_eq!(app.editing.as_ref().map(LineEdit::value), Some("0.75"));
+    app.handle_key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL));
+    assert_eq!(app.editing.as_ref().map(LineEdit::value), Some(""));
+    keys(&mut app, "0.8");
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.session.file.model.adr, Some(0.8));
     // a setting, through its path; a physical unit, written in its physical form
     let points = app
         .param_rows
@@ -562,11 +578,12 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     let Some(Overlay::Input { text, .. }) = &app.overlay else {
         panic!("no export prompt");
     };
-    assert_eq!(text, "response.csv");
+    // beside the session, as a figure is
+    let stem = path.file_stem().unwrap().to_string_lossy();
+    let beside = path.with_file_name(format!("{stem}-response.csv"));
+    assert_eq!(text.value(), beside.display().to_string());
     let target = path.with_file_name("exported.csv");
-    for _ in 0.."response.csv".len() {
-        key(&mut app, KeyCode::Backspace);
-    }
+    app.handle_key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL));
     keys(&mut app, &target.display().to_string());
     key(&mut app, KeyCode::Enter);
     let stored = ResultPaths::new(&app.session, "response").csv;
@@ -578,9 +595,7 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     std::fs::write(&target, "mine").unwrap();
     let export_again = |app: &mut App| {
         key(app, KeyCode::Char('e'));
-        for _ in 0.."response.csv".len() {
-            key(app, KeyCode::Backspace);
-        }
+        app.handle_key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL));
         keys(app, &target.display().to_string());
         key(app, KeyCode::Enter);
         assert!(
@@ -691,7 +706,7 @@ fn the_command_line_makes_and_changes_analyses() {
     let Some(Overlay::Input { text, .. }) = &app.overlay else {
         panic!("no command line");
     };
-    assert_eq!(text, "add basin ");
+    assert_eq!(text.value(), "add basin ");
     snapshot!("command_line_80x24", draw(&app, 80, 24));
     keys(&mut app, "b2");
     key(&mut app, KeyCode::Enter);
@@ -804,7 +819,7 @@ fn the_command_line_makes_and_changes_analyses() {
     let Some(Overlay::Input { text, .. }) = &app.overlay else {
         panic!("no name asked");
     };
-    assert_eq!(text, "basin2", "basin is taken");
+    assert_eq!(text.value(), "basin2", "basin is taken");
     key(&mut app, KeyCode::Enter);
     let added = &app.session.analyses[app.selected];
     assert_eq!(
@@ -1094,7 +1109,7 @@ fn opening_over_edits_and_saving_over_a_file_ask_first() {
         let Some(Overlay::Input { text, .. }) = &mut app.overlay else {
             panic!("no save-as prompt");
         };
-        *text = other.display().to_string();
+        *text = LineEdit::new(other.display().to_string());
         key(app, KeyCode::Enter);
     };
     save_as(&mut app);

@@ -64,7 +64,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
                 .position(|&i| i == app.param_row)
                 .unwrap_or(usize::MAX),
             filter: filtered.then_some(app.filter.trim()),
-            editing: app.editing.as_deref(),
+            editing: app.editing.as_ref(),
             error: app.param_error.as_deref(),
             focused: app.focus == Focus::Params,
             theme: &app.theme,

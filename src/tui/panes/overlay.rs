@@ -171,13 +171,19 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             text,
         } => {
             // what the command being typed takes and does
-            let verb = text.split_whitespace().next().unwrap_or("");
+            let verb = text.value().split_whitespace().next().unwrap_or("");
             let hint = COMMANDS.iter().find(|(v, _, _)| *v == verb).map_or_else(
                 || "Tab: complete   Enter: run   Esc: cancel   (help lists the commands)".into(),
                 |(v, args, what)| format!("{v} {args}: {what}"),
             );
             let lines = vec![
-                Line::styled(format!(":{text}▏"), t.cursor()),
+                Line::from(
+                    [
+                        vec![Span::styled(":", t.cursor())],
+                        text.spans(t.cursor(), t.selected()),
+                    ]
+                    .concat(),
+                ),
                 Line::styled(hint, t.muted()),
             ];
             (" Command ".into(), lines, 72)
@@ -193,8 +199,15 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             };
             let lines = vec![
                 Line::raw(what),
-                Line::styled(format!("{text}▏"), t.cursor()),
-                Line::styled("Enter: ok   Esc: cancel", t.muted()),
+                Line::from(text.spans(t.cursor(), t.selected())),
+                Line::styled(
+                    if text.is_selected() {
+                        "Enter: ok   Esc: cancel   typing replaces it, ← → edit it"
+                    } else {
+                        "Enter: ok   Esc: cancel   Ctrl-U: clear"
+                    },
+                    t.muted(),
+                ),
             ];
             (" ".into(), lines, 64)
         }

@@ -6,6 +6,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Widget, Wrap};
 
+use crate::tui::line_edit::LineEdit;
 use crate::tui::theme::Theme;
 use isola::session::{Session, SessionError};
 
@@ -345,7 +346,7 @@ pub struct ParamsPane<'a> {
     pub rows: &'a [&'a Row],
     pub selected: usize,
     /// The text being typed, if editing.
-    pub editing: Option<&'a str>,
+    pub editing: Option<&'a LineEdit>,
     pub error: Option<&'a str>,
     pub focused: bool,
     /// The filter the rows are listed by, if it hides some.
@@ -468,7 +469,7 @@ impl ParamsPane<'_> {
             }
             let editing = self.editing.filter(|_| i == self.selected);
             let value_w = match editing {
-                Some(text) => cells(text) + 1,
+                Some(text) => text.width(),
                 None => cells(&row.value) + usize::from(row.overridden),
             };
             let label_w = group_width(group).min(width.saturating_sub(value_w + 1).max(4));
@@ -477,7 +478,7 @@ impl ParamsPane<'_> {
             let pad = label_w.saturating_sub(cells(&label));
             let mut spans = vec![Span::raw(format!("{label}{} ", " ".repeat(pad)))];
             match editing {
-                Some(text) => spans.push(Span::styled(format!("{text}▏"), t.cursor())),
+                Some(text) => spans.extend(text.spans(t.cursor(), t.selected())),
                 None => {
                     spans.push(Span::raw(row.value.clone()));
                     if row.overridden {

@@ -15,16 +15,30 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         text,
     }) = &app.overlay
     {
-        let line = Line::from(vec![
-            Span::styled(format!("/{text}▏"), t.cursor()),
-            Span::styled("  lists what matches · Enter: keep · Esc: clear", t.muted()),
-        ]);
+        let line = Line::from(
+            [
+                vec![Span::styled("/", t.cursor())],
+                text.spans(t.cursor(), t.selected()),
+                vec![Span::styled(
+                    "  lists what matches · Enter: keep · Esc: clear",
+                    t.muted(),
+                )],
+            ]
+            .concat(),
+        );
         Paragraph::new(line).render(area, buf);
         return;
     }
     let k = |a: Action| app.keymap.label(a);
-    let keys: Vec<(String, &str)> = if app.editing.is_some() {
-        vec![("Enter".into(), "apply"), ("Esc".into(), "cancel")]
+    let keys: Vec<(String, &str)> = if let Some(edit) = &app.editing {
+        let mut keys = vec![("Enter".into(), "apply"), ("Esc".into(), "cancel")];
+        if edit.is_selected() {
+            keys.push(("type".into(), "to replace"));
+            keys.push(("←→".into(), "to edit"));
+        } else {
+            keys.push(("Ctrl-U".into(), "clear"));
+        }
+        keys
     } else {
         let mut v: Vec<(String, &str)> = match app.focus {
             Focus::Analyses => vec![("↑↓".into(), "select"), (k(Action::Run), "run")],
