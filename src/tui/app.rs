@@ -88,6 +88,8 @@ pub enum Overlay {
 pub enum Confirmed {
     /// Open this session, dropping unsaved edits.
     Open(PathBuf),
+    /// Load the session's own file again, dropping unsaved edits.
+    Reload,
     /// Save the session over this existing file (or its own, changed on disk).
     SaveAs(PathBuf),
     /// Export over this existing file.
@@ -184,6 +186,9 @@ pub struct App {
     pub filter: String,
     /// The session's text as last opened or saved: an undo back to it is no edit.
     saved_text: String,
+    /// The session file's modification time and length when last looked at, and when.
+    disk_seen: Option<(std::time::SystemTime, u64)>,
+    last_disk_check: Instant,
     /// The mouse is the workbench's (config `mouse = false` leaves it to the terminal).
     pub mouse: bool,
     /// Where panes and plots were on the last frame, for the mouse.
@@ -233,6 +238,8 @@ impl App {
             compare: None,
             filter: String::new(),
             saved_text: String::new(),
+            disk_seen: None,
+            last_disk_check: Instant::now(),
             mouse: true,
             layout: Default::default(),
             versions: Versions::default(),
@@ -246,6 +253,7 @@ impl App {
             last_full_poll: Instant::now(),
         };
         app.saved_text = app.session.to_text();
+        app.disk_seen = disk_stamp(&app.session.path);
         app.reload_session_state();
         app
     }
@@ -442,8 +450,111 @@ impl App {
             self.dirty = true; // gauges move
         }
         self.close_orbit_of_other_settings();
+        self.watch_session_file();
         self.poll_results(false);
         self.take_results();
+    }
+
+    /// Notices, once a second, an edit of the session file made outside the workbench (an
+    /// editor, git): with no unsaved edits here it is loaded (`u` undoes that); with some,
+    /// it is said with what to do, and `s` asks before replacing it.
+    fn watch_session_file(&mut self) {
+        if self.last_disk_check.elapsed() >= Duration::from_secs(1) {
+            self.last_disk_check = Instant::now();
+            self.notice_session_file();
+        }
+    }
+
+    /// [`App::watch_session_file`]'s look at the file, now.
+    pub(super) fn notice_session_file(&mut self) {
+        let stamp = disk_stamp(&self.session.path);
+        if stamp.is_none() || stamp == self.disk_seen {
+            return; // unchanged, or not saved yet (or deleted: `s` writes it again)
+        }
+        self.disk_seen = stamp;
+        match std::fs::read_to_string(&self.session.path) {
+            Ok(text) if text == self.saved_text => {}
+            Ok(_) if self.modified => self.say(
+                format!(
+                    "{} changed on disk: :reload loads it (dropping your unsaved edits), \
+                     s asks before replacing it",
+                    file_name(&self.session.path)
+                ),
+                true,
+            ),
+            Ok(text) => self.load_disk_text(text),
+            Err(e) => tracing::warn!(error = %e, "the session file changed but is not read"),
+        }
+    }
+
+    /// `:reload`: the session file as on disk, asking first over unsaved edits.
+    fn reload_asking(&mut self) {
+        if self.modified {
+            self.overlay = Some(Overlay::Confirm {
+                question: format!(
+                    "drop the unsaved edits and load {} as it is on disk?",
+                    file_name(&self.session.path)
+                ),
+                then: Confirmed::Reload,
+            });
+        } else {
+            self.reload();
+        }
+    }
+
+    /// Loads the session file as it is on disk now.
+    fn reload(&mut self) {
+        self.disk_seen = disk_stamp(&self.session.path);
+        match std::fs::read_to_string(&self.session.path) {
+            Ok(text) if text == self.session.to_text() => {
+                self.modified = text != self.saved_text;
+                self.say(
+                    format!("{} is as on disk", file_name(&self.session.path)),
+                    false,
+                );
+            }
+            Ok(text) => self.load_disk_text(text),
+            Err(e) => self.say(
+                format!("{} not reloaded: {e}", self.session.path.display()),
+                true,
+            ),
+        }
+    }
+
+    /// The session replaced by `text`, its file's as now on disk: an undoable change, the
+    /// selected analysis kept where it still is; a text that does not load is said, and the
+    /// session shown stays.
+    fn load_disk_text(&mut self, text: String) {
+        let name = file_name(&self.session.path);
+        match Session::parse(&self.session.path, &text) {
+            Ok(session) => {
+                let before = self.version(format!("the reload of {name}"));
+                let selected = self
+                    .session
+                    .analyses
+                    .get(self.selected)
+                    .map(|e| e.name.clone());
+                self.session = session;
+                self.versions.remember(before);
+                self.selected = selected
+                    .and_then(|n| self.session.analyses.iter().position(|e| e.name == n))
+                    .unwrap_or(0);
+                self.saved_text = self.session.to_text();
+                self.modified = false;
+                self.editing = None;
+                self.reload_session_state();
+                self.say(
+                    format!("reloaded {name}: it changed on disk (u undoes)"),
+                    false,
+                );
+            }
+            Err(e) => self.say(
+                format!(
+                    "{name} changed on disk but does not load ({e}); s asks before replacing it"
+                ),
+                true,
+            ),
+        }
     }
 
     /// Closes the picked orbit once the selected analysis' settings (or model) differ from
@@ -883,6 +994,7 @@ impl App {
             Command::Save(None) => self.save(None),
             Command::Save(Some(path)) => self.save_as_asking(path),
             Command::Open(path) => self.open_asking(path),
+            Command::Reload => self.reload_asking(),
             Command::Export {
                 path,
                 table,
@@ -1456,6 +1568,7 @@ impl App {
             Ok(()) => {
                 self.modified = false;
                 self.saved_text = self.session.to_text();
+                self.disk_seen = disk_stamp(&self.session.path);
                 let carried = self.carry_results(&old_dir);
                 self.reload_session_state();
                 self.say(format!("saved {}{carried}", path.display()), false);
@@ -1754,6 +1867,7 @@ impl App {
                 self.session = s;
                 self.modified = false;
                 self.saved_text = self.session.to_text();
+                self.disk_seen = disk_stamp(&self.session.path);
                 self.versions.clear();
                 self.frozen = None;
                 self.filter.clear();
@@ -1935,6 +2049,7 @@ impl App {
             Overlay::Confirm { question, then } => match key.code {
                 KeyCode::Char('y') | KeyCode::Char('Y') => match then {
                     Confirmed::Open(path) => self.open(&path),
+                    Confirmed::Reload => self.reload(),
                     Confirmed::SaveAs(path) => self.save_over(path),
                     Confirmed::Export(request) => self.export(&request),
                     Confirmed::Delete(index, name) => self.delete_analysis(index, &name),
@@ -2003,6 +2118,12 @@ impl App {
         self.jobs.wait_idle(Duration::from_secs(2));
         self.should_quit = true;
     }
+}
+
+/// A file's modification time and length, if it is there.
+fn disk_stamp(path: &Path) -> Option<(std::time::SystemTime, u64)> {
+    let meta = std::fs::metadata(path).ok()?;
+    Some((meta.modified().ok()?, meta.len()))
 }
 
 /// A path's last part, for a message.

@@ -46,6 +46,8 @@ pub enum Command {
     },
     Save(Option<PathBuf>),
     Open(PathBuf),
+    /// Load the session file again, as it is on disk (edited outside).
+    Reload,
     /// `export FILE [--table T] [--where COLUMN OP VALUE]...`
     Export {
         path: PathBuf,
@@ -70,7 +72,7 @@ pub enum Command {
 }
 
 /// Every command: its words, its arguments and what it does (for the help overlay).
-pub const COMMANDS: [(&str, &str, &str); 17] = [
+pub const COMMANDS: [(&str, &str, &str); 18] = [
     (
         "run",
         "[all|stale|NAME]",
@@ -90,6 +92,11 @@ pub const COMMANDS: [(&str, &str, &str); 17] = [
     ("save", "[FILE]", "save the session (as FILE)"),
     ("open", "FILE", "open a session"),
     (
+        "reload",
+        "",
+        "load the session file as on disk (asks over edits)",
+    ),
+    (
         "export",
         "FILE [--table T] [--where C OP V]",
         "export the orbit shown or the result's rows",
@@ -107,7 +114,7 @@ pub const COMMANDS: [(&str, &str, &str); 17] = [
         "draw NAME's responses muted under these (none: stop)",
     ),
     ("help", "", "the keys and commands"),
-    ("quit", "", "quit (asks if jobs run)"),
+    ("quit", "", "quit (asks if jobs run or edits are unsaved)"),
 ];
 
 /// What each kind of analysis computes, for the kind picker (`a`).
@@ -223,6 +230,10 @@ pub fn parse(line: &str) -> Result<Command, String> {
             _ => return Err(usage("save")),
         },
         "open" | "e!" => Command::Open(path("open")?),
+        "reload" | "e" => match args {
+            [] => Command::Reload,
+            _ => return Err(usage("reload")),
+        },
         "export" => export(args).map_err(|e| format!("{e}; {}", usage("export")))?,
         "figure" => Command::Figure(path("figure")?),
         "help" | "?" => Command::Help,

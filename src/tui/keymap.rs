@@ -48,7 +48,7 @@ pub enum Action {
 impl Action {
     /// Every action with its config name and a few words for the help overlay.
     pub const ALL: [(Action, &'static str, &'static str); 29] = [
-        (Action::Quit, "quit", "quit (asks if jobs run)"),
+        (Action::Quit, "quit", "quit (asks: jobs, edits)"),
         (Action::Help, "help", "this help"),
         (Action::FocusNext, "focus_next", "next pane"),
         (Action::FocusPrev, "focus_prev", "previous pane"),

@@ -1234,7 +1234,7 @@ fn help_small_terminals_and_the_session_picker() {
     key(&mut app, KeyCode::Char('?'));
     let top = draw(&app, 60, 18);
     assert!(
-        top.contains("q :quit       quit (asks if jobs run)") && top.contains("scroll"),
+        top.contains("q :quit       quit (asks: jobs, edits)") && top.contains("scroll"),
         "{top}"
     );
     assert!(!top.contains("theme: dark"), "{top}");
@@ -1782,4 +1782,50 @@ fn enter_on_a_failed_job_shows_its_whole_error() {
         text.contains("not finite at τ = 0") && text.contains("model.let.a = NaN"),
         "{text}"
     );
+}
+
+#[test]
+fn an_edit_of_the_session_file_made_outside_is_loaded_or_said() {
+    let (_dir, path) = fixture("outside", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let said = |app: &App| {
+        app.message
+            .as_ref()
+            .map_or(String::new(), |m| m.text.clone())
+    };
+    // no edits here: loaded, and undoable
+    std::fs::write(&path, RESPONSE.replace("adr = 0.6", "adr = 0.8\n# tuned")).unwrap();
+    app.notice_session_file();
+    assert_eq!(app.session.file.model.adr, Some(0.8), "{}", said(&app));
+    assert!(
+        !app.modified && said(&app).contains("reloaded"),
+        "{}",
+        said(&app)
+    );
+    key(&mut app, KeyCode::Char('u'));
+    assert_eq!(app.session.file.model.adr, Some(0.6));
+    assert!(app.modified, "the text on disk is 0.8's");
+    // with edits here: said, nothing replaced, and s asks before replacing the file
+    std::fs::write(&path, RESPONSE.replace("adr = 0.6", "adr = 0.9")).unwrap();
+    app.notice_session_file();
+    assert_eq!(app.session.file.model.adr, Some(0.6));
+    assert!(
+        said(&app).contains("changed on disk: :reload"),
+        "{}",
+        said(&app)
+    );
+    key(&mut app, KeyCode::Char('s'));
+    assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
+    key(&mut app, KeyCode::Char('n'));
+    // :reload asks over the edits, then loads
+    command(&mut app, "reload");
+    assert!(matches!(app.overlay, Some(Overlay::Confirm { .. })));
+    key(&mut app, KeyCode::Char('y'));
+    assert_eq!(app.session.file.model.adr, Some(0.9));
+    assert!(!app.modified);
+    // a text that does not load is said, and the session shown stays
+    std::fs::write(&path, RESPONSE.replace("adr = 0.6", "adr = [")).unwrap();
+    app.notice_session_file();
+    assert_eq!(app.session.file.model.adr, Some(0.9));
+    assert!(said(&app).contains("does not load"), "{}", said(&app));
 }
