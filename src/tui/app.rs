@@ -1864,6 +1864,15 @@ impl App {
     pub fn open(&mut self, path: &Path) {
         match Session::load(path) {
             Ok(s) => {
+                let same = |a: &Path, b: &Path| a.canonicalize().ok() == b.canonicalize().ok();
+                if !same(&s.path, &self.session.path) {
+                    // the closed session's jobs run on under its name; what they would draw
+                    // here (a preview, a scalogram) is not this session's
+                    self.jobs.set_aside(&file_name(&self.session.path));
+                    self.preview_jobs.clear();
+                    self.scalogram_jobs.clear();
+                    self.previews.clear();
+                }
                 self.session = s;
                 self.modified = false;
                 self.saved_text = self.session.to_text();

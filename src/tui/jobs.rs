@@ -163,6 +163,19 @@ impl JobList {
         id
     }
 
+    /// Marks the active jobs as another session's (`file`, as a message names it), once
+    /// that session is closed for another: they run on, saving into its results folder, and
+    /// their rows and messages name it, so that none is taken for an analysis of the same name
+    /// in the session now open.
+    pub fn set_aside(&mut self, file: &str) {
+        for e in self.entries.iter_mut().filter(|e| e.is_active()) {
+            e.label = format!("{file}: {}", e.label);
+            if let Some(name) = &mut e.analysis {
+                *name = format!("{file}: {name}");
+            }
+        }
+    }
+
     pub fn any_active(&self) -> bool {
         self.entries.iter().any(JobEntry::is_active)
     }

@@ -1829,3 +1829,51 @@ fn an_edit_of_the_session_file_made_outside_is_loaded_or_said() {
     assert_eq!(app.session.file.model.adr, Some(0.9));
     assert!(said(&app).contains("does not load"), "{}", said(&app));
 }
+
+#[test]
+fn the_jobs_of_a_session_closed_for_another_run_on_under_its_name() {
+    let (_dir, path) = fixture("aside", RESPONSE);
+    let other = path.with_file_name("other.toml");
+    std::fs::write(&other, RESPONSE.replace("adr = 0.6", "adr = 0.7")).unwrap();
+    let mut app = app(&path, ColorMode::Truecolor);
+    // the response runs, the basin waits for it
+    command(&mut app, "run all");
+    assert!(app.jobs.any_active());
+    app.open(&other);
+    assert_eq!(app.session.path, other);
+    let active: Vec<String> = app
+        .jobs
+        .entries
+        .iter()
+        .filter(|e| e.is_active() && !e.preview)
+        .map(|e| e.label.clone())
+        .collect();
+    assert!(!active.is_empty(), "the jobs were cancelled");
+    assert!(
+        active.iter().all(|l| l.starts_with("session.toml: ")),
+        "{active:?}"
+    );
+    // this session's response is not taken for the other's, which is running
+    key(&mut app, KeyCode::Char('r'));
+    assert!(
+        !app.message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("already running"),
+        "{:?}",
+        app.message
+    );
+    settle(&mut app);
+    let done: Vec<String> = app.jobs.entries.iter().map(|e| e.label.clone()).collect();
+    assert!(
+        done.contains(&"session.toml: basin".to_string()),
+        "{done:?}"
+    );
+    assert!(done.contains(&"response".to_string()), "{done:?}");
+    // each stored in its own session's folder: this one's response is current
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    let theirs = Session::load(&path).unwrap();
+    assert!(ResultPaths::new(&theirs, "basin").csv.exists());
+    assert!(!ResultPaths::new(&app.session, "basin").csv.exists());
+}
