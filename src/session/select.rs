@@ -109,11 +109,25 @@ pub fn export_selection(
         }
         let name = source.file_name().unwrap_or_default().to_string_lossy();
         if !m.files.iter().any(|f| f.name == name) {
+            // the tables it has: NAME.TABLE.csv beside the main NAME.csv
+            let main = paths.csv.file_name().unwrap_or_default().to_string_lossy();
+            let stem = main.trim_end_matches(".csv");
+            let tables: Vec<&str> = m
+                .files
+                .iter()
+                .filter_map(|f| f.name.strip_prefix(stem)?.strip_prefix('.'))
+                .filter_map(|t| t.strip_suffix(".csv"))
+                .collect();
             return Err(anyhow::anyhow!(
-                "{}: a {} has no {} table",
+                "{}: a {} has no {} table; its tables: {} (and the main one, without --table)",
                 entry.name,
                 entry.settings.kind(),
-                table.unwrap_or("main")
+                table.unwrap_or("main"),
+                if tables.is_empty() {
+                    "none".to_string()
+                } else {
+                    tables.join(", ")
+                }
             )
             .into());
         }

@@ -170,6 +170,8 @@ pub struct App {
     /// Coarse first pictures by analysis name, and the job computing one.
     previews: HashMap<String, Preview>,
     preview_jobs: HashMap<usize, String>,
+    /// Each analysis job's analysis and the fingerprint of the settings it computes.
+    run_fingerprints: HashMap<usize, (String, String)>,
     pub show_scalogram: bool,
     pub zoom: bool,
     /// The user moved the plot cursor since the view was first drawn.
@@ -229,6 +231,7 @@ impl App {
             scalogram_jobs: HashMap::new(),
             previews: HashMap::new(),
             preview_jobs: HashMap::new(),
+            run_fingerprints: HashMap::new(),
             show_scalogram: false,
             zoom: false,
             help_scroll: 0,
@@ -407,15 +410,28 @@ impl App {
                 }
                 (Ok(Output::Analysis(outcome)), _) => {
                     let name = finished.analysis.unwrap_or_default();
+                    // settings edited during the run: what it stored is of those before
+                    let edited = self.run_fingerprints.remove(&finished.id).is_some_and(
+                        |(analysis, fingerprint)| {
+                            self.session
+                                .analysis(&analysis)
+                                .is_some_and(|e| self.session.fingerprint(e) != fingerprint)
+                        },
+                    );
+                    let before = if edited {
+                        " for the settings before the edit: stale, r runs these"
+                    } else {
+                        ""
+                    };
                     let text = match outcome {
-                        Outcome::UpToDate => format!("{name}: already up to date"),
+                        Outcome::UpToDate => format!("{name}: already up to date{before}"),
                         Outcome::Completed {
                             chunks_computed,
                             seconds,
                             assembled_here,
                             notes,
                         } => format!(
-                            "{name}: done ({chunks_computed} chunks now, {seconds:.1} s of computing{}){}",
+                            "{name}: done{before} ({chunks_computed} chunks now, {seconds:.1} s of computing{}){}",
                             if assembled_here {
                                 ""
                             } else {
@@ -1358,14 +1374,17 @@ impl App {
             return;
         }
         // the preview first: the analysis waits the few tens of milliseconds it takes
+        let fingerprint = self.snapshot.fingerprint(entry);
         self.start_preview(&name);
-        self.jobs.push(
+        let id = self.jobs.push(
             name.clone(),
             Work::Analysis {
                 session: self.snapshot.clone(),
                 name: name.clone(),
             },
         );
+        self.run_fingerprints
+            .insert(id, (name.clone(), fingerprint));
         self.job_row = self.jobs.entries.len() - 1;
         self.tick();
         // started at once if nothing else ran (after its preview, a few tens of milliseconds);
@@ -1442,7 +1461,14 @@ impl App {
             start,
         }) = plots::pick(view, self.cursor)
         else {
-            self.say("nothing to pick here", false);
+            let why = match view {
+                ResultView::Stepped(_) => {
+                    "a stepped sweep keeps no start of its steps' orbits: pick on a frequency \
+                     response or a basin"
+                }
+                _ => "nothing to pick here",
+            };
+            self.say(why, false);
             return;
         };
         let Some(entry) = self.session.analyses.get(self.selected) else {
@@ -1848,9 +1874,13 @@ impl App {
                 isola::session::schema::description(&String::from_utf8_lossy(&head))
             })
             .collect();
+        // the session open, however its path was written (`x.toml` is `./x.toml` here)
+        let current = self.session.path.canonicalize().ok();
         let selected = files
             .iter()
-            .position(|f| *f == self.session.path)
+            .position(|f| {
+                *f == self.session.path || (current.is_some() && f.canonicalize().ok() == current)
+            })
             .unwrap_or(first_session.min(files.len() - 1));
         self.overlay = Some(Overlay::Picker {
             dir: dir.to_path_buf(),

@@ -1877,3 +1877,45 @@ fn the_jobs_of_a_session_closed_for_another_run_on_under_its_name() {
     assert!(ResultPaths::new(&theirs, "basin").csv.exists());
     assert!(!ResultPaths::new(&app.session, "basin").csv.exists());
 }
+
+#[test]
+fn a_unit_on_a_written_models_value_is_named() {
+    let (_dir, path) = fixture("written-unit", WRITTEN_LAG);
+    let mut app = app(&path, ColorMode::None);
+    app.focus = Focus::Params;
+    app.param_row = 0;
+    app.commit_edit("50 Hz");
+    let error = app.param_error.clone().expect("refused");
+    assert!(
+        error.contains("'50 Hz': it takes a plain number, with no unit"),
+        "{error}"
+    );
+    app.commit_edit("fifty");
+    assert!(
+        app.param_error
+            .as_deref()
+            .unwrap()
+            .contains("is not a number")
+    );
+}
+
+#[test]
+fn a_run_whose_settings_were_edited_meanwhile_says_so_when_done() {
+    let (_dir, path) = fixture("edited-run", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    key(&mut app, KeyCode::Char('r'));
+    command(&mut app, "set adr 0.7");
+    settle(&mut app);
+    let said = app.message.as_ref().unwrap().text.clone();
+    assert!(
+        said.starts_with("response: done for the settings before the edit: stale"),
+        "{said}"
+    );
+    app.sync_results();
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+    // run again on these: plainly done
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    let said = app.message.as_ref().unwrap().text.clone();
+    assert!(said.starts_with("response: done ("), "{said}");
+}

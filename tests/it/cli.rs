@@ -493,6 +493,23 @@ fn session_commands_report_in_json() {
     let rows = std::fs::read_to_string(&selection).unwrap().lines().count() - 1;
     assert_eq!(export["rows"], rows);
     assert_eq!(export["wrote"][0], selection.to_str().unwrap());
+    // a table the basin has not: the error lists those it has
+    let out = isola(&[
+        "export",
+        s,
+        "--analysis",
+        "b",
+        "--table",
+        "branches",
+        "--csv",
+        selection.to_str().unwrap(),
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success()
+            && said.contains("a basin has no branches table; its tables: attractors"),
+        "{said}"
+    );
     let quiet = isola(&["run", s, "--quiet"]);
     assert!(quiet.status.success());
     assert!(

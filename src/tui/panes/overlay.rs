@@ -89,7 +89,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 ]));
             }
             lines.push(Line::styled(
-                "plots: a filled glyph is reached by a sweep, an outlined one (◇) is hidden; \
+                "plots: a filled glyph is reached by a sweep, an outlined one (○ ◇ △ □) is hidden; \
                  'collision': starts that left the model (a frame, a locking stretch or a written \
                  condition met), not drawn",
                 t.muted(),

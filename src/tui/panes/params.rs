@@ -268,9 +268,25 @@ pub fn parse_edit(row: &Row, text: &str) -> Result<Edit, String> {
                 }
                 _ => (text, key.clone()),
             };
-            let value: f64 = number
-                .parse()
-                .map_err(|_| format!("{}: '{text}' is not a number", row.label))?;
+            let value: f64 = number.parse().map_err(|_| {
+                // a number with a unit this value does not take (`50 Hz` on a written model)
+                let unit = text
+                    .split_once(char::is_whitespace)
+                    .filter(|(n, _)| n.parse::<f64>().is_ok())
+                    .map(|(_, u)| u.trim());
+                match (unit, physical) {
+                    (Some(u), Some((_, unit))) => format!(
+                        "{}: '{text}': {u} is not its unit: give a number, or one in {unit}",
+                        row.label
+                    ),
+                    (Some(u), None) => format!(
+                        "{}: '{text}': it takes a plain number, with no unit ({u} is none \
+                         this model knows)",
+                        row.label
+                    ),
+                    (None, _) => format!("{}: '{text}' is not a number", row.label),
+                }
+            })?;
             Ok(Edit::Model { key, value })
         }
         Target::Derived(why) => Err(format!("{}: {why}", row.label)),
@@ -484,10 +500,20 @@ impl ParamsPane<'_> {
                     if row.overridden {
                         spans.push(Span::styled("*", t.warn()));
                     }
-                    // the physical form only where it fits whole: never "37.4 MV/m p"
-                    let used = label_w + 1 + value_w;
-                    if !row.physical.is_empty() && used + 2 + cells(&row.physical) <= width {
-                        spans.push(Span::styled(format!("  {}", row.physical), t.muted()));
+                    // the physical form only where it fits whole: never "37.4 MV/m p"; a
+                    // written model's words about a parameter cut short where they do not
+                    let room = width.saturating_sub(label_w + 1 + value_w + 2);
+                    let words = matches!(row.target, Target::Model { physical: None, .. });
+                    let shown = if cells(&row.physical) <= room {
+                        Some(row.physical.clone())
+                    } else if words && room >= 6 {
+                        let cut: String = row.physical.chars().take(room - 1).collect();
+                        Some(format!("{cut}…"))
+                    } else {
+                        None
+                    };
+                    if let Some(text) = shown.filter(|s| !s.is_empty()) {
+                        spans.push(Span::styled(format!("  {text}"), t.muted()));
                     }
                 }
             }

@@ -47,11 +47,19 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
                 (k(Action::Edit), "edit"),
                 (k(Action::Run), "run"),
             ],
-            Focus::Plot => vec![
-                ("←→↑↓".into(), "cursor"),
-                (k(Action::Edit), "orbit"),
-                (k(Action::Zoom), "zoom"),
-            ],
+            Focus::Plot => {
+                let mut keys = vec![("←→↑↓".into(), "cursor")];
+                // offered where the point under the cursor has an orbit to integrate
+                if app
+                    .view()
+                    .and_then(|v| crate::tui::plots::pick(v, app.cursor))
+                    .is_some()
+                {
+                    keys.push((k(Action::Edit), "orbit"));
+                }
+                keys.push((k(Action::Zoom), "zoom"));
+                keys
+            }
             Focus::Jobs => vec![("↑↓".into(), "select"), (k(Action::CancelJob), "cancel")],
         };
         v.extend([

@@ -187,6 +187,9 @@ pub fn take_drawn() -> Vec<Drawn> {
     DRAWN.with(|d| std::mem::take(&mut *d.borrow_mut()))
 }
 
+/// The longest x axis name drawn under the y labels (a longer one ends the x labels).
+const X_NAME_UNDER: u16 = 10;
+
 /// Draws the axes of `x` and `y` (names, ticks, labels) around the data area, leaving
 /// `footer` rows at the bottom, and returns the data area; `None` if there is no room.
 pub fn draw_axes(
@@ -207,6 +210,15 @@ pub fn draw_axes(
         .map(|t| tick_label(*t, ystep).len())
         .max()
         .unwrap_or(1) as u16;
+    // the x axis' name goes under the y labels, whose column widens for a short one (a
+    // written model's `omega` read `omega2.5` against the first x label, or `1.15 1.20 omega`
+    // at the axis' end like one more tick)
+    let name_w = ratatui::text::Span::raw(x.name.as_str()).width() as u16;
+    let label_w = if name_w <= X_NAME_UNDER {
+        label_w.max(name_w)
+    } else {
+        label_w
+    };
     let width = area.width.checked_sub(label_w + 1)?;
     if height < 3 || width < 8 {
         return None;
@@ -239,8 +251,7 @@ pub fn draw_axes(
     let xstep = xt.get(1).map_or(1.0, |b| b - xt[0]);
     // the x axis is always named: under the y labels if it fits there, else at the right
     // end, where tick labels make room for it
-    let name_w = ratatui::text::Span::raw(x.name.as_str()).width() as u16;
-    let (name_x, labels_end) = if name_w <= label_w + 1 {
+    let (name_x, labels_end) = if name_w <= label_w {
         (area.x, x0 + canvas.width)
     } else {
         let at = (x0 + canvas.width).saturating_sub(name_w);

@@ -165,7 +165,16 @@ pub fn draw(
         ));
     }
     let map = HeatMap {
-        x: Axis::new(if m.x == "omega" { "ω_e" } else { m.x.as_str() }, x0, x1),
+        // the forcing frequency as the model names it (ω_e, or a written model's parameter)
+        x: Axis::new(
+            if m.x == "omega" {
+                ctx.omega_axis.as_str()
+            } else {
+                m.x.as_str()
+            },
+            x0,
+            x1,
+        ),
         y: Axis::new(m.parameter.as_str(), y0, y1),
         nx,
         ny,

@@ -134,8 +134,16 @@ pub fn plot(
             short_type(t),
         ));
     }
-    if groups.iter().any(|(_, h)| *h) {
-        legend.extend(legend_item("◇", theme.hidden(), "hidden"));
+    // the outlined glyph of each type drawn hidden: ○ for a hidden 1:1, ◇ for a 1:2
+    let mut outlined: Vec<&str> = groups
+        .iter()
+        .filter(|(_, hidden)| *hidden)
+        .map(|(t, _)| glyph(t, true))
+        .collect();
+    outlined.sort_unstable();
+    outlined.dedup();
+    if !outlined.is_empty() {
+        legend.extend(legend_item(&outlined.concat(), theme.hidden(), "hidden"));
     }
     // responses without an amplitude (collisions, non-periodic) are counted, not drawn
     let mut without: Vec<(&str, usize)> = Vec::new();
