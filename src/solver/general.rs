@@ -32,7 +32,8 @@ const SCAN: [f64; 3] = [0.25, 0.5, 0.75];
 /// Why a trajectory stopped.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Stop {
-    /// It met one of the model's collision conditions, at the end of the step at τ.
+    /// It met one of the model's collision conditions first at τ, in the state there
+    /// (located within the step that met it).
     Collision { tau: f64, state: Vector },
     /// A value stopped being finite: at τ, from `state`, in the named expression if known.
     NonFinite {
@@ -199,10 +200,15 @@ impl GeneralRk4 {
                 let finite = end[..dim].iter().chain(&dx[..dim]).all(|v| v.is_finite());
                 if seen_diff & mask == 0 && finite {
                     self.count_step(traj);
-                    (traj.x, traj.dx) = (end, dx);
                     if collided {
-                        traj.stop = Some(collision(sys, t_end, &end));
+                        traj.stop = Some(collision_in_step(
+                            sys,
+                            [t, t_end],
+                            [&traj.x, &traj.dx],
+                            [&end, &dx],
+                        ));
                     }
+                    (traj.x, traj.dx) = (end, dx);
                     return;
                 }
                 let trial = Trial {
@@ -226,7 +232,11 @@ impl GeneralRk4 {
         let mut t = self.tau(traj.steps);
         let (mut x, mut dx, mut mode) = (traj.x, traj.dx, traj.mode);
         let dim = sys.dim();
+        // the start of the step's last smooth piece: where a collision met at its end is
+        // located
+        let mut piece = (t, x, dx);
         for _ in 0..MAX_SWITCHES_PER_STEP {
+            piece = (t, x, dx);
             let rem = t_end - t;
             let trial = match first.take() {
                 Some(trial) => trial,
@@ -263,6 +273,7 @@ impl GeneralRk4 {
         }
         if t < t_end {
             // more switches than handled: the rest of the step as it is
+            piece = (t, x, dx);
             let trial = rk4(sys, dim, t, &x, &dx, t_end - t, mode, true);
             (x, dx) = (trial.x, trial.dx);
             mode = sys.mode_at(t_end, &x) & mask;
@@ -275,7 +286,8 @@ impl GeneralRk4 {
         if x.iter().chain(&dx).any(|v| !v.is_finite()) {
             traj.stop = Some(self.non_finite(sys, t_end, &x));
         } else if sys.collided(t_end, &x) {
-            traj.stop = Some(collision(sys, t_end, &x));
+            let (t0, x0, f0) = piece;
+            traj.stop = Some(collision_in_step(sys, [t0, t_end], [&x0, &f0], [&x, &dx]));
         }
     }
 
@@ -458,6 +470,33 @@ pub(super) fn collision<S: System>(sys: &mut S, tau: f64, x: &Vector) -> Stop {
         },
         None => Stop::Collision { tau, state: *x },
     }
+}
+
+/// Where a step from (τ0, x0, f0) to (τ1, x1, f1) that ends on a collision first meets one:
+/// bisection of the step's cubic Hermite interpolant (its error about h⁴, as the step's own)
+/// to round-off in τ, the step's start being clear of them all; the collision there, as
+/// [`collision`] ends a trajectory.
+pub(super) fn collision_in_step<S: System>(
+    sys: &mut S,
+    [t0, t1]: [f64; 2],
+    [x0, f0]: [&Vector; 2],
+    [x1, f1]: [&Vector; 2],
+) -> Stop {
+    let (dim, h) = (sys.dim(), t1 - t0);
+    let (mut lo, mut hi, mut at) = (0.0_f64, 1.0_f64, *x1);
+    for _ in 0..MAX_ROOT_ITERATIONS {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        let x = hermite_state(dim, x0, f0, x1, f1, h, mid);
+        if sys.collided(t0 + mid * h, &x) {
+            (hi, at) = (mid, x);
+        } else {
+            lo = mid;
+        }
+    }
+    collision(sys, t0 + hi * h, &at)
 }
 
 /// A step's end as the recording callbacks see it.

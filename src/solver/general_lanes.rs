@@ -247,17 +247,23 @@ impl GeneralRk4 {
                 lanes.set_lane(l, traj);
                 continue;
             }
+            if hit[l] {
+                // located within the step, from its start
+                let lane = |v: &[[f64; L]; MAX_DIM]| -> Vector { std::array::from_fn(|i| v[i][l]) };
+                let t0 = self.tau(lanes.steps[l]);
+                lanes.stop[l] = Some(super::general::collision_in_step(
+                    sys,
+                    [t0, t_end[l]],
+                    [&lane(&lanes.x), &lane(&lanes.dx)],
+                    [&lane(end), &lane(dx)],
+                ));
+            }
             for i in 0..dim {
                 lanes.x[i][l] = end[i][l];
                 lanes.dx[i][l] = dx[i][l];
             }
             lanes.steps[l] += 1;
             lanes.phase[l] = self.next_phase(lanes.phase[l]);
-            if hit[l] {
-                let mut state = [0.0; MAX_DIM];
-                (0..dim).for_each(|i| state[i] = end[i][l]);
-                lanes.stop[l] = Some(super::general::collision(sys, t_end[l], &state));
-            }
         }
         lanes.stages = Some(stages);
     }

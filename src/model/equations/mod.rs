@@ -45,7 +45,9 @@ pub use system::EquationSystem;
 /// reciprocal: numbers moved by rounding (≤ 2e-13 in Fig 4's response).
 /// 3: a time history recorded within its tolerance (each period at N and 2N steps), and
 /// ended, with a `collision` column, where a collision ends the orbit.
-pub const NUMERICS_VERSION: u32 = 3;
+/// 4: a collision located within the step that met it (its τ and state), not at the step's
+/// end.
+pub const NUMERICS_VERSION: u32 = 4;
 
 /// Why a written model cannot be used: where (the TOML key, and line and column when known)
 /// and what.
