@@ -694,7 +694,8 @@ pub fn chirp_csv(
     Ok(written(path, &CHIRP_TABLES))
 }
 
-/// One row per step of a stepped sweep, and beside it one row per jump between steps
+/// One row per step of a stepped sweep (with where its orbit starts, as a response's), and
+/// beside it one row per jump between steps
 /// (`A.jumps.csv`: `jump, step, direction,` ω_e before and after, the response types and
 /// amplitudes before and after) and one row per response type with its largest amplitude
 /// (`A.peaks.csv`: `response_type, steps,` the peak amplitude, its ω_e). Returns the files
@@ -710,6 +711,7 @@ pub fn stepped_csv(
             .map(String::from)
             .to_vec();
         header.extend(columns.steady());
+        header.extend(columns.start());
         w.write_record(&header)?;
         for (i, s) in steps.iter().enumerate() {
             let mut row = vec![
@@ -719,6 +721,7 @@ pub fn stepped_csv(
                 s.restarted.to_string(),
             ];
             row.extend(steady_fields(&s.steady));
+            row.extend(columns.start_fields(&s.steady));
             w.write_record(&row)?;
         }
         Ok(())

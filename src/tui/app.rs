@@ -1462,9 +1462,10 @@ impl App {
         }) = plots::pick(view, self.cursor)
         else {
             let why = match view {
+                // a result stored before the steps kept their starts
                 ResultView::Stepped(_) => {
-                    "a stepped sweep keeps no start of its steps' orbits: pick on a frequency \
-                     response or a basin"
+                    "this stepped sweep was stored without its steps' starts: r runs it again, \
+                     then pick"
                 }
                 _ => "nothing to pick here",
             };

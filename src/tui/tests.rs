@@ -366,7 +366,20 @@ fn every_other_view_draws() {
         panic!("no stepped sweep view");
     };
     assert_eq!(steps.len(), 13);
+    // each step keeps where its orbit starts: Enter on one opens it
+    assert!(
+        steps
+            .iter()
+            .all(|p| p.start.as_ref().is_some_and(|s| s.len() == 2))
+    );
     snapshot!("stepped_80x24", draw(&app, 80, 24));
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Enter);
+    settle(&mut app);
+    let picked = app.picked.as_ref().expect("the step's orbit");
+    assert!(picked.history.is_some(), "{:?}", app.message);
+    key(&mut app, KeyCode::Esc);
+    app.focus = Focus::Analyses;
     key(&mut app, KeyCode::Down);
     let screen = draw(&app, 120, 40);
     assert!(screen.contains("adr: ■ 0.4  ■ 1"), "{screen}");
