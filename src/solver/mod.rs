@@ -26,8 +26,9 @@ pub use rk4::{Lanes, Rk4, StepEnds};
 /// Where a trajectory ends when it leaves the model (MODEL.md §1).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Collision {
-    /// Non-dimensional time of the collision (located to the step, or exactly by `dopri`).
+    /// Non-dimensional time of the collision: located within the step that met it (RK4, on
+    /// the step's interpolant), or exactly (`dopri`).
     pub tau: f64,
-    /// λ_I when it was detected.
+    /// λ_I there (at the frame or the locking stretch, just past it).
     pub lambda_i: f64,
 }

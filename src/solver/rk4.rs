@@ -121,7 +121,7 @@ impl Rk4 {
         };
         for i in 0..L {
             if !(x[i].is_finite() && v[i].is_finite() && self.field.inside(x[i])) {
-                self.freeze(&mut lanes, i, 0.0);
+                self.freeze(&mut lanes, i, 0.0, x[i]);
                 continue;
             }
             (lanes.a[i], lanes.mode[i]) = self.field.accel_coded(x[i], v[i], phi_i, phi_ii);
@@ -304,7 +304,15 @@ impl Rk4 {
                     }
                     if !(f.inside(lanes.x[i]) && lanes.v[i].is_finite()) {
                         let periods = (lanes.period - lanes.start_period[i]) as f64;
-                        self.freeze(lanes, i, periods * self.params.period() + phase_tau + h);
+                        let step_start = periods * self.params.period() + phase_tau;
+                        // where in the step it left the model, if the step's end says
+                        let (theta, lambda_i) = if lanes.x[i].is_finite() && lanes.v[i].is_finite()
+                        {
+                            self.exit_in_step(h, [x0[i], v0[i]], [lanes.x[i], lanes.v[i]])
+                        } else {
+                            (1.0, lanes.x[i])
+                        };
+                        self.freeze(lanes, i, step_start + theta * h, lambda_i);
                     }
                 }
             }
@@ -328,7 +336,7 @@ impl Rk4 {
         lanes.x[i] = x;
         lanes.v[i] = v;
         if !(x.is_finite() && v.is_finite() && self.field.inside(x)) {
-            self.freeze(lanes, i, 0.0);
+            self.freeze(lanes, i, 0.0, x);
             return;
         }
         let (phi_i, phi_ii) = self.table.at(0);
@@ -337,18 +345,37 @@ impl Rk4 {
 
     /// Parks lane `i` with no trajectory in it (reported as a collision at τ = 0).
     pub fn park_lane<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize) {
-        self.freeze(lanes, i, 0.0);
+        self.freeze(lanes, i, 0.0, lanes.x[i]);
     }
 
-    /// Marks lane `i` as collided at `tau` and parks it at rest at λ_p.
-    fn freeze<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize, tau: f64) {
-        lanes.collision[i] = Some(Collision {
-            tau,
-            lambda_i: lanes.x[i],
-        });
+    /// Marks lane `i` as collided at `tau`, λ_I being `lambda_i` there, and parks it at rest
+    /// at λ_p.
+    fn freeze<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize, tau: f64, lambda_i: f64) {
+        lanes.collision[i] = Some(Collision { tau, lambda_i });
         lanes.x[i] = self.params.lambda_p();
         lanes.v[i] = 0.0;
         lanes.a[i] = 0.0;
+    }
+
+    /// Where a step of length `h` from (λ_I, v) = (x0, v0), inside the model, to (x1, v1),
+    /// outside it, leaves it: bisection of the step's cubic Hermite interpolant of λ_I (its
+    /// error about h⁴, as the step's own) to round-off. The fraction of the step, and λ_I
+    /// there (just past the frame or the locking stretch).
+    fn exit_in_step(&self, h: f64, [x0, v0]: [f64; 2], [x1, v1]: [f64; 2]) -> (f64, f64) {
+        let (mut lo, mut hi, mut at) = (0.0_f64, 1.0_f64, x1);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            let x = super::hermite::value(x0, v0, x1, v1, h, mid);
+            if self.field.inside(x) {
+                lo = mid;
+            } else {
+                (hi, at) = (mid, x);
+            }
+        }
+        (hi, at)
     }
 
     /// One RK4 step of length `h` on the smooth piece `mode` from `y`, where the acceleration

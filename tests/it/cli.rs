@@ -62,6 +62,28 @@ fn collision_is_reported_in_json_without_nan() {
     assert!(v["collision"]["tau"].as_f64().unwrap() > 0.0);
 }
 
+/// RK4 locates a collision within the step that met it, where the Dormand–Prince reference
+/// locates it exactly: thrown into the frame from Δλ −0.8, v −1 at Fig 6A's point, τ agrees
+/// to 1e-6 (2.5e-8 here; the step's end, where it was reported before, was 0.0106 late) and
+/// λ_I is at the frame, not 0.003 past it.
+#[test]
+fn rk4_locates_a_collision_where_the_reference_does() {
+    let args = ["orbit", "--x0", "-0.8", "--v0", "-1", "--json"];
+    let rk4 = json(&args);
+    let reference = json(&[&args[..], &["--reference"]].concat());
+    assert_eq!(rk4["integrator"], "rk4");
+    assert_eq!(reference["integrator"], "dopri5");
+    let at = |v: &serde_json::Value| {
+        (
+            v["collision"]["tau"].as_f64().unwrap(),
+            v["collision"]["lambda_i"].as_f64().unwrap(),
+        )
+    };
+    let ((tau, lambda), (tau_ref, _)) = (at(&rk4), at(&reference));
+    assert!((tau - tau_ref).abs() < 1e-6, "{tau} against {tau_ref}");
+    assert!(lambda <= 0.0 && lambda > -1e-12, "λ_I {lambda}");
+}
+
 #[test]
 fn bad_parameters_name_the_field_and_range() {
     for (flag, value, says) in [
