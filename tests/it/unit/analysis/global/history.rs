@@ -48,6 +48,26 @@ pub fn exact(c: f64, f: f64, omega: f64, x0: f64, v0: f64) -> impl Fn(f64) -> [f
     }
 }
 
+/// The first τ at which `exact`'s x reaches `wall` from below: scanned in steps of 1e-3,
+/// then bisected to round-off.
+fn first_crossing(exact: &impl Fn(f64) -> [f64; 2], wall: f64) -> f64 {
+    let dt = 1e-3;
+    let mut lo = 0.0;
+    while exact(lo + dt)[0] < wall {
+        lo += dt;
+    }
+    let mut hi = lo + dt;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if exact(mid)[0] < wall {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    hi
+}
+
 /// The largest error of a history's samples against `exact`.
 fn largest_error(h: &StateHistory, exact: &impl Fn(f64) -> [f64; 2]) -> f64 {
     h.samples
@@ -105,17 +125,7 @@ fn a_collision_ends_the_history_where_the_exact_orbit_crosses() {
     let collision = h.collision.as_ref().expect("a collision");
     assert_eq!(collision.condition, "model.collision[0] = `x >= 3`");
     let x = exact(0.1, 0.5, 1.0, 0.0, 0.0);
-    // the exact crossing, by bisection on the first sample interval that crosses
-    let dt = 2.0 * std::f64::consts::PI / 64.0;
-    let mut lo = 0.0;
-    while x(lo + dt)[0] < 3.0 {
-        lo += dt;
-    }
-    let mut hi = lo + dt;
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if x(mid)[0] < 3.0 { lo = mid } else { hi = mid }
-    }
+    let hi = first_crossing(&x, 3.0);
     // located within the step that met it (on its interpolant, whose error is about h⁴): at
     // the exact crossing to 1e-9 (4.7e-12 here; the step's end was 0.0029 past)
     let last = h.samples.last().unwrap();
@@ -247,20 +257,7 @@ fn a_collision_is_located_within_its_step_in_lanes_and_alone() {
     let mut sys = linear(0.1, 1.0, r#""x >= 3""#);
     let rk = GeneralRk4::with_steps(&sys, 64);
     let starts = [[0.0, 0.0], [0.5, 0.0], [0.0, 0.7], [-1.0, 0.3]];
-    let crossing = |x0: [f64; 2]| {
-        let x = exact(0.1, 0.5, 1.0, x0[0], x0[1]);
-        let dt = 1e-3;
-        let mut lo = 0.0;
-        while x(lo + dt)[0] < 3.0 {
-            lo += dt;
-        }
-        let mut hi = lo + dt;
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if x(mid)[0] < 3.0 { lo = mid } else { hi = mid }
-        }
-        hi
-    };
+    let crossing = |x0: [f64; 2]| first_crossing(&exact(0.1, 0.5, 1.0, x0[0], x0[1]), 3.0);
     let met = |stop: &Option<Stop>| match stop {
         Some(Stop::Collision { tau, state }) => (*tau, state[0]),
         other => panic!("no collision: {other:?}"),
