@@ -1272,7 +1272,8 @@ impl App {
                         // nothing to type into: say what to edit instead
                         self.param_error = Some(format!("{}: {why}", row.label));
                     } else {
-                        self.editing = Some(LineEdit::replacing(row.value.clone()));
+                        // every digit: Enter on it untouched changes nothing
+                        self.editing = Some(LineEdit::replacing(row.exact.clone()));
                         self.param_error = None;
                     }
                 }
@@ -1304,7 +1305,16 @@ impl App {
             }
             KeyCode::Enter => {
                 let text = text.value().to_string();
-                self.commit_edit(&text);
+                let unchanged = self
+                    .param_rows
+                    .get(self.param_row)
+                    .is_some_and(|row| row.exact == text.trim());
+                if unchanged {
+                    self.editing = None;
+                    self.param_error = None;
+                } else {
+                    self.commit_edit(&text);
+                }
             }
             _ => {
                 text.key(key);

@@ -1932,3 +1932,26 @@ fn a_run_whose_settings_were_edited_meanwhile_says_so_when_done() {
     let said = app.message.as_ref().unwrap().text.clone();
     assert!(said.starts_with("response: done ("), "{said}");
 }
+
+#[test]
+fn enter_on_a_value_left_as_it_is_changes_nothing() {
+    let (_dir, path) = fixture("untouched", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    command(&mut app, "set adr 0.612345678901");
+    app.focus = Focus::Params;
+    app.param_row = app.param_rows.iter().position(|r| r.label == "ADR").unwrap();
+    // shown rounded, edited in full
+    assert_eq!(app.param_rows[app.param_row].value, "0.612346");
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(
+        app.editing.as_ref().map(LineEdit::value),
+        Some("0.612345678901")
+    );
+    key(&mut app, KeyCode::Enter);
+    assert!(app.editing.is_none());
+    assert_eq!(app.session.file.model.adr, Some(0.612345678901));
+    // one edit to undo, the set; the untouched Enter made none
+    key(&mut app, KeyCode::Char('u'));
+    assert_eq!(app.session.file.model.adr, Some(0.6));
+    assert!(!app.modified);
+}

@@ -33,6 +33,8 @@ pub enum Target {
 pub struct Row {
     pub label: String,
     pub value: String,
+    /// The value in full (every digit that reads back exactly): what an edit starts from.
+    pub exact: String,
     /// The value in physical units, if it has them.
     pub physical: String,
     /// Set by this analysis only (not the session's model).
@@ -53,6 +55,7 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
             out.push(Row {
                 label: p.name.clone(),
                 value: format_number(value),
+                exact: value.to_string(),
                 physical: p
                     .unit
                     .clone()
@@ -76,6 +79,7 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
         |label: &str, key: &str, physical, value: f64, phys: String, overridden: bool| Row {
             label: label.into(),
             value: format_number(value),
+            exact: value.to_string(),
             physical: phys,
             overridden,
             target: Target::Model {
@@ -134,6 +138,7 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
             let derived = |label: &str, value: f64, what: &str| Row {
                 label: label.into(),
                 value: format_number(value),
+                exact: value.to_string(),
                 physical: what.into(),
                 overridden: false,
                 target: Target::Derived("derived from E_a and ADR: edit those"),
@@ -165,6 +170,7 @@ pub fn rows(session: &Session, index: usize) -> Vec<Row> {
         let derived = |label: &str, value: f64, what: String| Row {
             label: label.into(),
             value: format_number(value),
+            exact: value.to_string(),
             physical: what,
             overridden: false,
             target: Target::Derived("derived from the model at rest: edit λ_p, J or the drive"),
@@ -218,6 +224,10 @@ fn flatten(table: &toml::Table, prefix: &mut Vec<String>, out: &mut Vec<Row>) {
             value => out.push(Row {
                 label: prefix.join("."),
                 value: format_value(value),
+                exact: match value {
+                    toml::Value::Float(f) => f.to_string(),
+                    other => format_value(other),
+                },
                 physical: String::new(),
                 overridden: false,
                 target: Target::Setting {
