@@ -541,9 +541,11 @@ pub struct ExportArgs {
     /// The analysis whose result to export.
     #[arg(long)]
     analysis: String,
-    /// A companion table instead of the main result: `attractors` (basin), `responses`
-    /// (family) or `branches` (hunt).
-    #[arg(long, value_parser = ["attractors", "responses", "branches"])]
+    /// A companion table instead of the main result, as its file names it (`NAME.TABLE.csv`):
+    /// `attractors` or `points` (basin), `points` or `outcomes` (response), `responses`
+    /// (family), `branches` (hunt), `jumps` (sweeps)...; one it lacks is named with those
+    /// it has.
+    #[arg(long)]
     table: Option<String>,
     /// Keep rows where COLUMN OP VALUE holds (OP: = != < <= > >=); repeat to combine.
     #[arg(long = "where", value_name = "COLUMN OP VALUE")]

@@ -484,12 +484,35 @@ impl App {
     /// [`App::watch_session_file`]'s look at the file, now.
     pub(super) fn notice_session_file(&mut self) {
         let stamp = disk_stamp(&self.session.path);
-        if stamp.is_none() || stamp == self.disk_seen {
-            return; // unchanged, or not saved yet (or deleted: `s` writes it again)
+        if stamp == self.disk_seen {
+            return; // unchanged (or never saved)
+        }
+        if stamp.is_none() {
+            // deleted (or moved away): what is shown is the only copy, unsaved
+            self.disk_seen = None;
+            self.modified = true;
+            self.say(
+                format!(
+                    "{} was deleted on disk: s writes it again",
+                    file_name(&self.session.path)
+                ),
+                true,
+            );
+            return;
         }
         self.disk_seen = stamp;
         match std::fs::read_to_string(&self.session.path) {
-            Ok(text) if text == self.saved_text => {}
+            Ok(text) if text == self.saved_text => {
+                // as loaded again (a repaired edit, a restored file): no warning stands
+                if self
+                    .message
+                    .as_ref()
+                    .is_some_and(|m| m.text.contains("on disk"))
+                {
+                    self.message = None;
+                }
+                self.modified = self.session.to_text() != self.saved_text;
+            }
             Ok(_) if self.modified => self.say(
                 format!(
                     "{} changed on disk: :reload loads it (dropping your unsaved edits), \
@@ -1447,6 +1470,14 @@ impl App {
 
     /// Integrates the orbit under the plot cursor.
     fn pick(&mut self) {
+        if self.picked.is_some() {
+            let back = self.keymap.label(super::keymap::Action::Back);
+            self.say(
+                format!("an orbit is shown: {back} returns to the result"),
+                false,
+            );
+            return;
+        }
         // an orbit is integrated on the current settings: picked from their result only
         if self.frozen.is_some() {
             let key = self.keymap.label(super::keymap::Action::Freeze);
@@ -1910,6 +1941,7 @@ impl App {
                     // the closed session's jobs run on under its name; what they would draw
                     // here (a preview, a scalogram) is not this session's
                     self.jobs.set_aside(&file_name(&self.session.path));
+                    self.run_fingerprints.clear();
                     self.preview_jobs.clear();
                     self.scalogram_jobs.clear();
                     self.previews.clear();

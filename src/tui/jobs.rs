@@ -70,6 +70,8 @@ pub struct JobEntry {
     pub progress: Arc<Progress>,
     /// A preview: analyses wait for it (it is short, and drawn first).
     pub preview: bool,
+    /// Of a session closed since (its label names it).
+    aside: bool,
     started: Option<Instant>,
     work: Option<Work>,
     job: Option<Job<Output, ()>>,
@@ -146,6 +148,7 @@ impl JobList {
             state: JobState::Queued,
             progress: Arc::new(Progress::new(0)),
             preview,
+            aside: false,
             started: None,
             work: Some(work),
             job: None,
@@ -163,12 +166,13 @@ impl JobList {
         id
     }
 
-    /// Marks the active jobs as another session's (`file`, as a message names it), once
+    /// Marks this session's jobs as another session's (`file`, as a message names it), once
     /// that session is closed for another: they run on, saving into its results folder, and
     /// their rows and messages name it, so that none is taken for an analysis of the same name
     /// in the session now open.
     pub fn set_aside(&mut self, file: &str) {
-        for e in self.entries.iter_mut().filter(|e| e.is_active()) {
+        for e in self.entries.iter_mut().filter(|e| !e.aside) {
+            e.aside = true;
             e.label = format!("{file}: {}", e.label);
             if let Some(name) = &mut e.analysis {
                 *name = format!("{file}: {name}");

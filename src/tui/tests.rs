@@ -1841,6 +1841,18 @@ fn an_edit_of_the_session_file_made_outside_is_loaded_or_said() {
     app.notice_session_file();
     assert_eq!(app.session.file.model.adr, Some(0.9));
     assert!(said(&app).contains("does not load"), "{}", said(&app));
+    // deleted: said, and what is shown is unsaved work (q asks)
+    std::fs::remove_file(&path).unwrap();
+    app.notice_session_file();
+    assert!(said(&app).contains("deleted on disk"), "{}", said(&app));
+    assert!(app.modified);
+    key(&mut app, KeyCode::Char('q'));
+    assert!(matches!(app.overlay, Some(Overlay::ConfirmQuit)));
+    key(&mut app, KeyCode::Char('n'));
+    // put back as loaded: the warning goes, nothing is unsaved
+    std::fs::write(&path, app.session.to_text()).unwrap();
+    app.notice_session_file();
+    assert!(app.message.is_none() && !app.modified, "{}", said(&app));
 }
 
 #[test]
@@ -1866,6 +1878,15 @@ fn the_jobs_of_a_session_closed_for_another_run_on_under_its_name() {
         active.iter().all(|l| l.starts_with("session.toml: ")),
         "{active:?}"
     );
+    // the finished ones too (the previews)
+    assert!(
+        app.jobs
+            .entries
+            .iter()
+            .all(|e| e.label.starts_with("session.toml: ")),
+        "{:?}",
+        app.jobs.entries.iter().map(|e| &e.label).collect::<Vec<_>>()
+    );
     // this session's response is not taken for the other's, which is running
     key(&mut app, KeyCode::Char('r'));
     assert!(
@@ -1878,6 +1899,9 @@ fn the_jobs_of_a_session_closed_for_another_run_on_under_its_name() {
         app.message
     );
     settle(&mut app);
+    // none of them said to be of settings edited since (they are another session's)
+    let said = app.message.as_ref().unwrap().text.clone();
+    assert!(!said.contains("before the edit"), "{said}");
     let done: Vec<String> = app.jobs.entries.iter().map(|e| e.label.clone()).collect();
     assert!(
         done.contains(&"session.toml: basin".to_string()),
@@ -1939,7 +1963,11 @@ fn enter_on_a_value_left_as_it_is_changes_nothing() {
     let mut app = app(&path, ColorMode::None);
     command(&mut app, "set adr 0.612345678901");
     app.focus = Focus::Params;
-    app.param_row = app.param_rows.iter().position(|r| r.label == "ADR").unwrap();
+    app.param_row = app
+        .param_rows
+        .iter()
+        .position(|r| r.label == "ADR")
+        .unwrap();
     // shown rounded, edited in full
     assert_eq!(app.param_rows[app.param_row].value, "0.612346");
     key(&mut app, KeyCode::Enter);

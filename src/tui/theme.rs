@@ -278,6 +278,12 @@ impl Theme {
             .add_modifier(Modifier::BOLD | Modifier::REVERSED)
     }
 
+    /// Text selected in a line being typed (replaced by what is typed): the cursor's style,
+    /// underlined, so that it reads as being edited on the selected row too.
+    pub fn selection(&self) -> Style {
+        self.cursor().add_modifier(Modifier::UNDERLINED)
+    }
+
     pub fn key(&self) -> Style {
         if self.monochrome {
             Style::default().add_modifier(Modifier::BOLD)

@@ -180,7 +180,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 Line::from(
                     [
                         vec![Span::styled(":", t.cursor())],
-                        text.spans(t.cursor(), t.selected()),
+                        text.spans(t.cursor(), t.selection()),
                     ]
                     .concat(),
                 ),
@@ -199,7 +199,7 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             };
             let lines = vec![
                 Line::raw(what),
-                Line::from(text.spans(t.cursor(), t.selected())),
+                Line::from(text.spans(t.cursor(), t.selection())),
                 Line::styled(
                     if text.is_selected() {
                         "Enter: ok   Esc: cancel   typing replaces it, ← → edit it"

@@ -504,7 +504,7 @@ impl ParamsPane<'_> {
             let pad = label_w.saturating_sub(cells(&label));
             let mut spans = vec![Span::raw(format!("{label}{} ", " ".repeat(pad)))];
             match editing {
-                Some(text) => spans.extend(text.spans(t.cursor(), t.selected())),
+                Some(text) => spans.extend(text.spans(t.cursor(), t.selection())),
                 None => {
                     spans.push(Span::raw(row.value.clone()));
                     if row.overridden {

@@ -7,6 +7,7 @@ use ratatui::widgets::{Paragraph, Widget};
 
 use crate::tui::app::{App, Focus, InputPurpose, Overlay};
 use crate::tui::keymap::Action;
+use isola::session::results::ResultStatus;
 
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
@@ -18,7 +19,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         let line = Line::from(
             [
                 vec![Span::styled("/", t.cursor())],
-                text.spans(t.cursor(), t.selected()),
+                text.spans(t.cursor(), t.selection()),
                 vec![Span::styled(
                     "  lists what matches · Enter: keep · Esc: clear",
                     t.muted(),
@@ -50,10 +51,13 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             Focus::Plot => {
                 let mut keys = vec![("←→↑↓".into(), "cursor")];
                 // offered where the point under the cursor has an orbit to integrate
-                if app
-                    .view()
-                    .and_then(|v| crate::tui::plots::pick(v, app.cursor))
-                    .is_some()
+                if app.picked.is_none()
+                    && app.frozen.is_none()
+                    && app.status_of(app.selected) != ResultStatus::Stale
+                    && app
+                        .view()
+                        .and_then(|v| crate::tui::plots::pick(v, app.cursor))
+                        .is_some()
                 {
                     keys.push((k(Action::Edit), "orbit"));
                 }
