@@ -230,11 +230,14 @@ impl Summary for OrbitSummary {
         );
         say!();
         if let (Some(c), Some(seconds)) = (s.collision, ph.collision_seconds) {
+            // located within its step: in forcing period n (from 1); λ_I at the frame, as 0
+            // rather than a rounded -0.0000
+            let period = 2.0 * std::f64::consts::PI / self.omega;
+            let n = (c.tau / period).floor() as u64 + 1;
+            let lambda_i = (c.lambda_i * 1e4).round() / 1e4 + 0.0;
             say!(
-                "collision  the mass reached a frame at τ ≈ {:.3} ({seconds:.4} s), λ_I = {:.4}, after {} forcing periods",
-                c.tau,
-                c.lambda_i,
-                s.transient_periods
+                "collision  the mass left the model at τ = {:.6} ({seconds:.4} s, in forcing period {n}), λ_I = {lambda_i:.4}",
+                c.tau
             );
             return;
         }

@@ -1885,7 +1885,11 @@ fn the_jobs_of_a_session_closed_for_another_run_on_under_its_name() {
             .iter()
             .all(|e| e.label.starts_with("session.toml: ")),
         "{:?}",
-        app.jobs.entries.iter().map(|e| &e.label).collect::<Vec<_>>()
+        app.jobs
+            .entries
+            .iter()
+            .map(|e| &e.label)
+            .collect::<Vec<_>>()
     );
     // this session's response is not taken for the other's, which is running
     key(&mut app, KeyCode::Char('r'));
