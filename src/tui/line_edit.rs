@@ -82,18 +82,52 @@ impl LineEdit {
     /// The text as shown: the cursor (`▏`) where it is, the text in `style`, or in `selected`
     /// while it is selected.
     pub fn spans(&self, style: Style, selected: Style) -> Vec<Span<'static>> {
-        let text = self.input.value();
+        self.spans_within(usize::MAX, style, selected)
+    }
+
+    /// [`Self::spans`] in at most `width` cells: a text too long is shown around the cursor,
+    /// `…` where it is cut.
+    pub fn spans_within(&self, width: usize, style: Style, selected: Style) -> Vec<Span<'static>> {
+        let chars: Vec<char> = self.input.value().chars().collect();
+        // cells for the text besides the cursor's
+        let room = width.max(3) - 1;
+        let cut = |part: &[char], keep_end: bool| -> String {
+            if part.len() <= room {
+                return part.iter().collect();
+            }
+            let keep = room - 1;
+            if keep_end {
+                std::iter::once('…')
+                    .chain(part[part.len() - keep..].iter().copied())
+                    .collect()
+            } else {
+                part[..keep]
+                    .iter()
+                    .copied()
+                    .chain(std::iter::once('…'))
+                    .collect()
+            }
+        };
         if self.selected {
             return vec![
-                Span::styled(text.to_string(), selected),
+                Span::styled(cut(&chars, true), selected),
                 Span::styled("▏", style),
             ];
         }
-        let at = text
-            .char_indices()
-            .nth(self.input.cursor())
-            .map_or(text.len(), |(i, _)| i);
-        let (before, after) = text.split_at(at);
+        let at = self.input.cursor().min(chars.len());
+        let before = cut(&chars[..at], true);
+        let left = room.saturating_sub(before.chars().count());
+        let after: String = if chars.len() - at <= left {
+            chars[at..].iter().collect()
+        } else if left == 0 {
+            String::new()
+        } else {
+            chars[at..at + left - 1]
+                .iter()
+                .copied()
+                .chain(std::iter::once('…'))
+                .collect()
+        };
         vec![Span::styled(format!("{before}▏{after}"), style)]
     }
 
@@ -144,6 +178,29 @@ mod tests {
         press(&mut edit, KeyCode::Backspace, KeyModifiers::NONE);
         assert_eq!(edit.value(), "10.2");
         assert_eq!(shown(&edit), "10.▏2");
+    }
+
+    #[test]
+    fn a_text_longer_than_its_box_is_shown_around_the_cursor() {
+        let shown_in = |edit: &LineEdit, width: usize| -> String {
+            edit.spans_within(width, Style::default(), Style::default())
+                .iter()
+                .map(|s| s.content.to_string())
+                .collect()
+        };
+        let mut edit = LineEdit::new("0.123456789012345");
+        assert_eq!(shown_in(&edit, 10), "…89012345▏");
+        press(&mut edit, KeyCode::Home, KeyModifiers::NONE);
+        assert_eq!(shown_in(&edit, 10), "▏0.123456…");
+        for _ in 0..4 {
+            press(&mut edit, KeyCode::Right, KeyModifiers::NONE);
+        }
+        assert_eq!(shown_in(&edit, 10), "0.12▏3456…");
+        // it fits: whole
+        assert_eq!(shown_in(&edit, 40), "0.12▏3456789012345");
+        for w in 3..20 {
+            assert!(shown_in(&edit, w).chars().count() <= w, "{w}");
+        }
     }
 
     #[test]

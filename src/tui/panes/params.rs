@@ -495,7 +495,8 @@ impl ParamsPane<'_> {
             }
             let editing = self.editing.filter(|_| i == self.selected);
             let value_w = match editing {
-                Some(text) => text.width(),
+                // a long text scrolls in its box rather than squeeze the names
+                Some(text) => text.width().min(width / 2),
                 None => cells(&row.value) + usize::from(row.overridden),
             };
             let label_w = group_width(group).min(width.saturating_sub(value_w + 1).max(4));
@@ -504,7 +505,11 @@ impl ParamsPane<'_> {
             let pad = label_w.saturating_sub(cells(&label));
             let mut spans = vec![Span::raw(format!("{label}{} ", " ".repeat(pad)))];
             match editing {
-                Some(text) => spans.extend(text.spans(t.cursor(), t.selection())),
+                Some(text) => spans.extend(text.spans_within(
+                    width.saturating_sub(label_w + 1),
+                    t.cursor(),
+                    t.selection(),
+                )),
                 None => {
                     spans.push(Span::raw(row.value.clone()));
                     if row.overridden {
