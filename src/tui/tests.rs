@@ -642,10 +642,16 @@ fn a_result_exports_to_csv_and_goes_stale_after_an_edit() {
     // editing the model makes the stored result stale (shown, not silently reused)
     let row = app.param_rows.iter().position(|r| r.label == "c̃").unwrap();
     app.param_row = row;
+    // (wide enough for the hint, which gives way in a narrow plot)
+    let before = draw(&app, 200, 50);
+    assert!(before.contains("Enter: orbit"), "{before}");
     app.commit_edit("0.05");
     app.sync_results();
     assert_eq!(app.status_of(0), ResultStatus::Stale);
-    assert!(draw(&app, 80, 24).contains("stale"));
+    let screen = draw(&app, 200, 50);
+    assert!(screen.contains("stale"));
+    // no orbit is offered from a result of other settings
+    assert!(!screen.contains("Enter: orbit"), "{screen}");
 }
 
 #[test]

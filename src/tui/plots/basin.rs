@@ -75,7 +75,7 @@ pub fn draw(
     let mut footer = Vec::new();
     if let (Some(dx), Some(v)) = (b.dx.get(cx), b.v.get(cy)) {
         let target = label(cx, cy).and_then(|l| b.attractors.get(l));
-        footer.push(Line::from(vec![
+        let mut spans = vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
                 "{}  → {}",
@@ -90,11 +90,14 @@ pub fn draw(
                         .map_or(String::new(), |x| format!("A\u{a0}{x:.4}"))
                 ))
             )),
-            Span::styled(
+        ];
+        if ctx.pickable {
+            spans.push(Span::styled(
                 "  Enter: orbit",
                 theme.muted().add_modifier(Modifier::ITALIC),
-            ),
-        ]));
+            ));
+        }
+        footer.push(Line::from(spans));
     }
     let items: Vec<Vec<Span>> = b
         .attractors

@@ -30,6 +30,9 @@ pub struct PlotContext<'a> {
     /// The amplitude's axis: `amplitude Δλ`, or of a written model's output.
     pub amplitude_axis: String,
     pub cursor: (usize, usize),
+    /// Enter opens the orbit under the cursor (the result is current and not held): its
+    /// hint is shown.
+    pub pickable: bool,
 }
 
 impl PlotContext<'_> {

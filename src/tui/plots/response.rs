@@ -238,7 +238,7 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
     if p.share > 0.0 {
         spans.push(Span::raw(format!("  {:.0}% of starts", p.share * 100.0)));
     }
-    if p.start.is_some() {
+    if p.start.is_some() && ctx.pickable {
         spans.push(Span::styled(
             "  Enter: orbit",
             ctx.theme.muted().add_modifier(Modifier::ITALIC),
