@@ -483,20 +483,9 @@ pub(super) fn collision_in_step<S: System>(
     [x1, f1]: [&Vector; 2],
 ) -> Stop {
     let (dim, h) = (sys.dim(), t1 - t0);
-    let (mut lo, mut hi, mut at) = (0.0_f64, 1.0_f64, *x1);
-    for _ in 0..MAX_ROOT_ITERATIONS {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        let x = hermite_state(dim, x0, f0, x1, f1, h, mid);
-        if sys.collided(t0 + mid * h, &x) {
-            (hi, at) = (mid, x);
-        } else {
-            lo = mid;
-        }
-    }
-    collision(sys, t0 + hi * h, &at)
+    let at = |theta| hermite_state(dim, x0, f0, x1, f1, h, theta);
+    let theta = super::hermite::first_where(|theta| sys.collided(t0 + theta * h, &at(theta)));
+    collision(sys, t0 + theta * h, &at(theta))
 }
 
 /// A step's end as the recording callbacks see it.

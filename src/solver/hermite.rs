@@ -49,6 +49,26 @@ pub fn crossing(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, tolerance: f64) -> f
     s
 }
 
+/// The first fraction of a step in (0, 1] where `holds` (false at 0, true at 1) becomes
+/// true: bisection to round-off (at most 60 halvings), for a condition with no value to interpolate (a collision
+/// met on the step's interpolant).
+pub fn first_where(mut holds: impl FnMut(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    // 2⁻⁶⁰ of the step: below its time's round-off
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if holds(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
 /// Extremum of the cubic strictly inside the step, if its slope changes sign there:
 /// returns (fraction s, value).
 pub fn interior_extremum(y0: f64, d0: f64, y1: f64, d1: f64, h: f64) -> Option<(f64, f64)> {

@@ -362,20 +362,9 @@ impl Rk4 {
     /// error about h⁴, as the step's own) to round-off. The fraction of the step, and λ_I
     /// there (just past the frame or the locking stretch).
     fn exit_in_step(&self, h: f64, [x0, v0]: [f64; 2], [x1, v1]: [f64; 2]) -> (f64, f64) {
-        let (mut lo, mut hi, mut at) = (0.0_f64, 1.0_f64, x1);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            let x = super::hermite::value(x0, v0, x1, v1, h, mid);
-            if self.field.inside(x) {
-                lo = mid;
-            } else {
-                (hi, at) = (mid, x);
-            }
-        }
-        (hi, at)
+        let at = |theta| super::hermite::value(x0, v0, x1, v1, h, theta);
+        let theta = super::hermite::first_where(|theta| !self.field.inside(at(theta)));
+        (theta, at(theta))
     }
 
     /// One RK4 step of length `h` on the smooth piece `mode` from `y`, where the acceleration

@@ -369,6 +369,8 @@ impl App {
     pub fn tick(&mut self) {
         for finished in self.jobs.poll() {
             self.dirty = true;
+            // every job's entry goes when it ends (a cancelled one's too)
+            let ran = self.run_fingerprints.remove(&finished.id);
             if let Some((name, source)) = self.scalogram_jobs.remove(&finished.id) {
                 match finished.result {
                     Ok(Output::Scalogram(s)) => {
@@ -411,13 +413,11 @@ impl App {
                 (Ok(Output::Analysis(outcome)), _) => {
                     let name = finished.analysis.unwrap_or_default();
                     // settings edited during the run: what it stored is of those before
-                    let edited = self.run_fingerprints.remove(&finished.id).is_some_and(
-                        |(analysis, fingerprint)| {
-                            self.session
-                                .analysis(&analysis)
-                                .is_some_and(|e| self.session.fingerprint(e) != fingerprint)
-                        },
-                    );
+                    let edited = ran.is_some_and(|(analysis, fingerprint)| {
+                        self.session
+                            .analysis(&analysis)
+                            .is_some_and(|e| self.session.fingerprint(e) != fingerprint)
+                    });
                     let before = if edited {
                         " for the settings before the edit: stale, r runs these"
                     } else {
@@ -1468,31 +1468,39 @@ impl App {
         }
     }
 
-    /// Integrates the orbit under the plot cursor.
-    fn pick(&mut self) {
+    /// Why Enter opens no orbit from the plot shown, whatever the point under the cursor: an
+    /// orbit is shown already, the plot is held, or its result is of other settings (an orbit
+    /// is integrated on the current settings, so it is picked from their result only). The
+    /// reason, and whether it is an error; the status bar and the plot offer Enter without one.
+    pub fn pick_blocked(&self) -> Option<(String, bool)> {
+        use super::keymap::Action;
         if self.picked.is_some() {
-            let back = self.keymap.label(super::keymap::Action::Back);
-            self.say(
+            let back = self.keymap.label(Action::Back);
+            Some((
                 format!("an orbit is shown: {back} returns to the result"),
                 false,
-            );
-            return;
-        }
-        // an orbit is integrated on the current settings: picked from their result only
-        if self.frozen.is_some() {
-            let key = self.keymap.label(super::keymap::Action::Freeze);
-            self.say(
+            ))
+        } else if self.frozen.is_some() {
+            let key = self.keymap.label(Action::Freeze);
+            Some((
                 format!("the plot is held: {key} resumes it, then pick"),
                 false,
-            );
-            return;
-        }
-        if self.status_of(self.selected) == ResultStatus::Stale {
-            let run = self.keymap.label(super::keymap::Action::Run);
-            self.say(
+            ))
+        } else if self.status_of(self.selected) == ResultStatus::Stale {
+            let run = self.keymap.label(Action::Run);
+            Some((
                 format!("the result shown is of other settings: {run} runs these, then pick"),
                 true,
-            );
+            ))
+        } else {
+            None
+        }
+    }
+
+    /// Integrates the orbit under the plot cursor.
+    fn pick(&mut self) {
+        if let Some((why, error)) = self.pick_blocked() {
+            self.say(why, error);
             return;
         }
         let Some(view) = self.view() else { return };
@@ -1613,9 +1621,8 @@ impl App {
     /// was opened or saved (another editor's changes would be lost).
     fn save(&mut self, path: Option<PathBuf>) {
         let path = path.unwrap_or_else(|| self.session.path.clone());
-        let same = |a: &Path, b: &Path| a == b || a.canonicalize().ok() == b.canonicalize().ok();
         let on_disk = std::fs::read_to_string(&path).ok();
-        if same(&path, &self.session.path) && on_disk.is_some_and(|t| t != self.saved_text) {
+        if same_file(&path, &self.session.path) && on_disk.is_some_and(|t| t != self.saved_text) {
             self.overlay = Some(Overlay::Confirm {
                 question: format!(
                     "{} changed on disk since it was opened or saved: replace it with this \
@@ -1649,8 +1656,7 @@ impl App {
     /// session's results folder, so nothing computed is left behind. Says how many.
     fn carry_results(&self, old_dir: &Path) -> String {
         let new_dir = self.session.results_dir();
-        let same = |a: &Path, b: &Path| a == b || a.canonicalize().ok() == b.canonicalize().ok();
-        if same(old_dir, &new_dir) || !old_dir.is_dir() {
+        if same_file(old_dir, &new_dir) || !old_dir.is_dir() {
             return String::new();
         }
         let (mut copied, mut failed) = (0, Vec::new());
@@ -1917,12 +1923,9 @@ impl App {
             })
             .collect();
         // the session open, however its path was written (`x.toml` is `./x.toml` here)
-        let current = self.session.path.canonicalize().ok();
         let selected = files
             .iter()
-            .position(|f| {
-                *f == self.session.path || (current.is_some() && f.canonicalize().ok() == current)
-            })
+            .position(|f| same_file(f, &self.session.path))
             .unwrap_or(first_session.min(files.len() - 1));
         self.overlay = Some(Overlay::Picker {
             dir: dir.to_path_buf(),
@@ -1936,8 +1939,7 @@ impl App {
     pub fn open(&mut self, path: &Path) {
         match Session::load(path) {
             Ok(s) => {
-                let same = |a: &Path, b: &Path| a.canonicalize().ok() == b.canonicalize().ok();
-                if !same(&s.path, &self.session.path) {
+                if !same_file(&s.path, &self.session.path) {
                     // the closed session's jobs run on under its name; what they would draw
                     // here (a preview, a scalogram) is not this session's
                     self.jobs.set_aside(&file_name(&self.session.path));
@@ -2163,8 +2165,7 @@ impl App {
 
     /// Saves the session as `path`, asking first if that replaces another file.
     fn save_as_asking(&mut self, path: PathBuf) {
-        let same = |a: &Path, b: &Path| a.canonicalize().ok() == b.canonicalize().ok();
-        if path.exists() && !same(&path, &self.session.path) {
+        if path.exists() && !same_file(&path, &self.session.path) {
             self.overlay = Some(Overlay::Confirm {
                 question: format!("{} exists: replace it with this session?", path.display()),
                 then: Confirmed::SaveAs(path),
@@ -2200,6 +2201,12 @@ impl App {
         self.jobs.wait_idle(Duration::from_secs(2));
         self.should_quit = true;
     }
+}
+
+/// Whether `a` and `b` name the same file, however written (`x.toml`, `./x.toml`, a link);
+/// two paths to nothing are the same only as written.
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 
 /// A file's modification time and length, if it is there.

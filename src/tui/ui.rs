@@ -185,7 +185,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
                 format!("amplitude of {}", w.model.amplitude_text())
             }),
         cursor: app.cursor,
-        pickable: app.frozen.is_none() && app.status_of(app.selected) != ResultStatus::Stale,
+        pickable: app.pick_blocked().is_none(),
     };
     if let Some(p) = &app.picked {
         match &p.view {

@@ -7,7 +7,6 @@ use ratatui::widgets::{Paragraph, Widget};
 
 use crate::tui::app::{App, Focus, InputPurpose, Overlay};
 use crate::tui::keymap::Action;
-use isola::session::results::ResultStatus;
 
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
@@ -51,9 +50,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             Focus::Plot => {
                 let mut keys = vec![("←→↑↓".into(), "cursor")];
                 // offered where the point under the cursor has an orbit to integrate
-                if app.picked.is_none()
-                    && app.frozen.is_none()
-                    && app.status_of(app.selected) != ResultStatus::Stale
+                if app.pick_blocked().is_none()
                     && app
                         .view()
                         .and_then(|v| crate::tui::plots::pick(v, app.cursor))
