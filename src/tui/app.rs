@@ -155,6 +155,9 @@ pub struct App {
     pub param_row: usize,
     /// The text being typed into the selected parameter.
     pub editing: Option<LineEdit>,
+    /// What fits the word Tab completed in the line being typed, where more than one thing
+    /// does (shown under it until the next key).
+    pub tab_choices: Vec<String>,
     pub param_error: Option<String>,
     /// What is stored of each analysis' result, as the watcher last read it.
     pub stored: Vec<Stored>,
@@ -213,6 +216,7 @@ impl App {
         let mut app = App {
             snapshot: Arc::new(session.clone()),
             stored: Vec::new(),
+            tab_choices: Vec::new(),
             watcher: Watcher::start(),
             session,
             modified: false,
@@ -1977,6 +1981,8 @@ impl App {
         let Some(overlay) = self.overlay.take() else {
             return;
         };
+        // Tab's choices are shown until the next key
+        self.tab_choices.clear();
         let action = self.keymap.action(&key);
         match overlay {
             Overlay::Help => {
@@ -2039,16 +2045,32 @@ impl App {
                         }
                     }
                 }
-                KeyCode::Tab if purpose == InputPurpose::Command => {
-                    let names: Vec<String> = self
-                        .session
-                        .analyses
-                        .iter()
-                        .map(|a| a.name.clone())
-                        .collect();
-                    if let Some(completed) = command::complete(text.value(), &names) {
-                        text = LineEdit::new(completed);
+                KeyCode::Tab
+                    if matches!(
+                        purpose,
+                        InputPurpose::Command
+                            | InputPurpose::Open
+                            | InputPurpose::SaveAs
+                            | InputPurpose::Export
+                    ) =>
+                {
+                    // what is before the cursor is completed, what is after it kept
+                    let (before, after) = text.split();
+                    let done = if purpose == InputPurpose::Command {
+                        let names: Vec<String> = self
+                            .session
+                            .analyses
+                            .iter()
+                            .map(|a| a.name.clone())
+                            .collect();
+                        command::complete(before, &names, &list_dir)
+                    } else {
+                        command::complete_path(before, &list_dir)
+                    };
+                    if let Some(line) = done.line {
+                        text = LineEdit::around(&line, after);
                     }
+                    self.tab_choices = done.choices;
                     self.overlay = Some(Overlay::Input { purpose, text });
                 }
                 _ => {
@@ -2263,4 +2285,17 @@ fn scalogram_source(c: &ChirpView, spec: &ScalogramSpec) -> u64 {
     let f = &spec.frequencies;
     (f.min.to_bits(), f.max.to_bits(), f.points, spec.columns).hash(&mut h);
     h.finish()
+}
+
+/// A folder's entries for Tab: each name and whether it is a folder (none if unreadable).
+fn list_dir(dir: &Path) -> Vec<(String, bool)> {
+    std::fs::read_dir(dir).map_or_else(
+        |_| Vec::new(),
+        |entries| {
+            entries
+                .flatten()
+                .filter_map(|e| Some((e.file_name().into_string().ok()?, e.path().is_dir())))
+                .collect()
+        },
+    )
 }

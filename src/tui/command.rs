@@ -1,7 +1,7 @@
 //! The command line on `:`: what a key does, and more, as words (`run stale`, `add basin b2`,
-//! `set omega 50 Hz`), with Tab completing command, kind and analysis names.
+//! `set omega 50 Hz`), with Tab completing command, kind and analysis names and paths.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use isola::session::schema::KINDS;
 
@@ -300,16 +300,32 @@ fn export(args: &[&str]) -> Result<Command, String> {
     })
 }
 
-/// The line with its last word completed, if exactly one completion fits (or their common
-/// start, if longer than what is typed): command names first, then kinds after `add`,
-/// analysis names after `run`, `delete` and `select`.
-pub fn complete(line: &str, analyses: &[String]) -> Option<String> {
+/// What Tab makes of the text before the cursor.
+#[derive(Debug, Default, PartialEq)]
+pub struct Completion {
+    /// That text completed, where Tab adds to it.
+    pub line: Option<String>,
+    /// What fits the word being completed, as shown, where more than one thing does.
+    pub choices: Vec<String>,
+}
+
+/// Lists a folder: each entry's name and whether it is a folder (empty if it cannot be read).
+pub type ListDir<'a> = &'a dyn Fn(&Path) -> Vec<(String, bool)>;
+
+/// Completes the last word of `line`: command names first, then kinds after `add`, analysis
+/// names after `run`, `delete`, `select` and `compare`, themes after `theme`, and paths after
+/// `open`, `save`, `export` and `figure` (through `list`, relative to the working folder).
+/// One fitting choice is completed (with a space after it, unless it is a folder); several
+/// are completed as far as they agree and listed.
+pub fn complete(line: &str, analyses: &[String], list: ListDir) -> Completion {
     let ends_in_space = line.ends_with(' ');
     let mut words: Vec<&str> = line.split_whitespace().collect();
     if ends_in_space || words.is_empty() {
         words.push("");
     }
-    let last = *words.last()?;
+    let Some((&last, head)) = words.split_last() else {
+        return Completion::default();
+    };
     let choices: Vec<String> = match words.len() {
         1 => COMMANDS.iter().map(|(v, _, _)| v.to_string()).collect(),
         2 => match words[0] {
@@ -321,12 +337,51 @@ pub fn complete(line: &str, analyses: &[String]) -> Option<String> {
                 .collect(),
             "delete" | "select" | "compare" => analyses.to_vec(),
             "theme" => ["dark", "light", "mono"].map(String::from).to_vec(),
-            _ => return None,
+            "open" | "save" | "export" | "figure" => path_choices(last, list),
+            _ => Vec::new(),
         },
-        _ => return None,
+        _ => Vec::new(),
     };
+    let head: String = head.iter().map(|w| format!("{w} ")).collect();
+    finish(&head, last, choices, true)
+}
+
+/// Completes `text` as a path (the save-as, export and open boxes), through `list`; no space
+/// after a file, the box holds one path.
+pub fn complete_path(text: &str, list: ListDir) -> Completion {
+    finish("", text, path_choices(text, list), false)
+}
+
+/// The entries of `word`'s folder whose names start as its last part does, as the whole word
+/// (`sessions/fig04.toml`, a folder with `/` after it); hidden ones only if asked with `.`.
+fn path_choices(word: &str, list: ListDir) -> Vec<String> {
+    let (folder, start) = word.rsplit_once('/').map_or(("", word), |(f, s)| (f, s));
+    let dir = match (word.contains('/'), folder) {
+        (false, _) => Path::new("."),
+        (true, "") => Path::new("/"),
+        (true, f) => Path::new(f),
+    };
+    let prefix = if word.contains('/') {
+        format!("{folder}/")
+    } else {
+        String::new()
+    };
+    let mut choices: Vec<String> = list(dir)
+        .into_iter()
+        .filter(|(name, _)| {
+            name.starts_with(start) && (start.starts_with('.') || !name.starts_with('.'))
+        })
+        .map(|(name, is_dir)| format!("{prefix}{name}{}", if is_dir { "/" } else { "" }))
+        .collect();
+    choices.sort();
+    choices
+}
+
+/// `head` and `last` completed by `choices` (the whole words that fit or not), `space` after
+/// a word completed whole.
+fn finish(head: &str, last: &str, choices: Vec<String>, space: bool) -> Completion {
     let fitting: Vec<&String> = choices.iter().filter(|c| c.starts_with(last)).collect();
-    let common = fitting.split_first().map(|(first, rest)| {
+    let Some(common) = fitting.split_first().map(|(first, rest)| {
         rest.iter().fold(first.as_str(), |common, c| {
             let n = common
                 .char_indices()
@@ -336,17 +391,26 @@ pub fn complete(line: &str, analyses: &[String]) -> Option<String> {
                 .map_or(0, |((i, a), _)| i + a.len_utf8());
             &common[..n]
         })
-    })?;
-    if common.len() <= last.len() && fitting.len() > 1 {
-        return None;
+    }) else {
+        return Completion::default();
+    };
+    let mut done = Completion::default();
+    if fitting.len() > 1 {
+        // a path's choices shown by their names, without the folder typed
+        let folder = last.rfind('/').map_or(0, |i| i + 1);
+        done.choices = fitting
+            .iter()
+            .map(|c| c.get(folder..).unwrap_or(c).to_string())
+            .collect();
     }
-    let head = &words[..words.len() - 1];
-    let mut out: String = head.iter().map(|w| format!("{w} ")).collect();
-    out.push_str(common);
-    if fitting.len() == 1 {
-        out.push(' ');
+    if fitting.len() == 1 || common.len() > last.len() {
+        let mut line = format!("{head}{common}");
+        if space && fitting.len() == 1 && !common.ends_with('/') {
+            line.push(' ');
+        }
+        done.line = Some(line);
     }
-    Some(out)
+    done
 }
 
 #[cfg(test)]
@@ -422,6 +486,20 @@ mod tests {
         );
     }
 
+    /// A folder of two sessions, a figure and a subfolder, as `list` shows it.
+    fn listing(dir: &Path) -> Vec<(String, bool)> {
+        match dir.to_str() {
+            Some(".") => vec![
+                ("fig04.toml".into(), false),
+                ("fig06.toml".into(), false),
+                ("figs".into(), true),
+                (".hidden.toml".into(), false),
+            ],
+            Some("figs") => vec![("a.svg".into(), false)],
+            _ => Vec::new(),
+        }
+    }
+
     #[test]
     fn tab_completes_commands_kinds_and_names() {
         let names = vec![
@@ -429,22 +507,53 @@ mod tests {
             "basin_b".to_string(),
             "orbit".to_string(),
         ];
-        assert_eq!(complete("ru", &names).as_deref(), Some("run "));
-        assert_eq!(complete("add ba", &names).as_deref(), Some("add basin "));
+        let line = |text: &str| complete(text, &names, &listing).line;
+        assert_eq!(line("ru").as_deref(), Some("run "));
+        assert_eq!(line("add ba").as_deref(), Some("add basin "));
+        assert_eq!(line("add fr").as_deref(), Some("add frequency_response "));
+        // two names share "basin": completed to it, no space, and both listed
+        let both = complete("delete b", &names, &listing);
+        assert_eq!(both.line.as_deref(), Some("delete basin"));
+        assert_eq!(both.choices, ["basin", "basin_b"]);
+        assert_eq!(line("run o").as_deref(), Some("run orbit "));
+        assert_eq!(line("run st").as_deref(), Some("run stale "));
+        // nothing more to add: the choices are listed
+        let s = complete("se", &names, &listing);
+        assert_eq!(s.line, None);
+        assert_eq!(s.choices, ["set", "select"]);
+        assert_eq!(complete("s", &names, &listing).choices.len(), 3);
+        // nothing fits
+        assert_eq!(complete("zz", &names, &listing), Completion::default());
         assert_eq!(
-            complete("add fr", &names).as_deref(),
-            Some("add frequency_response ")
+            complete("set omega 3", &names, &listing),
+            Completion::default()
         );
-        // two names share "basin": completed to it, no space
+    }
+
+    #[test]
+    fn tab_completes_paths_after_the_commands_that_take_one() {
+        let names = Vec::new();
+        let c = |text: &str| complete(text, &names, &listing);
+        // as far as the files agree, then listed by name
+        let fig = c("open f");
+        assert_eq!(fig.line.as_deref(), Some("open fig"));
+        assert_eq!(fig.choices, ["fig04.toml", "fig06.toml", "figs/"]);
+        assert_eq!(c("open fig04").line.as_deref(), Some("open fig04.toml "));
+        // a folder gets its slash and no space; its files are listed without it
+        assert_eq!(c("figure figs").line.as_deref(), Some("figure figs/"));
         assert_eq!(
-            complete("delete b", &names).as_deref(),
-            Some("delete basin")
+            c("figure figs/").line.as_deref(),
+            Some("figure figs/a.svg ")
         );
-        assert_eq!(complete("run o", &names).as_deref(), Some("run orbit "));
-        assert_eq!(complete("run st", &names).as_deref(), Some("run stale "));
-        // nothing more to add, or nothing fits
-        assert_eq!(complete("s", &names), None);
-        assert_eq!(complete("zz", &names), None);
-        assert_eq!(complete("set omega 3", &names), None);
+        // hidden files only when asked for
+        assert!(!c("open ").choices.iter().any(|f| f.starts_with('.')));
+        assert_eq!(c("open .h").line.as_deref(), Some("open .hidden.toml "));
+        // not after other commands
+        assert_eq!(c("set f"), Completion::default());
+        // a path box completes its whole text
+        assert_eq!(
+            complete_path("figs/", &listing).line.as_deref(),
+            Some("figs/a.svg")
+        );
     }
 }

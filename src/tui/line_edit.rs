@@ -42,6 +42,27 @@ impl LineEdit {
         }
     }
 
+    /// `before` then `after`, the cursor between them.
+    pub fn around(before: &str, after: &str) -> Self {
+        LineEdit {
+            input: Input::new(format!("{before}{after}")).with_cursor(before.chars().count()),
+            selected: false,
+        }
+    }
+
+    /// The text before the cursor and after it (all of it before, while it is selected).
+    pub fn split(&self) -> (&str, &str) {
+        let value = self.input.value();
+        if self.selected {
+            return (value, "");
+        }
+        let at = value
+            .char_indices()
+            .nth(self.input.cursor())
+            .map_or(value.len(), |(i, _)| i);
+        value.split_at(at)
+    }
+
     /// The text.
     pub fn value(&self) -> &str {
         self.input.value()

@@ -708,6 +708,60 @@ fn command(app: &mut App, line: &str) {
     key(app, KeyCode::Enter);
 }
 
+/// Tab completes what is before the cursor and keeps what is after it; where several things
+/// fit it lists them under the line; after `open` (and in the path boxes) it completes paths.
+#[test]
+fn tab_completes_before_the_cursor_lists_choices_and_completes_paths() {
+    let (dir, path) = fixture("tab", RESPONSE);
+    std::fs::write(dir.path().join("second.toml"), RESPONSE).unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let mut app = app(&path, ColorMode::Truecolor);
+    let line_text = |app: &App| match &app.overlay {
+        Some(Overlay::Input { text, .. }) => {
+            let (before, after) = text.split();
+            (before.to_string(), after.to_string())
+        }
+        _ => panic!("no line being typed"),
+    };
+    // `:ru stale`, cursor moved back after `ru`: Tab completes `run` and keeps `stale`
+    key(&mut app, KeyCode::Char(':'));
+    keys(&mut app, "ru stale");
+    for _ in 0.." stale".len() {
+        key(&mut app, KeyCode::Left);
+    }
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(line_text(&app), ("run ".into(), " stale".into()));
+    // `:se` fits two commands: both listed under the line until the next key
+    key(&mut app, KeyCode::Esc);
+    key(&mut app, KeyCode::Char(':'));
+    keys(&mut app, "se");
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(line_text(&app).0, "se");
+    assert_eq!(app.tab_choices, ["set", "select"]);
+    assert!(draw(&app, 80, 24).contains("Tab:  set  select"));
+    key(&mut app, KeyCode::Char('t'));
+    assert!(app.tab_choices.is_empty());
+    assert!(!draw(&app, 80, 24).contains("Tab:  set"));
+    // `:open DIR/s`: the session file and the folder are listed, `DIR/se` completes the file
+    key(&mut app, KeyCode::Esc);
+    key(&mut app, KeyCode::Char(':'));
+    let folder = dir.path().display().to_string();
+    keys(&mut app, &format!("open {folder}/s"));
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(app.tab_choices, ["second.toml", "session.toml", "sub/"]);
+    keys(&mut app, "ec");
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(line_text(&app).0, format!("open {folder}/second.toml "));
+    // the save-as box completes its path, with no space after it
+    key(&mut app, KeyCode::Esc);
+    app.overlay = Some(Overlay::Input {
+        purpose: super::app::InputPurpose::SaveAs,
+        text: LineEdit::new(format!("{folder}/su")),
+    });
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(line_text(&app).0, format!("{folder}/sub/"));
+}
+
 /// The command line makes and changes analyses: add, set, run, save (the result stays on
 /// view), duplicate, rename, delete (asked first), run stale; Tab completes; bad commands say
 /// why on the status bar.

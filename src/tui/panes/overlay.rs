@@ -27,6 +27,30 @@ fn choice(name: String, about: String, selected: bool, app: &App) -> Line<'stati
     }
 }
 
+/// What Tab found to fit, in at most `width` cells (`+N` for those left out); `None` if
+/// nothing or one thing did.
+fn tab_choices(choices: &[String], width: usize) -> Option<String> {
+    if choices.len() < 2 {
+        return None;
+    }
+    let mut line = String::from("Tab:");
+    for (i, choice) in choices.iter().enumerate() {
+        let more = format!("  +{}", choices.len() - i);
+        let room = if i + 1 == choices.len() {
+            0
+        } else {
+            more.chars().count()
+        };
+        if line.chars().count() + 2 + choice.chars().count() + room > width {
+            line.push_str(&more);
+            break;
+        }
+        line.push_str("  ");
+        line.push_str(choice);
+    }
+    Some(line)
+}
+
 /// A box of `w × h` centred in `area` (clipped to it).
 fn centred(area: Rect, w: u16, h: u16) -> Rect {
     let (w, h) = (w.min(area.width), h.min(area.height));
@@ -172,10 +196,15 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
         } => {
             // what the command being typed takes and does
             let verb = text.value().split_whitespace().next().unwrap_or("");
-            let hint = COMMANDS.iter().find(|(v, _, _)| *v == verb).map_or_else(
-                || "Tab: complete   Enter: run   Esc: cancel   (help lists the commands)".into(),
-                |(v, args, what)| format!("{v} {args}: {what}"),
-            );
+            let hint = tab_choices(&app.tab_choices, 70).unwrap_or_else(|| {
+                COMMANDS.iter().find(|(v, _, _)| *v == verb).map_or_else(
+                    || {
+                        "Tab: complete   Enter: run   Esc: cancel   (help lists the commands)"
+                            .into()
+                    },
+                    |(v, args, what)| format!("{v} {args}: {what}"),
+                )
+            });
             let lines = vec![
                 Line::from(
                     [
@@ -201,11 +230,21 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 Line::raw(what),
                 Line::from(text.spans(t.cursor(), t.selection())),
                 Line::styled(
-                    if text.is_selected() {
-                        "Enter: ok   Esc: cancel   typing replaces it, ← → edit it"
-                    } else {
-                        "Enter: ok   Esc: cancel   Ctrl-U: clear"
-                    },
+                    tab_choices(&app.tab_choices, 62).unwrap_or_else(|| {
+                        match (purpose, text.is_selected()) {
+                            (InputPurpose::NewName(_), true) => {
+                                "Enter: ok   Esc: cancel   typing replaces it, ← → edit it"
+                            }
+                            (InputPurpose::NewName(_), false) => {
+                                "Enter: ok   Esc: cancel   Ctrl-U: clear"
+                            }
+                            (_, true) => {
+                                "Enter: ok   Esc: cancel   Tab: complete   typing replaces it"
+                            }
+                            (_, false) => "Enter: ok   Esc: cancel   Tab: complete   Ctrl-U: clear",
+                        }
+                        .into()
+                    }),
                     t.muted(),
                 ),
             ];
