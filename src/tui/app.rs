@@ -1395,18 +1395,29 @@ impl App {
         }
     }
 
+    /// Whether a job of this workbench runs (or waits to run) analysis `name`.
+    pub fn running(&self, name: &str) -> bool {
+        self.jobs
+            .entries
+            .iter()
+            .any(|e| e.is_active() && e.analysis.as_deref() == Some(name))
+    }
+
+    /// Whether a job of this workbench computes analysis `name` now (not waiting its turn).
+    pub fn computing(&self, name: &str) -> bool {
+        self.jobs
+            .entries
+            .iter()
+            .any(|e| e.state == JobState::Running && e.analysis.as_deref() == Some(name))
+    }
+
     /// Queues the selected analysis.
     pub fn run_selected(&mut self) {
         let Some(entry) = self.session.analyses.get(self.selected) else {
             return;
         };
         let name = entry.name.clone();
-        let busy = self
-            .jobs
-            .entries
-            .iter()
-            .any(|e| e.is_active() && e.analysis.as_deref() == Some(name.as_str()));
-        if busy {
+        if self.running(&name) {
             self.say(format!("{name} is already running"), true);
             return;
         }

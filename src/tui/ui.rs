@@ -91,8 +91,10 @@ pub fn draw(frame: &mut Frame, app: &App) {
 
 /// Work under way on an analysis, here or on other hosts, as the plot title says it, in
 /// `width` cells: `40/99 chunks · computing on node1 (4), node2 (4) · 12/min, about 5 min
-/// left`, or as much of it as fits (the parts after the count go first).
-fn work_state(work: &Survey, width: usize) -> String {
+/// left`, or as much of it as fits (the parts after the count go first). `here`: a job of
+/// this workbench computes it, which holds no chunk between chunks nor after the last (a
+/// map's curves).
+fn work_state(work: &Survey, width: usize, here: bool) -> String {
     let count = format!("{}/{} chunks", work.done.len(), work.chunks);
     let hosts = work.by_host(std::time::SystemTime::now());
     let busy: Vec<String> = hosts
@@ -101,7 +103,12 @@ fn work_state(work: &Survey, width: usize) -> String {
         .map(|h| format!("{} ({})", h.host, h.claimed))
         .collect();
     if busy.is_empty() {
-        return format!("{count} · nothing computing");
+        let what = if here {
+            "computing here"
+        } else {
+            "nothing computing"
+        };
+        return format!("{count} · {what}");
     }
     let mut candidates = Vec::new();
     let on = format!("{count} · computing on {}", busy.join(", "));
@@ -136,6 +143,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         (_, Some(work)) => work_state(
             work,
             (area.width as usize).saturating_sub(name.chars().count() + 8),
+            app.computing(name),
         ),
         (ResultStatus::Partial { done, total }, None) => format!("{done}/{total} chunks"),
         (ResultStatus::Stale, None) => "stale: model or settings changed".into(),
@@ -301,5 +309,25 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
                 plots::sweep::envelopes(&sweeps, &ctx).render(inner, buf);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With no chunk claimed, the title says whether this workbench computes the analysis:
+    /// between chunks, and in a map's curves after its last row, no chunk is held.
+    #[test]
+    fn a_title_says_computing_here_while_a_job_here_holds_no_chunk() {
+        let work = Survey {
+            chunks: 23,
+            ..Survey::default()
+        };
+        assert_eq!(work_state(&work, 80, true), "0/23 chunks · computing here");
+        assert_eq!(
+            work_state(&work, 80, false),
+            "0/23 chunks · nothing computing"
+        );
     }
 }
