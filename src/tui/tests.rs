@@ -762,6 +762,32 @@ fn tab_completes_before_the_cursor_lists_choices_and_completes_paths() {
     assert_eq!(line_text(&app).0, format!("{folder}/sub/"));
 }
 
+/// A message longer than the status bar is shown whole on up to three lines (the plot gives
+/// them up), the unsaved marker after it; it used to be cut at the bar's end.
+#[test]
+fn a_long_message_takes_more_lines_of_the_status_bar() {
+    let (_dir, path) = fixture("long-message", RESPONSE);
+    let mut app = app(&path, ColorMode::Truecolor);
+    app.modified = true;
+    let text = format!(
+        "not saved: {}/a/folder/with/a/long/name/session.toml: No space left on device (os error 28)",
+        "/tmp/isola-tui-long-message-x"
+    );
+    app.message = Some(super::app::Message {
+        text: text.clone(),
+        error: true,
+    });
+    let screen = draw(&app, 80, 24);
+    let rows: Vec<&str> = screen.lines().collect();
+    let bottom = rows[rows.len() - 3..].join(" ").replace('"', "");
+    let shown: String = bottom.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(shown.contains("(os error 28) [+]"), "{screen}");
+    assert!(
+        shown.contains("not saved: /tmp/isola-tui-long-message-x/a/folder"),
+        "{screen}"
+    );
+}
+
 /// The command line makes and changes analyses: add, set, run, save (the result stays on
 /// view), duplicate, rename, delete (asked first), run stale; Tab completes; bad commands say
 /// why on the status bar.

@@ -37,7 +37,9 @@ pub fn draw(frame: &mut Frame, app: &App) {
             .render(area, buf);
         return;
     }
-    let [body, status] = Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
+    let status_h = panes::status::height(app, area.width);
+    let [body, status] =
+        Layout::vertical([Constraint::Min(1), Constraint::Length(status_h)]).areas(area);
     let mut layout = super::mouse::Layout::default();
     if app.zoom {
         draw_plot(app, body, buf);

@@ -8,6 +8,55 @@ use ratatui::widgets::{Paragraph, Widget};
 use crate::tui::app::{App, Focus, InputPurpose, Overlay};
 use crate::tui::keymap::Action;
 
+/// Most lines the status bar takes for a long message.
+const MAX_LINES: usize = 3;
+
+/// The status bar's height at `width` cells: one line, or up to [`MAX_LINES`] for a message
+/// too long for one.
+pub fn height(app: &App, width: u16) -> u16 {
+    let Some(m) = &app.message else {
+        return 1;
+    };
+    let marker = if app.modified { 4 } else { 0 };
+    let room = (width as usize).saturating_sub(marker);
+    wrap(&m.text, room).len().clamp(1, MAX_LINES) as u16
+}
+
+/// `text` in lines of at most `width` cells, broken between words (inside a word longer
+/// than a line).
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let sep = usize::from(!line.is_empty());
+        if Span::raw(line.as_str()).width() + sep + Span::raw(word).width() <= width {
+            if sep == 1 {
+                line.push(' ');
+            }
+            line.push_str(word);
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+        }
+        let mut rest = word;
+        while Span::raw(rest).width() > width {
+            let cut = rest
+                .char_indices()
+                .nth(width)
+                .map_or(rest.len(), |(i, _)| i);
+            lines.push(rest[..cut].to_string());
+            rest = &rest[cut..];
+        }
+        line.push_str(rest);
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     let t = &app.theme;
     if let Some(Overlay::Input {
@@ -96,16 +145,29 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             line.push(Span::styled(marker, t.warn()));
             Paragraph::new(Line::from(line)).render(area, buf);
         } else {
-            // a message matters more than the key list; the unsaved marker stays in sight
+            // a message matters more than the key list: on as many lines as the bar has
+            // (`…` where they end before it), the unsaved marker after it
             let room = width.saturating_sub(marker.len());
-            let text: String = m.text.chars().take(room).collect();
-            let pad = room.saturating_sub(Span::raw(text.as_str()).width());
-            let line = Line::from(vec![
-                Span::styled(text, style),
-                Span::raw(" ".repeat(pad)),
-                Span::styled(marker, t.warn()),
-            ]);
-            Paragraph::new(line).render(area, buf);
+            let mut lines = wrap(&m.text, room);
+            let shown = (area.height as usize).max(1);
+            if lines.len() > shown {
+                lines.truncate(shown);
+                let last = lines.pop().unwrap_or_default();
+                lines.push(super::ellipsis(&format!("{last} …"), room));
+            }
+            let n = lines.len();
+            let lines: Vec<Line> = lines
+                .into_iter()
+                .enumerate()
+                .map(|(i, text)| {
+                    let mut spans = vec![Span::styled(text, style)];
+                    if i + 1 == n {
+                        spans.push(Span::styled(format!(" {}", marker.trim_start()), t.warn()));
+                    }
+                    Line::from(spans)
+                })
+                .collect();
+            Paragraph::new(lines).render(area, buf);
         }
         return;
     }
@@ -142,4 +204,25 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     spans.push(Span::styled(name, t.muted()));
     spans.push(Span::styled(marker, t.warn()));
     Paragraph::new(Line::from(spans)).render(area, buf);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wrap;
+
+    #[test]
+    fn a_long_message_is_wrapped_between_words() {
+        assert_eq!(
+            wrap("not saved: /a/very/long/path: No space left on device", 20),
+            [
+                "not saved:",
+                "/a/very/long/path:",
+                "No space left on",
+                "device"
+            ]
+        );
+        // a word longer than a line is broken inside it
+        assert_eq!(wrap("abcdefgh", 3), ["abc", "def", "gh"]);
+        assert_eq!(wrap("", 10), [""]);
+    }
 }
