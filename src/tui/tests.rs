@@ -2073,3 +2073,42 @@ fn enter_on_a_value_left_as_it_is_changes_nothing() {
     assert_eq!(app.session.file.model.adr, Some(0.6));
     assert!(!app.modified);
 }
+
+/// A written parameter's words cut short beside its value are shown whole under it while it
+/// is selected, and only then.
+#[test]
+fn a_selected_parameters_cut_words_are_shown_whole_under_it() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/user_model_viscoelastic.toml"),
+    )
+    .unwrap();
+    let (_dir, path) = fixture("whole-words", &text);
+    let mut app = app(&path, ColorMode::Truecolor);
+    let about = "modulus ratio μ_B/μ of the viscous branch";
+    let row = app
+        .param_rows
+        .iter()
+        .position(|r| r.physical == about)
+        .expect("a parameter with these words");
+    // the words of the left panes (32 cells at 80 columns), row after row
+    let whole = |screen: &str| {
+        screen
+            .lines()
+            .map(|row| row.chars().skip(1).take(32).collect::<String>())
+            .collect::<Vec<_>>()
+            .join(" ")
+            .replace('│', " ")
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .contains(about)
+    };
+    app.focus = Focus::Params;
+    app.param_row = (row + 1) % app.param_rows.len();
+    let screen = draw(&app, 80, 24);
+    assert!(!whole(&screen), "{screen}");
+    assert!(screen.contains('…'), "{screen}");
+    app.param_row = row;
+    let screen = draw(&app, 80, 24);
+    assert!(whole(&screen), "{screen}");
+}

@@ -494,6 +494,7 @@ impl ParamsPane<'_> {
                 selected_line = lines.len();
             }
             let editing = self.editing.filter(|_| i == self.selected);
+            let mut whole = None;
             let value_w = match editing {
                 // a long text scrolls in its box rather than squeeze the names
                 Some(text) => text.width().min(width / 2),
@@ -527,6 +528,9 @@ impl ParamsPane<'_> {
                     } else {
                         None
                     };
+                    if shown.as_ref() != Some(&row.physical) && i == self.selected {
+                        whole = Some(row.physical.clone());
+                    }
                     if let Some(text) = shown.filter(|s| !s.is_empty()) {
                         spans.push(Span::styled(format!("  {text}"), t.muted()));
                     }
@@ -538,6 +542,14 @@ impl ParamsPane<'_> {
             }
             lines.push(line);
             row_of_line.push(Some(i));
+            // the selected row's words, where cut or left out, whole on the lines under it
+            for part in whole
+                .take()
+                .map_or_else(Vec::new, |w| super::wrap(&w, width.saturating_sub(2)))
+            {
+                lines.push(Line::styled(format!("  {part}"), t.muted()));
+                row_of_line.push(Some(i));
+            }
         }
         (lines, selected_line, row_of_line)
     }

@@ -19,42 +19,7 @@ pub fn height(app: &App, width: u16) -> u16 {
     };
     let marker = if app.modified { 4 } else { 0 };
     let room = (width as usize).saturating_sub(marker);
-    wrap(&m.text, room).len().clamp(1, MAX_LINES) as u16
-}
-
-/// `text` in lines of at most `width` cells, broken between words (inside a word longer
-/// than a line).
-fn wrap(text: &str, width: usize) -> Vec<String> {
-    let width = width.max(1);
-    let mut lines = Vec::new();
-    let mut line = String::new();
-    for word in text.split(' ') {
-        let sep = usize::from(!line.is_empty());
-        if Span::raw(line.as_str()).width() + sep + Span::raw(word).width() <= width {
-            if sep == 1 {
-                line.push(' ');
-            }
-            line.push_str(word);
-            continue;
-        }
-        if !line.is_empty() {
-            lines.push(std::mem::take(&mut line));
-        }
-        let mut rest = word;
-        while Span::raw(rest).width() > width {
-            let cut = rest
-                .char_indices()
-                .nth(width)
-                .map_or(rest.len(), |(i, _)| i);
-            lines.push(rest[..cut].to_string());
-            rest = &rest[cut..];
-        }
-        line.push_str(rest);
-    }
-    if !line.is_empty() || lines.is_empty() {
-        lines.push(line);
-    }
-    lines
+    super::wrap(&m.text, room).len().clamp(1, MAX_LINES) as u16
 }
 
 pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
@@ -148,7 +113,7 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
             // a message matters more than the key list: on as many lines as the bar has
             // (`…` where they end before it), the unsaved marker after it
             let room = width.saturating_sub(marker.len());
-            let mut lines = wrap(&m.text, room);
+            let mut lines = super::wrap(&m.text, room);
             let shown = (area.height as usize).max(1);
             if lines.len() > shown {
                 lines.truncate(shown);
@@ -204,25 +169,4 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
     spans.push(Span::styled(name, t.muted()));
     spans.push(Span::styled(marker, t.warn()));
     Paragraph::new(Line::from(spans)).render(area, buf);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::wrap;
-
-    #[test]
-    fn a_long_message_is_wrapped_between_words() {
-        assert_eq!(
-            wrap("not saved: /a/very/long/path: No space left on device", 20),
-            [
-                "not saved:",
-                "/a/very/long/path:",
-                "No space left on",
-                "device"
-            ]
-        );
-        // a word longer than a line is broken inside it
-        assert_eq!(wrap("abcdefgh", 3), ["abc", "def", "gh"]);
-        assert_eq!(wrap("", 10), [""]);
-    }
 }
