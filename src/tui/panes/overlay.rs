@@ -11,8 +11,8 @@ use crate::tui::config;
 use crate::tui::keymap::Action;
 use crate::tui::panes::ellipsis;
 
-/// The help's width with two columns of keys.
-const HELP_WIDTH: u16 = 96;
+/// The help's width with one column of keys (its notes wrap to it).
+const HELP_WIDTH: u16 = 74;
 
 /// A line of a list to choose from: a name, then what it is, muted; highlighted if selected.
 fn choice(name: String, about: String, selected: bool, app: &App) -> Line<'static> {
@@ -76,16 +76,26 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
         Overlay::Help => {
             // every key with its command name (`:zoom` does what z does) and what it does;
             // two columns where they fit, else one, scrolled
+            // the columns as wide as their longest key, name and words (a word cut or
+            // wrapped into the other column is no help)
+            let widest = |cells: &dyn Fn(usize) -> usize| {
+                (0..Action::ALL.len()).map(cells).max().unwrap_or(0)
+            };
+            let key_w = widest(&|i| Span::raw(app.keymap.labels(Action::ALL[i].0)).width()).max(8);
+            let name_w = widest(&|i| Action::ALL[i].1.chars().count());
+            let what_w = widest(&|i| Action::ALL[i].2.chars().count());
             let entry = |i: usize| -> Vec<Span> {
                 Action::ALL.get(i).map_or_else(Vec::new, |(a, name, what)| {
                     vec![
-                        Span::styled(format!("{:>8}", app.keymap.labels(*a)), t.key()),
-                        Span::styled(format!(" :{name:<10}"), t.muted()),
-                        Span::raw(format!(" {what:<26}")),
+                        Span::styled(format!("{:>key_w$}", app.keymap.labels(*a)), t.key()),
+                        Span::styled(format!(" :{name:<name_w$}"), t.muted()),
+                        Span::raw(format!(" {what:<what_w$} ")),
                     ]
                 })
             };
-            let two = area.width >= HELP_WIDTH;
+            let entry_w = key_w + name_w + what_w + 5;
+            let two_w = (2 * entry_w + 2) as u16;
+            let two = area.width >= two_w;
             let mut lines: Vec<Line> = if two {
                 let half = Action::ALL.len().div_ceil(2);
                 (0..half)
@@ -140,7 +150,11 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
                 format!("theme: {} (--theme, --color)", t.name),
                 t.muted(),
             ));
-            let w = if two { HELP_WIDTH } else { 74 };
+            let w = if two {
+                two_w.max(HELP_WIDTH)
+            } else {
+                HELP_WIDTH
+            };
             (" Help (↑↓ scroll, Esc closes) ".into(), lines, w)
         }
         Overlay::ConfirmQuit => {
