@@ -234,12 +234,17 @@ fn a_basin_draws_live_and_in_monochrome() {
     // the cell under the cursor integrates to its attractor
     key(&mut app, KeyCode::Enter);
     settle(&mut app);
-    assert!(
-        app.picked
-            .as_ref()
-            .and_then(|p| p.summary.as_ref())
-            .is_some()
-    );
+    let summary = app
+        .picked
+        .as_ref()
+        .and_then(|p| p.summary.clone())
+        .expect("the orbit's summary");
+    // the plot's title keeps the orbit's type and amplitude whole, its start cut to fit
+    app.zoom = false;
+    let screen = draw(&app, 80, 24);
+    let title = screen.lines().next().unwrap();
+    assert!(title.contains(&format!(" · {summary} ")), "{screen}");
+    assert!(title.contains("orbit ω") && title.contains('…'), "{screen}");
 }
 
 const OTHERS: &str = r#"schema = 1

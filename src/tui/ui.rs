@@ -152,11 +152,12 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         (ResultStatus::Missing, None) => "not run".into(),
     };
     let title = match &app.picked {
-        Some(p) => format!(
-            " {} · {} ",
-            p.label,
-            p.summary.as_deref().unwrap_or("integrating…")
-        ),
+        // what the orbit is (its type and amplitude) whole; where it came from cut to fit
+        Some(p) => {
+            let summary = p.summary.as_deref().unwrap_or("integrating…");
+            let room = (area.width as usize).saturating_sub(summary.chars().count() + 7);
+            format!(" {} · {summary} ", panes::ellipsis(&p.label, room))
+        }
         None if app.frozen.is_some() => {
             let key = app.keymap.label(super::keymap::Action::Freeze);
             format!(" {name} · held ({key} resumes) · {state} ")
