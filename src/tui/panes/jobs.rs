@@ -69,8 +69,18 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         .skip(skip)
         .take(h)
         .map(|(i, e)| {
-            let label_w = (w / 3).clamp(8, 24);
-            let label: String = e.label.chars().take(label_w).collect();
+            // a running job's label gives room to its gauge; another's takes what its
+            // state leaves (a failed job's reason is cut first); `…` where it is cut
+            let label_w = match &e.state {
+                JobState::Running => (w / 3).clamp(8, 24),
+                JobState::Failed(_) => (w / 2).clamp(8, 40),
+                state => {
+                    let state_w = state_text(state).chars().count();
+                    w.saturating_sub(state_w + 1).clamp(8.min(w), 72)
+                }
+            }
+            .min(e.label.chars().count().max((w / 3).clamp(8, 24)));
+            let label = super::ellipsis(&e.label, label_w);
             let mut spans = vec![Span::raw(format!("{label:<label_w$} "))];
             match &e.state {
                 JobState::Running if e.progress.in_open_phase() => {
@@ -111,13 +121,16 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
                     spans.push(Span::styled("░".repeat(bar_w - full), t.muted()));
                     spans.push(Span::raw(tail));
                 }
-                JobState::Queued => spans.push(Span::styled("queued", t.muted())),
-                JobState::Done { seconds } => spans.push(Span::styled(
-                    format!("✓ done in {}", seconds_text(*seconds)),
-                    t.ok(),
-                )),
-                JobState::Cancelled => spans.push(Span::styled("✗ cancelled", t.warn())),
-                JobState::Failed(why) => spans.push(Span::styled(format!("✗ {why}"), t.error())),
+                state @ JobState::Queued => spans.push(Span::styled(state_text(state), t.muted())),
+                state @ JobState::Done { .. } => {
+                    spans.push(Span::styled(state_text(state), t.ok()))
+                }
+                state @ JobState::Cancelled => {
+                    spans.push(Span::styled(state_text(state), t.warn()))
+                }
+                state @ JobState::Failed(_) => {
+                    spans.push(Span::styled(state_text(state), t.error()))
+                }
             }
             let mut line = Line::from(spans);
             if focused && i == app.job_row {
@@ -135,5 +148,16 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         .render(inner, buf);
     } else {
         Paragraph::new(lines).render(inner, buf);
+    }
+}
+
+/// What a job not running says of itself.
+fn state_text(state: &JobState) -> String {
+    match state {
+        JobState::Queued => "queued".into(),
+        JobState::Done { seconds } => format!("✓ done in {}", seconds_text(*seconds)),
+        JobState::Cancelled => "✗ cancelled".into(),
+        JobState::Failed(why) => format!("✗ {why}"),
+        JobState::Running => String::new(),
     }
 }
