@@ -2065,8 +2065,13 @@ impl App {
                             | InputPurpose::Export
                     ) =>
                 {
-                    // what is before the cursor is completed, what is after it kept
-                    let (before, after) = text.split();
+                    // the word at the cursor is completed (whole, where the cursor is inside
+                    // it), what follows it kept
+                    let at = text.split().0.len();
+                    let value = text.value().to_string();
+                    let rest = &value[at..];
+                    let (before, after) =
+                        value.split_at(at + rest.find(char::is_whitespace).unwrap_or(rest.len()));
                     let done = if purpose == InputPurpose::Command {
                         let names: Vec<String> = self
                             .session
@@ -2078,7 +2083,10 @@ impl App {
                     } else {
                         command::complete_path(before, &list_dir)
                     };
-                    if let Some(line) = done.line {
+                    if let Some(mut line) = done.line {
+                        if line.ends_with(' ') && after.starts_with(' ') {
+                            line.pop();
+                        }
                         text = LineEdit::around(&line, after);
                     }
                     self.tab_choices = done.choices;

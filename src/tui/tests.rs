@@ -735,7 +735,15 @@ fn tab_completes_before_the_cursor_lists_choices_and_completes_paths() {
         key(&mut app, KeyCode::Left);
     }
     key(&mut app, KeyCode::Tab);
-    assert_eq!(line_text(&app), ("run ".into(), " stale".into()));
+    assert_eq!(line_text(&app), ("run".into(), " stale".into()));
+    // inside a word, the whole word is completed: `o|pe` + Tab is `open `
+    key(&mut app, KeyCode::Esc);
+    key(&mut app, KeyCode::Char(':'));
+    keys(&mut app, "ope");
+    key(&mut app, KeyCode::Home);
+    key(&mut app, KeyCode::Right);
+    key(&mut app, KeyCode::Tab);
+    assert_eq!(line_text(&app), ("open ".into(), String::new()));
     // `:se` fits two commands: both listed under the line until the next key
     key(&mut app, KeyCode::Esc);
     key(&mut app, KeyCode::Char(':'));
