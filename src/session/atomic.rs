@@ -25,7 +25,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .suffix(".tmp")
         // the usual mode under the user's umask, not tempfile's private 0600
         .permissions(std::fs::Permissions::from_mode(0o666))
-        .tempfile_in(dir)?;
+        .tempfile_in(dir)
+        // said of the folder the user named, not of the temporary's random name
+        .map_err(|e| {
+            let why = if dir.is_dir() {
+                format!("cannot write in folder {}: {}", dir.display(), e.kind())
+            } else {
+                format!("no folder {}", dir.display())
+            };
+            std::io::Error::new(e.kind(), why)
+        })?;
     tmp.write_all(bytes)?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;

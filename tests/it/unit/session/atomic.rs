@@ -17,6 +17,16 @@ fn replaces_whole_and_leaves_no_temporary() {
     assert_eq!(names, ["a.txt"]);
 }
 
+/// A write into a folder that is missing names that folder, not the temporary's random name.
+#[test]
+fn a_missing_folder_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("not/there");
+    let e = write_atomic(&folder.join("a.toml"), b"x").unwrap_err();
+    assert_eq!(e.to_string(), format!("no folder {}", folder.display()));
+    assert!(!e.to_string().contains(".a.toml."));
+}
+
 #[test]
 fn stale_temporaries_of_one_stem_are_removed() {
     let dir = tempfile::tempdir().unwrap();
