@@ -2039,7 +2039,7 @@ impl App {
                 KeyCode::Esc => {}
                 KeyCode::Enter => {
                     let text = text.value();
-                    let path = PathBuf::from(text.trim());
+                    let path = command::home_path(text.trim());
                     match purpose {
                         InputPurpose::SaveAs => self.save_as_asking(path),
                         InputPurpose::Export => self.export_asking(ExportRequest {
@@ -2306,8 +2306,12 @@ fn scalogram_source(c: &ChirpView, spec: &ScalogramSpec) -> u64 {
     h.finish()
 }
 
-/// A folder's entries for Tab: each name and whether it is a folder (none if unreadable).
+/// A folder's entries for Tab (`~` the home folder): each name and whether it is a folder
+/// (none if unreadable).
 fn list_dir(dir: &Path) -> Vec<(String, bool)> {
+    let dir = dir
+        .to_str()
+        .map_or_else(|| dir.to_path_buf(), command::home_path);
     std::fs::read_dir(dir).map_or_else(
         |_| Vec::new(),
         |entries| {

@@ -179,7 +179,7 @@ pub fn parse(line: &str) -> Result<Command, String> {
         [name] => Ok(name.to_string()),
         _ => Err(usage(verb)),
     };
-    let path = |verb: &str| one(verb).map(PathBuf::from);
+    let path = |verb: &str| one(verb).map(|p| home_path(&p));
     Ok(match verb {
         "run" | "r" => Command::Run(match args {
             [] => Which::Selected,
@@ -226,7 +226,7 @@ pub fn parse(line: &str) -> Result<Command, String> {
         },
         "save" | "w" => match args {
             [] => Command::Save(None),
-            [file] => Command::Save(Some(PathBuf::from(file))),
+            [file] => Command::Save(Some(home_path(file))),
             _ => return Err(usage("save")),
         },
         "open" | "e!" => Command::Open(path("open")?),
@@ -294,10 +294,22 @@ fn export(args: &[&str]) -> Result<Command, String> {
         rest = &after[end..];
     }
     Ok(Command::Export {
-        path: PathBuf::from(path),
+        path: home_path(path),
         table,
         filters,
     })
+}
+
+/// `path` as typed, a leading `~` (alone or before `/`) standing for the home folder, as in a
+/// shell.
+pub fn home_path(path: &str) -> PathBuf {
+    let home = std::env::var_os("HOME").filter(|h| !h.is_empty());
+    match (path.strip_prefix('~'), home) {
+        (Some(rest), Some(home)) if rest.is_empty() || rest.starts_with('/') => {
+            PathBuf::from(home).join(rest.trim_start_matches('/'))
+        }
+        _ => PathBuf::from(path),
+    }
 }
 
 /// What Tab makes of the text before the cursor.
@@ -528,6 +540,20 @@ mod tests {
             complete("set omega 3", &names, &listing),
             Completion::default()
         );
+    }
+
+    #[test]
+    fn a_leading_tilde_is_the_home_folder() {
+        let home = PathBuf::from(std::env::var_os("HOME").expect("HOME"));
+        assert_eq!(home_path("~/runs/a.toml"), home.join("runs/a.toml"));
+        assert_eq!(home_path("~"), home);
+        assert_eq!(
+            parse("open ~/a.toml").unwrap(),
+            Command::Open(home.join("a.toml"))
+        );
+        // another user's home, or a tilde inside a name: as typed
+        assert_eq!(home_path("~bob/a.toml"), PathBuf::from("~bob/a.toml"));
+        assert_eq!(home_path("a~/b"), PathBuf::from("a~/b"));
     }
 
     #[test]
