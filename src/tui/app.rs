@@ -1182,15 +1182,49 @@ impl App {
     }
 
     /// `set FIELD VALUE` on the selected analysis: FIELD as the parameter pane labels it
-    /// (`ADR`, `omega.points`) or as the session file writes it (`adr`, `omega`, `c_tilde`).
+    /// (`ADR`, `omega.points`, `c` for `c̃`) or as the session file writes it (`adr`, `omega`,
+    /// `c_tilde`); a FIELD that is none of these is answered with the names it starts.
     fn set_field(&mut self, field: &str, value: &str, own: bool) {
-        let row = self.param_rows.iter().position(|r| {
-            r.label.eq_ignore_ascii_case(field)
-                || matches!(&r.target, Target::Model { key, .. } if key == field)
-        });
+        // a label as typed on a keyboard: `c` for `c̃` (its combining marks dropped)
+        let plain = |label: &str| -> String {
+            label
+                .chars()
+                .filter(|c| !('\u{300}'..='\u{36f}').contains(c))
+                .collect()
+        };
+        let rows = &self.param_rows;
+        let row = rows
+            .iter()
+            .position(|r| {
+                r.label.eq_ignore_ascii_case(field)
+                    || matches!(&r.target, Target::Model { key, .. } if key == field)
+            })
+            .or_else(|| {
+                rows.iter()
+                    .position(|r| plain(&r.label).eq_ignore_ascii_case(field))
+            });
         let Some(row) = row else {
+            // the model's fields whose names start as typed, by the file's name and the label
+            let near: Vec<String> = self
+                .param_rows
+                .iter()
+                .filter_map(|r| match &r.target {
+                    Target::Model { key, .. }
+                        if !field.is_empty()
+                            && (key.starts_with(field) || plain(&r.label).starts_with(field)) =>
+                    {
+                        Some(format!("{key} ({})", r.label))
+                    }
+                    _ => None,
+                })
+                .collect();
+            let hint = if near.is_empty() {
+                "see the Parameters pane".to_string()
+            } else {
+                format!("did you mean {}?", near.join(", "))
+            };
             return self.say(
-                format!("{field}: not a parameter of this analysis (see the Parameters pane)"),
+                format!("{field}: not a parameter of this analysis ({hint})"),
                 true,
             );
         };

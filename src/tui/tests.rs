@@ -834,9 +834,27 @@ fn the_command_line_makes_and_changes_analyses() {
         "{:?}",
         app.message
     );
+    // c̃ is typed as `c`; a name that is none says which it may be
+    command(&mut app, "set c 0.05");
+    assert!(
+        app.message.as_ref().is_some_and(|m| !m.error),
+        "{:?}",
+        app.message
+    );
+    command(&mut app, "set c_t 0.06");
+    let said = app
+        .message
+        .as_ref()
+        .map(|m| m.text.clone())
+        .unwrap_or_default();
+    assert_eq!(
+        said,
+        "c_t: not a parameter of this analysis (did you mean c_tilde (c̃)?)"
+    );
     let b2 = app.session.analysis("b2").unwrap();
     let p = app.session.params(Some(b2)).unwrap();
     assert!((p.drive_i().adr().unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(p.c_tilde(), 0.05);
     assert_eq!(app.session.file.model.frequency_hz, Some(50.0));
     command(&mut app, "run");
     // the status bar says it runs (it used to say "queued" for the whole run)
