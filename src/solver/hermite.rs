@@ -50,8 +50,8 @@ pub fn crossing(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, tolerance: f64) -> f
 }
 
 /// The first fraction of a step in (0, 1] where `holds` (false at 0, true at 1) becomes
-/// true: bisection to round-off (at most 60 halvings), for a condition with no value to interpolate (a collision
-/// met on the step's interpolant).
+/// true: bisection to round-off (at most 60 halvings), for a condition with no value to
+/// interpolate (a collision met on the step's interpolant).
 pub fn first_where(mut holds: impl FnMut(f64) -> bool) -> f64 {
     let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
     // 2⁻⁶⁰ of the step: below its time's round-off

@@ -1205,8 +1205,7 @@ impl App {
             });
         let Some(row) = row else {
             // the model's fields whose names start as typed, by the file's name and the label
-            let near: Vec<String> = self
-                .param_rows
+            let near: Vec<String> = rows
                 .iter()
                 .filter_map(|r| match &r.target {
                     Target::Model { key, .. }
@@ -1429,20 +1428,14 @@ impl App {
         }
     }
 
-    /// Whether a job of this workbench runs (or waits to run) analysis `name`.
-    pub fn running(&self, name: &str) -> bool {
+    /// The state of this workbench's job on analysis `name`, while it waits or runs (one at
+    /// a time: `r` refuses a second).
+    pub fn active_job(&self, name: &str) -> Option<&JobState> {
         self.jobs
             .entries
             .iter()
-            .any(|e| e.is_active() && e.analysis.as_deref() == Some(name))
-    }
-
-    /// Whether a job of this workbench computes analysis `name` now (not waiting its turn).
-    pub fn computing(&self, name: &str) -> bool {
-        self.jobs
-            .entries
-            .iter()
-            .any(|e| e.state == JobState::Running && e.analysis.as_deref() == Some(name))
+            .find(|e| e.is_active() && e.analysis.as_deref() == Some(name))
+            .map(|e| &e.state)
     }
 
     /// Queues the selected analysis.
@@ -1451,7 +1444,7 @@ impl App {
             return;
         };
         let name = entry.name.clone();
-        if self.running(&name) {
+        if self.active_job(&name).is_some() {
             self.say(format!("{name} is already running"), true);
             return;
         }
@@ -2101,11 +2094,8 @@ impl App {
                 {
                     // the word at the cursor is completed (whole, where the cursor is inside
                     // it), what follows it kept
-                    let at = text.split().0.len();
                     let value = text.value().to_string();
-                    let rest = &value[at..];
-                    let (before, after) =
-                        value.split_at(at + rest.find(char::is_whitespace).unwrap_or(rest.len()));
+                    let (before, after) = value.split_at(text.word_end());
                     let done = if purpose == InputPurpose::Command {
                         let names: Vec<String> = self
                             .session

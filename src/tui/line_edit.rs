@@ -63,6 +63,13 @@ impl LineEdit {
         value.split_at(at)
     }
 
+    /// Where the word at the cursor ends (a byte offset): the cursor itself if no word goes
+    /// on after it; the whole text while it is selected.
+    pub fn word_end(&self) -> usize {
+        let (before, after) = self.split();
+        before.len() + after.find(char::is_whitespace).unwrap_or(after.len())
+    }
+
     /// The text.
     pub fn value(&self) -> &str {
         self.input.value()

@@ -8,6 +8,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Widget, Wrap};
 
 use super::app::{App, Focus, Overlay};
+use super::jobs::JobState;
 use super::panes::{self, params::ParamsPane};
 use super::plots::{self, PlotContext};
 use isola::session::Settings;
@@ -145,7 +146,7 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
         (_, Some(work)) => work_state(
             work,
             (area.width as usize).saturating_sub(name.chars().count() + 8),
-            app.computing(name),
+            app.active_job(name) == Some(&JobState::Running),
         ),
         (ResultStatus::Partial { done, total }, None) => format!("{done}/{total} chunks"),
         (ResultStatus::Stale, None) => "stale: model or settings changed".into(),

@@ -71,15 +71,16 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
         .map(|(i, e)| {
             // a running job's label gives room to its gauge; another's takes what its
             // state leaves (a failed job's reason is cut first); `…` where it is cut
+            let gauge_label_w = (w / 3).clamp(8, 24);
             let label_w = match &e.state {
-                JobState::Running => (w / 3).clamp(8, 24),
+                JobState::Running => gauge_label_w,
                 JobState::Failed(_) => (w / 2).clamp(8, 40),
-                state => {
-                    let state_w = state_text(state).chars().count();
-                    w.saturating_sub(state_w + 1).clamp(8.min(w), 72)
-                }
+                state => w
+                    .saturating_sub(state_text(state).chars().count() + 1)
+                    .clamp(8.min(w), 72),
             }
-            .min(e.label.chars().count().max((w / 3).clamp(8, 24)));
+            // padded no narrower than a running job's, so that the states line up
+            .min(e.label.chars().count().max(gauge_label_w));
             let label = super::ellipsis(&e.label, label_w);
             let mut spans = vec![Span::raw(format!("{label:<label_w$} "))];
             match &e.state {
@@ -121,15 +122,14 @@ pub fn draw(app: &App, area: Rect, buf: &mut Buffer) {
                     spans.push(Span::styled("░".repeat(bar_w - full), t.muted()));
                     spans.push(Span::raw(tail));
                 }
-                state @ JobState::Queued => spans.push(Span::styled(state_text(state), t.muted())),
-                state @ JobState::Done { .. } => {
-                    spans.push(Span::styled(state_text(state), t.ok()))
-                }
-                state @ JobState::Cancelled => {
-                    spans.push(Span::styled(state_text(state), t.warn()))
-                }
-                state @ JobState::Failed(_) => {
-                    spans.push(Span::styled(state_text(state), t.error()))
+                state => {
+                    let style = match state {
+                        JobState::Done { .. } => t.ok(),
+                        JobState::Cancelled => t.warn(),
+                        JobState::Failed(_) => t.error(),
+                        _ => t.muted(),
+                    };
+                    spans.push(Span::styled(state_text(state), style));
                 }
             }
             let mut line = Line::from(spans);

@@ -78,12 +78,17 @@ pub fn draw(app: &App, overlay: &Overlay, area: Rect, buf: &mut Buffer) {
             // two columns where they fit, else one, scrolled
             // the columns as wide as their longest key, name and words (a word cut or
             // wrapped into the other column is no help)
-            let widest = |cells: &dyn Fn(usize) -> usize| {
-                (0..Action::ALL.len()).map(cells).max().unwrap_or(0)
+            let widest = |cells: fn(&(Action, &str, &str)) -> usize| {
+                Action::ALL.iter().map(cells).max().unwrap_or(0)
             };
-            let key_w = widest(&|i| Span::raw(app.keymap.labels(Action::ALL[i].0)).width()).max(8);
-            let name_w = widest(&|i| Action::ALL[i].1.chars().count());
-            let what_w = widest(&|i| Action::ALL[i].2.chars().count());
+            let key_w = Action::ALL
+                .iter()
+                .map(|(a, _, _)| Span::raw(app.keymap.labels(*a)).width())
+                .max()
+                .unwrap_or(0)
+                .max(8);
+            let name_w = widest(|(_, name, _)| name.chars().count());
+            let what_w = widest(|(_, _, what)| what.chars().count());
             let entry = |i: usize| -> Vec<Span> {
                 Action::ALL.get(i).map_or_else(Vec::new, |(a, name, what)| {
                     vec![
