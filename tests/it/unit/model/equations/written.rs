@@ -729,6 +729,26 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
             vec![1.12, 0.0],
         ),
         (
+            // a kink whose switching value turns NaN (x past 2) at a stage: the compiled step
+            // says so and the step is taken stage by stage, where the kink is NaN
+            "a kink without a value",
+            crate::common::written(
+                r#"[model]
+states = ["x", "v"]
+frequency = "omega"
+amplitude = "x"
+[model.parameters]
+omega = 1.5
+[model.let]
+a = "max(sqrt(2 - x), 0.5)"
+[model.derivatives]
+x = "v"
+v = "a + cos(omega*t) - 0.2*v"
+"#,
+            ),
+            vec![1.0, 0.0],
+        ),
+        (
             "viscoelastic",
             catalogue("user_model_viscoelastic.toml", &[]),
             vec![],
@@ -744,7 +764,7 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
             vec![],
         ),
     ];
-    let (mut switches, mut collisions) = (0, 0);
+    let (mut switches, mut collisions, mut undefined) = (0, 0, 0);
     for (what, sys, x0) in cases {
         let c = &sys.model().inner;
         assert!(
@@ -764,12 +784,14 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
         assert!(a == b, "{what}: the step ends differ");
         switches += a.windows(2).filter(|w| w[0][1] != w[1][1]).count();
         collisions += stop_a.contains("Collision") as usize;
+        undefined += stop_a.contains("model.let.a = NaN") as usize;
         eprintln!("{what}: {} steps, {stop_a}", a.len());
     }
-    // split steps and a collision found by the compiled step's conditions were compared
+    // split steps, a collision found by the compiled step's conditions and a kink without
+    // a value were compared
     assert!(
-        switches > 100 && collisions == 1,
-        "{switches} switches, {collisions}"
+        switches > 100 && collisions == 1 && undefined == 1,
+        "{switches} switches, {collisions} collisions, {undefined} kinks without a value"
     );
 }
 
