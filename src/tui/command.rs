@@ -367,16 +367,11 @@ pub fn complete_path(text: &str, list: ListDir) -> Completion {
 /// The entries of `word`'s folder whose names start as its last part does, as the whole word
 /// (`sessions/fig04.toml`, a folder with `/` after it); hidden ones only if asked with `.`.
 fn path_choices(word: &str, list: ListDir) -> Vec<String> {
-    let (folder, start) = word.rsplit_once('/').map_or(("", word), |(f, s)| (f, s));
-    let dir = match (word.contains('/'), folder) {
-        (false, _) => Path::new("."),
-        (true, "") => Path::new("/"),
-        (true, f) => Path::new(f),
-    };
-    let prefix = if word.contains('/') {
-        format!("{folder}/")
-    } else {
-        String::new()
+    // the folder listed, as typed before the name (kept in each choice), and the name's start
+    let (dir, prefix, start) = match word.rsplit_once('/') {
+        None => (Path::new("."), String::new(), word),
+        Some(("", start)) => (Path::new("/"), "/".to_string(), start),
+        Some((folder, start)) => (Path::new(folder), format!("{folder}/"), start),
     };
     let mut choices: Vec<String> = list(dir)
         .into_iter()

@@ -729,8 +729,9 @@ fn a_compiled_step_is_the_engines_stage_by_stage_step_bit_for_bit() {
             vec![1.12, 0.0],
         ),
         (
-            // a kink whose switching value turns NaN (x past 2) at a stage: the compiled step
-            // says so and the step is taken stage by stage, where the kink is NaN
+            // a kink whose switching value turns NaN (x past 2) at a stage: the kink is NaN,
+            // the compiled step's end is not finite, and the engine takes the step again
+            // stage by stage to name the expression
             "a kink without a value",
             crate::common::written(
                 r#"[model]
