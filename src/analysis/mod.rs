@@ -35,9 +35,12 @@ pub use progress::Progress;
 /// mixed with this build's. Changes that keep every result byte-identical keep it.
 /// 2: a drive given as (E_a, ADR) keeps them exactly, so drives rebuilt from it (family
 /// members, sweep frequencies, continuation starts) moved by up to an ulp.
+/// 3: the early stop learns a response as soon as a trajectory has nearly settled on it,
+/// from the cycle Newton's method finds ahead of it, so responses' values move by about 1e-8
+/// and a subharmonic's Poincaré points may start at another of its points.
 /// A written model's own numerics have their version too
 /// ([`crate::model::equations::NUMERICS_VERSION`]).
-pub const NUMERICS_VERSION: u32 = 2;
+pub const NUMERICS_VERSION: u32 = 3;
 
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -333,6 +333,81 @@ fn response_early_stop_keeps_every_response() {
     }
 }
 
+/// The map's grids (7 × 7 starts, ω_e 1–6) are where the early stop learns most responses
+/// from the cycles Newton's method finds ahead of a settling trajectory: over ADR 0.3 and 1.0
+/// every ω_e still has the same responses in the same order (class, period, ratio, starts,
+/// seeded or not) as integrating every start to full convergence, amplitudes within 1e-6
+/// (the cycle's point is the fixed point of the same integrator's map; a trajectory stops
+/// within 1e-9 of it).
+#[test]
+fn map_grids_early_stop_keeps_every_response() {
+    for adr in [0.3, 1.0] {
+        let spec = FrequencyResponseSpec {
+            omega: Axis::new(1.0, 6.0, 21),
+            dx: Axis::new(-0.8, 0.8, 7),
+            v: Axis::new(-1.0, 1.0, 7),
+            sweeps: false,
+            ..FrequencyResponseSpec::default()
+        };
+        let plain_spec = FrequencyResponseSpec {
+            early_stop: false,
+            ..spec.clone()
+        };
+        let p = Params::paper(adr, 1.0).unwrap();
+        let fast = frequency_response(&p, &spec, &Progress::new(0)).unwrap();
+        let plain = frequency_response(&p, &plain_spec, &Progress::new(0)).unwrap();
+        let key = |r: &isola::analysis::global::frequency_response::Response| {
+            let s = &r.steady;
+            (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
+        };
+        let keys = |fr: &FrequencyResponse| fr.responses.iter().map(key).collect::<Vec<_>>();
+        assert_eq!(keys(&plain), keys(&fast), "ADR {adr}");
+        assert!(
+            plain.responses.iter().any(|r| r.steady.period == Some(2)),
+            "ADR {adr}: a subharmonic in the range"
+        );
+        for (a, b) in plain.responses.iter().zip(&fast.responses) {
+            match (a.steady.amplitude, b.steady.amplitude) {
+                (Some(x), Some(y)) => {
+                    assert!((x - y).abs() < 1e-6, "ADR {adr}, ω {}: {x} vs {y}", a.omega)
+                }
+                (x, y) => assert_eq!(x.is_some(), y.is_some(), "ω {}", a.omega),
+            }
+        }
+    }
+}
+
+/// Newton's method on the integrator's k-period map, from a point 0.02 off a response's
+/// Poincaré point, finds the point the trajectory itself converges to (within 1e-8: the
+/// trajectory stops once it repeats to 1e-9), which the map fixes to 1e-11: the 1:1 and the
+/// 1:2 responses of Fig 6A. A start that meets the frame finds nothing.
+#[test]
+fn the_cycle_found_ahead_is_the_one_a_trajectory_converges_to() {
+    use isola::analysis::global::cycle::attracting_cycle_near;
+    use isola::analysis::global::flow::Flow;
+    use isola::analysis::orbit::steady_state::{SteadyStateSpec, steady_state};
+    use isola::solver::{Resolution, Rk4};
+    let p = Params::paper(0.6, 3.7).unwrap();
+    let spec = SteadyStateSpec::default();
+    let flow = Flow::BuiltIn(Box::new(Rk4::new(&p, &Resolution::default())));
+    for (dx, period) in [(0.0, 1), (0.3, 2)] {
+        let s = steady_state(&p, p.lambda_p() + dx, 0.0, &spec);
+        assert_eq!(s.period, Some(period));
+        let q = s.poincare[0];
+        let found = attracting_cycle_near(&flow, [q[0] + 0.02, q[1] - 0.02], period)
+            .expect("an attracting cycle");
+        let off = (found[0] - q[0]).abs().max((found[1] - q[1]).abs());
+        assert!(
+            off < 1e-8,
+            "period {period}: {off:e} from the trajectory's point"
+        );
+        let image = flow.iterate(&[Some(found)], period)[0].unwrap();
+        let moved = (image[0] - found[0]).abs().max((image[1] - found[1]).abs());
+        assert!(moved < 1e-11, "period {period}: the map moves it {moved:e}");
+    }
+    assert_eq!(attracting_cycle_near(&flow, [0.05, -3.0], 1), None);
+}
+
 /// A running basin stops within 0.5 s of a cancel; a finished one reports done = total once.
 #[test]
 fn basin_job_cancels_quickly_and_counts_to_total() {

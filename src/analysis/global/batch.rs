@@ -16,7 +16,7 @@ use crate::analysis::global::flow::Flow;
 use crate::analysis::orbit::period_detector::PeriodDetector;
 use crate::analysis::orbit::period_map::OrbitRecord;
 use crate::analysis::orbit::steady_state::{
-    Class, SteadyState, SteadyStateSpec, collided, from_record,
+    Class, SteadyState, SteadyStateSpec, collided, from_record, steady_state,
 };
 use crate::model::Params;
 use crate::solver::rk4::LANES;
@@ -26,6 +26,16 @@ use crate::solver::{Resolution, Rk4};
 /// point of another known response (or to its own response's other points), so regions of
 /// different responses never overlap.
 const CAPTURE_SEPARATION_FRACTION: f64 = 0.5;
+
+/// A trajectory not yet captured whose stroboscopic points have settled on a k-cycle to one
+/// of these (in turn) has the cycle found ahead of it by Newton's method
+/// ([`crate::analysis::global::cycle`]) and learnt, so that it and the trajectories after it
+/// are captured long before one of them converges to 1e-9 in full.
+const SETTLED: [f64; 2] = [1e-3, 1e-6];
+
+/// No cycle is sought ahead of a trajectory this close to a known response's point: it is
+/// most likely on its way there.
+const NEAR_KNOWN: f64 = 0.05;
 
 /// Periodic responses found so far and their capture regions, for the early stop.
 #[derive(Debug, Clone)]
@@ -110,6 +120,35 @@ impl KnownAttractors {
         }
     }
 
+    /// Seeks the attracting k-cycle near `point` (a trajectory's stroboscopic point, settled
+    /// on a k-cycle) unless a known response has a point near it; learns the response
+    /// `steady` gives from the cycle's point, if it finds one. True if it learnt one.
+    pub(super) fn learn_ahead(
+        &mut self,
+        point: [f64; 2],
+        k: usize,
+        steady: impl FnOnce([f64; 2]) -> Option<SteadyState>,
+    ) -> bool {
+        let near = self
+            .responses
+            .iter()
+            .flat_map(|r| &r.poincare)
+            .any(|q| (point[0] - q[0]).hypot(point[1] - q[1]) < NEAR_KNOWN);
+        if near {
+            return false;
+        }
+        let Some(p) = crate::analysis::global::cycle::attracting_cycle_near(&self.flow, point, k)
+        else {
+            return false;
+        };
+        let Some(s) = steady(p) else {
+            return false;
+        };
+        let before = self.responses.len();
+        self.learn(&s, crate::analysis::orbit::attractor::SAME_POINT_TOL);
+        self.responses.len() > before
+    }
+
     /// The radius cap of each of response `a`'s regions.
     fn caps_of(&self, a: usize) -> Vec<f64> {
         let own = &self.responses[a].poincare;
@@ -153,6 +192,8 @@ enum LaneState {
         detector: PeriodDetector,
         /// The response whose capture region held the last stroboscopic point.
         inside: Option<usize>,
+        /// How many of the [`SETTLED`] tolerances a cycle was sought at.
+        sought: usize,
     },
     Recording {
         ic: usize,
@@ -209,6 +250,7 @@ fn in_lanes<const L: usize>(
                 ic,
                 detector: spec.period_detector(),
                 inside: None,
+                sought: 0,
             }
         } else {
             rk.park_lane(lanes, i);
@@ -249,6 +291,7 @@ fn in_lanes<const L: usize>(
                     ic,
                     detector,
                     inside,
+                    sought,
                 } => {
                     if let Some(c) = lanes.collision[i] {
                         Some((*ic, collided(c, detector.periods() + 1)))
@@ -260,8 +303,16 @@ fn in_lanes<const L: usize>(
                         let (k, n) = (spec.max_period, detector.periods());
                         state[i] = recording_state(*ic, Class::NonPeriodic, k, n, &rk);
                         None
-                    } else if let Some(known) = known.as_deref() {
-                        let now = known.capturing(point);
+                    } else if let Some(known) = known.as_deref_mut() {
+                        let mut now = known.capturing(point);
+                        if now.is_none()
+                            && let Some(k) = settled_cycle(detector, sought)
+                        {
+                            let steady = |p: [f64; 2]| Some(steady_state(params, p[0], p[1], spec));
+                            if known.learn_ahead(point, k, steady) {
+                                now = known.capturing(point);
+                            }
+                        }
                         let captured = now.filter(|&a| *inside == Some(a));
                         *inside = now;
                         captured.map(|a| (*ic, adopt(&known.responses[a], detector.periods())))
@@ -315,6 +366,17 @@ fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4
         rec: OrbitRecord::new(rk.steps_per_period()),
         poincare: Vec::with_capacity(k),
     }
+}
+
+/// The k of the cycle a trajectory's points have settled on, at the next of the [`SETTLED`]
+/// tolerances not yet used (`sought` counts them), if they have.
+pub(super) fn settled_cycle<const N: usize>(
+    detector: &PeriodDetector<N>,
+    sought: &mut usize,
+) -> Option<usize> {
+    let k = detector.settling(*SETTLED.get(*sought)?)?;
+    *sought += 1;
+    Some(k)
 }
 
 /// A known attractor's result for a trajectory that reached it after `periods`.

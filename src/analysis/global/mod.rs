@@ -6,6 +6,7 @@ pub mod basin;
 pub mod batch;
 pub mod capture;
 mod capture_cover;
+pub mod cycle;
 pub mod ellipse;
 pub mod family;
 pub mod flow;

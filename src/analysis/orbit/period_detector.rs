@@ -69,6 +69,17 @@ impl<const N: usize> PeriodDetector<N> {
         None
     }
 
+    /// The smallest k whose last k points are back within `tol` of the points k periods
+    /// before: the points look settled on a k-cycle (to `tol`, not yet to `tol_converged`).
+    pub fn settling(&self, tol: f64) -> Option<usize> {
+        let n = self.history.len();
+        let newest = &self.history[n - 1];
+        let near = |k: usize| distance(newest, &self.history[n - 1 - k]) < tol;
+        (1..=self.max_period)
+            .take_while(|&k| 2 * k <= n)
+            .find(|&k| near(k) && self.mismatch(k) < tol)
+    }
+
     /// max over the last k points of the distance to the point k periods earlier.
     fn mismatch(&self, k: usize) -> f64 {
         self.mismatch_back(k, 0)

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::Oscillator;
 use crate::analysis::AnalysisError;
-use crate::analysis::global::batch::{KnownAttractors, adopt};
+use crate::analysis::global::batch::{KnownAttractors, adopt, settled_cycle};
 use crate::analysis::global::flow::Flow;
 use crate::analysis::orbit::attractor::SAME_POINT_TOL;
 use crate::analysis::orbit::period_detector::PeriodDetector;
@@ -261,6 +261,8 @@ enum Job {
         detector: Box<PeriodDetector<MAX_DIM>>,
         /// The response whose capture region held the last stroboscopic point.
         inside: Option<usize>,
+        /// Tolerances a cycle was sought at ([`settled_cycle`]).
+        sought: usize,
     },
     Recording {
         start: usize,
@@ -312,6 +314,7 @@ fn in_lanes<const L: usize>(
                         start,
                         detector,
                         inside: None,
+                        sought: 0,
                     };
                     return (job, done);
                 }
@@ -371,6 +374,7 @@ fn in_lanes<const L: usize>(
                     start,
                     detector,
                     inside,
+                    sought,
                 } => {
                     if let Some(stop) = &lanes.stop[l] {
                         Some((*start, stopped(&sys, stop, detector.periods() + 1, grid)))
@@ -382,8 +386,21 @@ fn in_lanes<const L: usize>(
                         let (k, n) = (spec.max_period, spec.max_forcing_periods);
                         jobs[l] = recording_job(*start, Class::NonPeriodic, k, n, &rk);
                         None
-                    } else if let Some(known) = known.as_deref() {
-                        let now = known.capturing([point[grid[0]], point[grid[1]]]);
+                    } else if let Some(known) = known.as_deref_mut() {
+                        let at = [point[grid[0]], point[grid[1]]];
+                        let mut now = known.capturing(at);
+                        if now.is_none()
+                            && let Some(k) = settled_cycle(detector, sought)
+                        {
+                            let steady = |p: [f64; 2]| {
+                                let mut x = rest;
+                                (x[grid[0]], x[grid[1]]) = (p[0], p[1]);
+                                steady_state_of(&mut sys.clone(), &x, grid, spec).ok()
+                            };
+                            if known.learn_ahead(at, k, steady) {
+                                now = known.capturing(at);
+                            }
+                        }
                         let captured = now.filter(|&a| *inside == Some(a));
                         *inside = now;
                         captured.map(|a| (*start, Ok(adopt(known.response(a), detector.periods()))))
