@@ -315,7 +315,8 @@ fn in_lanes<const L: usize>(
                         }
                         let captured = now.filter(|&a| *inside == Some(a));
                         *inside = now;
-                        captured.map(|a| (*ic, adopt(&known.responses[a], detector.periods())))
+                        captured
+                            .map(|a| (*ic, adopt(&known.responses[a], detector.periods(), point)))
                     } else {
                         None
                     }
@@ -379,10 +380,23 @@ pub(super) fn settled_cycle<const N: usize>(
     Some(k)
 }
 
-/// A known attractor's result for a trajectory that reached it after `periods`.
-pub(super) fn adopt(attractor: &SteadyState, periods: usize) -> SteadyState {
-    SteadyState {
+/// A known attractor's result for a trajectory that reached it after `periods` and is now at
+/// `at`: its Poincaré points in the trajectory's own order, ending with the one `at` is
+/// nearest, where the trajectory's own record would end.
+pub(super) fn adopt(attractor: &SteadyState, periods: usize, at: [f64; 2]) -> SteadyState {
+    let mut s = SteadyState {
         transient_periods: periods,
         ..attractor.clone()
+    };
+    let distance = |p: &[f64; 2]| (p[0] - at[0]).hypot(p[1] - at[1]);
+    let nearest = (0..s.poincare.len())
+        .min_by(|&a, &b| distance(&s.poincare[a]).total_cmp(&distance(&s.poincare[b])));
+    if let Some(j) = nearest {
+        let shift = (j + 1) % s.poincare.len();
+        s.poincare.rotate_left(shift);
+        if s.states.len() == s.poincare.len() {
+            s.states.rotate_left(shift);
+        }
     }
+    s
 }

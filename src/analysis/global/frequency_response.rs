@@ -393,10 +393,13 @@ impl<'a, O: Oscillator> ResponsePlan<'a, O> {
             let rest = params.rest();
             let up: Vec<(f64, O)> = omegas.iter().copied().zip(self.at_omega.clone()).collect();
             let down: Vec<(f64, O)> = up.iter().rev().cloned().collect();
-            let (fw, bw) = rayon::join(
-                || stepped_sweep_over(&up, rest, &spec.steady, cancel, |_| progress.add(1)),
-                || stepped_sweep_over(&down, rest, &spec.steady, cancel, |_| progress.add(1)),
-            );
+            let capture = spec.early_stop.then_some(spec.capture);
+            let sweep = |steps: &[(f64, O)]| {
+                stepped_sweep_over(steps, rest, &spec.steady, capture, cancel, |_| {
+                    progress.add(1)
+                })
+            };
+            let (fw, bw) = rayon::join(|| sweep(&up), || sweep(&down));
             let (fw, mut bw) = (fw?, bw?);
             bw.reverse();
             for (i, responses) in per_omega.iter_mut().enumerate() {

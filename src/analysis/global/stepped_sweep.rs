@@ -132,15 +132,20 @@ pub fn stepped_sweep<O: Oscillator>(
         .iter()
         .map(|&w| Ok((w, params.with(params.frequency(), w)?)))
         .collect::<Result<Vec<_>, crate::model::ParamError>>()?;
-    stepped_sweep_over(&steps, start, spec, cancel, on_step)
+    stepped_sweep_over(&steps, start, spec, None, cancel, on_step)
 }
 
 /// The same through any sequence of (value, model): a quasi-static sweep of whichever
-/// parameter the values are of (the step's `omega` field then holds the value).
+/// parameter the values are of (the step's `omega` field then holds the value). With
+/// `capture`, a step stops early once its trajectory is captured by the verified regions (at
+/// most `capture` across) of the response found ahead of it
+/// ([`crate::analysis::global::batch`]); its result is then that response's, ending at the
+/// Poincaré point the trajectory is at.
 pub fn stepped_sweep_over<O: Oscillator>(
     steps: &[(f64, O)],
     start: O::State,
     spec: &SteadyStateSpec,
+    capture: Option<f64>,
     cancel: &AtomicBool,
     mut on_step: impl FnMut(&SweepStep),
 ) -> Result<Vec<SweepStep>, AnalysisError> {
@@ -152,7 +157,15 @@ pub fn stepped_sweep_over<O: Oscillator>(
         if cancel.load(Ordering::Relaxed) {
             return Err(AnalysisError::Cancelled);
         }
-        let steady = p.steady_state(state, spec)?;
+        let steady = match capture.and_then(|c| p.known_attractors(spec, c)) {
+            Some(mut known) => {
+                let starts = std::slice::from_ref(&state);
+                let mut ends =
+                    p.steady_states(starts, spec, Some(&mut known), cancel, &mut |_| {})?;
+                ends.pop().expect("one steady state per start")
+            }
+            None => p.steady_state(state, spec)?,
+        };
         let step = SweepStep {
             omega: *value,
             steady,

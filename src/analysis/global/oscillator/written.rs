@@ -403,7 +403,8 @@ fn in_lanes<const L: usize>(
                         }
                         let captured = now.filter(|&a| *inside == Some(a));
                         *inside = now;
-                        captured.map(|a| (*start, Ok(adopt(known.response(a), detector.periods()))))
+                        captured
+                            .map(|a| (*start, Ok(adopt(known.response(a), detector.periods(), at))))
                     } else {
                         None
                     }
