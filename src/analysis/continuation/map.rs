@@ -5,6 +5,7 @@
 //! states; with the fold and period-doubling curves of the subharmonic branches (and, if
 //! asked, the hidden ones of any period) continued in both parameters drawn over it.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
@@ -377,7 +378,8 @@ fn amplitude(r: &crate::analysis::global::frequency_response::Response) -> f64 {
     r.steady.amplitude.unwrap_or(f64::NEG_INFINITY)
 }
 
-/// The whole map: rows in order, then the curves.
+/// The whole map: rows side by side (each also spreads its frequencies over the pool, but
+/// its seeding and sweeps are mostly sequential), in order, then the curves.
 pub fn map<M: Continuable>(
     params: &M,
     spec: &MapSpec,
@@ -386,6 +388,7 @@ pub fn map<M: Continuable>(
     spec.validate(params)?;
     progress.grow_total(spec.values.points * spec.response.work());
     let rows = (0..spec.values.points)
+        .into_par_iter()
         .map(|i| map_row(params, spec, i, progress))
         .collect::<Result<Vec<_>, _>>()?;
     let curves = if spec.curves {

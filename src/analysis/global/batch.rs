@@ -5,7 +5,9 @@
 //! Optional early stop (the recurrence idea behind Attractors.jl's basins, made safe): once a
 //! lane's stroboscopic point lies inside a verified capture region of a known periodic
 //! response ([`crate::analysis::global::capture`]) in two consecutive forcing periods, the lane is given that
-//! response's result without converging to 1e-9 itself.
+//! response's result without converging to 1e-9 itself. Responses are learnt from lanes that
+//! converge in full, and earlier from the cycle found ahead of a lane that has nearly settled
+//! ([`crate::analysis::global::cycle`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
