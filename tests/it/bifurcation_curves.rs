@@ -12,7 +12,7 @@
 use isola::analysis::Progress;
 use isola::analysis::continuation::bifurcation_curve::{CurveSpec, Turning, continue_bifurcation};
 use isola::analysis::continuation::branch::{
-    BifurcationKind, ContinuationSpec, ContinuedBranch, continue_branch,
+    BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
 };
 use isola::analysis::continuation::hunt::Verdict;
 use isola::analysis::continuation::isola_limits::{isola_birth, isola_vanishing};
@@ -241,4 +241,67 @@ fn a_vanishing_isola_is_located_on_its_fold_curve() {
     for dw in [-0.05, 0.05] {
         assert!(highest_lambda_p_at(&p, &isola, end.omega + dw) < end.value - 1e-5);
     }
+}
+
+/// The ADR 0.6 isola's fold curve over the map's window (ω 1–6, ADR 0.1–1.2, steps of at most
+/// 0.03, 400 points a direction, as `sessions/map_adr_omega.toml` draws it) climbs from the
+/// isola's high fold towards ω 5.45, ADR 0.66, where its orbit starts to graze and the curve
+/// turns at a corner: it ends there, stalled, after far fewer points than the 400 it used to
+/// crawl through at steps of 1e-5, with its birth still at ADR 0.206428685 (±1e-8, as
+/// `isola reproduce` locates it) and every point still a fold.
+#[test]
+fn a_fold_curve_crawling_into_a_corner_ends_there() {
+    let (p, isola) = subharmonic(0.6, 3.7, 0.3);
+    let high = isola
+        .of_kind(BifurcationKind::Fold)
+        .max_by(|a, b| a.omega.total_cmp(&b.omega))
+        .unwrap();
+    let spec = CurveSpec {
+        first_min: 1.0,
+        first_max: 6.0,
+        min: 0.1,
+        max: 1.2,
+        max_points: 400,
+        ..CurveSpec::default()
+    };
+    let curve = continue_bifurcation(
+        &p,
+        ContinuationParameter::Omega,
+        high,
+        &spec,
+        &Progress::new(0),
+    )
+    .unwrap();
+    eprintln!("{} points, ends {:?}", curve.points.len(), curve.ends);
+    assert!(curve.ends.contains(&BranchEnd::Stalled), "{:?}", curve.ends);
+    assert!(curve.points.len() < 400, "{}", curve.points.len());
+    let stalled_end = curve
+        .ends
+        .iter()
+        .position(|e| *e == BranchEnd::Stalled)
+        .unwrap();
+    let corner = if stalled_end == 0 {
+        &curve.points[0]
+    } else {
+        curve.points.last().unwrap()
+    };
+    let at = (corner.first, corner.second);
+    assert!(
+        (at.0 - 5.45).abs() < 0.01 && (at.1 - 0.655).abs() < 0.01,
+        "{at:?}"
+    );
+    for pt in &curve.points {
+        let mu = pt
+            .multipliers
+            .0
+            .iter()
+            .map(|m| (m.re - 1.0).abs() + m.im.abs());
+        assert!(mu.fold(f64::INFINITY, f64::min) < 1e-6, "{pt:?}");
+    }
+    let birth = curve
+        .extrema_of(Turning::Second)
+        .filter(|e| e.minimum)
+        .map(|e| e.point.second)
+        .fold(f64::INFINITY, f64::min);
+    assert!((birth - 0.206428685).abs() < 1e-8, "{birth}");
 }

@@ -216,6 +216,9 @@ pub enum BranchEnd {
     },
     /// The corrector failed even at the smallest step.
     StepTooSmall,
+    /// A curve of bifurcations made no headway over many points (a corner where its orbit
+    /// starts to graze a switch).
+    Stalled,
     MaxPoints,
 }
 
@@ -231,6 +234,7 @@ impl std::fmt::Display for BranchEnd {
                 write!(f, "period doubling of a period-{period} response")
             }
             BranchEnd::StepTooSmall => write!(f, "corrector failed"),
+            BranchEnd::Stalled => write!(f, "stalled at a corner"),
             BranchEnd::MaxPoints => write!(f, "point limit"),
         }
     }

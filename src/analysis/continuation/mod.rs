@@ -9,7 +9,9 @@
 /// 1: a located special point is the corrected point of the smallest test met (a branch
 /// point was reported 5.5e-6 off, from a point on the crossing branch); folds may move in
 /// their last bits.
-pub const NUMERICS_VERSION: u32 = 1;
+/// 2: a curve of bifurcations that makes no headway over 40 points ends there, stalled
+/// (before, it crawled into a corner until its point limit).
+pub const NUMERICS_VERSION: u32 = 2;
 
 pub mod bifurcation_curve;
 pub mod branch;
