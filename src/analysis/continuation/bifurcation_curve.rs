@@ -27,14 +27,14 @@ use crate::analysis::progress::Progress;
 use crate::model::error::{ParamError, check};
 use crate::model::system::StateVec;
 
-/// A curve whose last this many points lie within [`STALL_SPAN`] of a step's longest length
-/// of each other in its two parameters has stalled (see [`stalled`]).
+/// A curve whose newest point lies closer than [`STALL_SPAN`] × its longest step to the point
+/// this many before it, in its two parameters, has stalled (see [`stalled`]).
 const STALL_POINTS: usize = 40;
 /// See [`STALL_POINTS`].
 const STALL_SPAN: f64 = 0.02;
 
-/// The curve is crawling into a corner: its last [`STALL_POINTS`] points moved less than
-/// [`STALL_SPAN`] × `step_max` in its two parameters. Where the bifurcating orbit starts to
+/// The curve is crawling into a corner: over its last [`STALL_POINTS`] steps it moved less
+/// than [`STALL_SPAN`] × `step_max` in its two parameters. Where the bifurcating orbit starts to
 /// graze a switch, a curve can turn at a corner that a smooth predictor does not pass; each
 /// step there is then cut to about 1e-5 and takes 8 or 9 Newton iterations, until the point
 /// limit (260 such steps on the map's 1:2 fold curve near ω_e 5.45, ADR 0.656).
