@@ -10,7 +10,9 @@
 //! fresh continuations.
 
 use isola::analysis::Progress;
-use isola::analysis::continuation::bifurcation_curve::{CurveSpec, Turning, continue_bifurcation};
+use isola::analysis::continuation::bifurcation_curve::{
+    BifurcationCurve, CurveSpec, Turning, continue_bifurcation,
+};
 use isola::analysis::continuation::branch::{
     BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
 };
@@ -67,6 +69,18 @@ fn lowest_adr_at(isola: &ContinuedBranch, omega: f64) -> f64 {
     fold.parameter
 }
 
+/// Every point of `curve` has a multiplier within 1e-6 of +1.
+fn assert_every_point_a_fold(curve: &BifurcationCurve) {
+    for pt in &curve.points {
+        let mu = pt
+            .multipliers
+            .0
+            .iter()
+            .map(|m| (m.re - 1.0).abs() + m.im.abs());
+        assert!(mu.fold(f64::INFINITY, f64::min) < 1e-6, "{pt:?}");
+    }
+}
+
 fn curve_spec() -> CurveSpec {
     CurveSpec {
         first_min: 2.0,
@@ -109,14 +123,7 @@ fn the_isola_fold_curve_joins_its_folds_and_its_birth() {
         started.elapsed().as_secs_f64(),
         curve.ends
     );
-    for pt in &curve.points {
-        let mu = pt
-            .multipliers
-            .0
-            .iter()
-            .map(|m| (m.re - 1.0).abs() + m.im.abs());
-        assert!(mu.fold(f64::INFINITY, f64::min) < 1e-6, "{pt:?}");
-    }
+    assert_every_point_a_fold(&curve);
     // the curve comes back up to ADR 0.6 at the isola's other fold
     let crossing = curve
         .points
@@ -290,14 +297,7 @@ fn a_fold_curve_crawling_into_a_corner_ends_there() {
         (at.0 - 5.45).abs() < 0.01 && (at.1 - 0.655).abs() < 0.01,
         "{at:?}"
     );
-    for pt in &curve.points {
-        let mu = pt
-            .multipliers
-            .0
-            .iter()
-            .map(|m| (m.re - 1.0).abs() + m.im.abs());
-        assert!(mu.fold(f64::INFINITY, f64::min) < 1e-6, "{pt:?}");
-    }
+    assert_every_point_a_fold(&curve);
     let birth = curve
         .extrema_of(Turning::Second)
         .filter(|e| e.minimum)
