@@ -295,16 +295,17 @@ fn full_basin_early_stop_equals_plain(adr: f64, omega: f64) {
     assert!(worst < 1e-4, "{worst}");
 }
 
-/// The early stop changes no result of a frequency response either: across the 1:2 isola at
-/// ADR 0.6 (ω_e 3.5–3.9, 9 × 9 starts, neighbour seeding), every ω_e has the same responses in
-/// the same order (class, period, ratio, starts reaching it, seeded or not) as integrating
-/// every start to full convergence, with amplitudes within 1e-4.
-#[test]
-fn response_early_stop_keeps_every_response() {
+/// The frequency response over `omega` at `adr` from `dx` × `v` starts without sweeps, with
+/// the early stop and with every start integrated to full convergence (fast, plain).
+fn response_fast_and_plain(
+    adr: f64,
+    omega: Axis,
+    grid: usize,
+) -> (FrequencyResponse, FrequencyResponse) {
     let spec = FrequencyResponseSpec {
-        omega: Axis::new(3.5, 3.9, 5),
-        dx: Axis::new(-0.8, 0.8, 9),
-        v: Axis::new(-1.0, 1.0, 9),
+        omega,
+        dx: Axis::new(-0.8, 0.8, grid),
+        v: Axis::new(-1.0, 1.0, grid),
         sweeps: false,
         ..FrequencyResponseSpec::default()
     };
@@ -312,25 +313,41 @@ fn response_early_stop_keeps_every_response() {
         early_stop: false,
         ..spec.clone()
     };
-    let p = Params::paper(0.6, 1.0).unwrap();
+    let p = Params::paper(adr, 1.0).unwrap();
     let fast = frequency_response(&p, &spec, &Progress::new(0)).unwrap();
     let plain = frequency_response(&p, &plain_spec, &Progress::new(0)).unwrap();
+    (fast, plain)
+}
+
+/// `fast` has `plain`'s responses in the same order (ω_e, class, period, ratio, starts
+/// reaching it, seeded or not), with a subharmonic among them, and amplitudes within `tol`.
+fn assert_same_responses(plain: &FrequencyResponse, fast: &FrequencyResponse, tol: f64) {
+    let key = |r: &isola::analysis::global::frequency_response::Response| {
+        let s = &r.steady;
+        (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
+    };
+    let keys = |fr: &FrequencyResponse| fr.responses.iter().map(key).collect::<Vec<_>>();
+    assert_eq!(keys(plain), keys(fast));
     assert!(
         plain.responses.iter().any(|r| r.steady.period == Some(2)),
-        "the isola is in the range"
+        "a subharmonic in the range"
     );
-    assert_eq!(fast.responses.len(), plain.responses.len());
     for (a, b) in plain.responses.iter().zip(&fast.responses) {
-        let key = |r: &isola::analysis::global::frequency_response::Response| {
-            let s = &r.steady;
-            (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
-        };
-        assert_eq!(key(a), key(b));
         match (a.steady.amplitude, b.steady.amplitude) {
-            (Some(x), Some(y)) => assert!((x - y).abs() < 1e-4, "ω {}: {x} vs {y}", a.omega),
+            (Some(x), Some(y)) => assert!((x - y).abs() < tol, "ω {}: {x} vs {y}", a.omega),
             (x, y) => assert_eq!(x.is_some(), y.is_some(), "ω {}", a.omega),
         }
     }
+}
+
+/// The early stop changes no result of a frequency response either: across the 1:2 isola at
+/// ADR 0.6 (ω_e 3.5–3.9, 9 × 9 starts, neighbour seeding), every ω_e has the same responses in
+/// the same order (class, period, ratio, starts reaching it, seeded or not) as integrating
+/// every start to full convergence, with amplitudes within 1e-4.
+#[test]
+fn response_early_stop_keeps_every_response() {
+    let (fast, plain) = response_fast_and_plain(0.6, Axis::new(3.5, 3.9, 5), 9);
+    assert_same_responses(&plain, &fast, 1e-4);
 }
 
 /// The map's grids (7 × 7 starts, ω_e 1–6) are where the early stop learns most responses
@@ -342,38 +359,8 @@ fn response_early_stop_keeps_every_response() {
 #[test]
 fn map_grids_early_stop_keeps_every_response() {
     for adr in [0.3, 1.0] {
-        let spec = FrequencyResponseSpec {
-            omega: Axis::new(1.0, 6.0, 21),
-            dx: Axis::new(-0.8, 0.8, 7),
-            v: Axis::new(-1.0, 1.0, 7),
-            sweeps: false,
-            ..FrequencyResponseSpec::default()
-        };
-        let plain_spec = FrequencyResponseSpec {
-            early_stop: false,
-            ..spec.clone()
-        };
-        let p = Params::paper(adr, 1.0).unwrap();
-        let fast = frequency_response(&p, &spec, &Progress::new(0)).unwrap();
-        let plain = frequency_response(&p, &plain_spec, &Progress::new(0)).unwrap();
-        let key = |r: &isola::analysis::global::frequency_response::Response| {
-            let s = &r.steady;
-            (r.omega_index, s.class, s.period, s.ratio, r.count, r.seeded)
-        };
-        let keys = |fr: &FrequencyResponse| fr.responses.iter().map(key).collect::<Vec<_>>();
-        assert_eq!(keys(&plain), keys(&fast), "ADR {adr}");
-        assert!(
-            plain.responses.iter().any(|r| r.steady.period == Some(2)),
-            "ADR {adr}: a subharmonic in the range"
-        );
-        for (a, b) in plain.responses.iter().zip(&fast.responses) {
-            match (a.steady.amplitude, b.steady.amplitude) {
-                (Some(x), Some(y)) => {
-                    assert!((x - y).abs() < 1e-6, "ADR {adr}, ω {}: {x} vs {y}", a.omega)
-                }
-                (x, y) => assert_eq!(x.is_some(), y.is_some(), "ω {}", a.omega),
-            }
-        }
+        let (fast, plain) = response_fast_and_plain(adr, Axis::new(1.0, 6.0, 21), 7);
+        assert_same_responses(&plain, &fast, 1e-6);
     }
 }
 

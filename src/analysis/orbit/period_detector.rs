@@ -48,9 +48,8 @@ impl<const N: usize> PeriodDetector<N> {
         // cheap precheck: the newest point must be back within tol_converged of the point k
         // periods before for some k, or nothing has converged
         let n = self.history.len();
-        let newest = &self.history[n - 1];
-        let near = |k: usize| distance(newest, &self.history[n - 1 - k]) < self.tol_converged;
-        if !(1..=self.max_period).any(|k| 2 * k <= n && near(k)) {
+        let near = |k: usize| 2 * k <= n && self.newest_back_within(k, self.tol_converged);
+        if !(1..=self.max_period).any(near) {
             return None;
         }
         let mut smallest_match = None;
@@ -73,11 +72,16 @@ impl<const N: usize> PeriodDetector<N> {
     /// before: the points look settled on a k-cycle (to `tol`, not yet to `tol_converged`).
     pub fn settling(&self, tol: f64) -> Option<usize> {
         let n = self.history.len();
-        let newest = &self.history[n - 1];
-        let near = |k: usize| distance(newest, &self.history[n - 1 - k]) < tol;
         (1..=self.max_period)
             .take_while(|&k| 2 * k <= n)
-            .find(|&k| near(k) && self.mismatch(k) < tol)
+            .find(|&k| self.newest_back_within(k, tol) && self.mismatch(k) < tol)
+    }
+
+    /// The newest point lies within `tol` of the point k periods before it: the cheap
+    /// precheck of a k-cycle (the first term of [`Self::mismatch`]).
+    fn newest_back_within(&self, k: usize, tol: f64) -> bool {
+        let n = self.history.len();
+        distance(&self.history[n - 1], &self.history[n - 1 - k]) < tol
     }
 
     /// max over the last k points of the distance to the point k periods earlier.
