@@ -1,0 +1,136 @@
+//! A model written from the input (three expressions: a named value `s` and the derivatives
+//! of x and v) → parsed, compiled and run: any input must end in a value or an error, never
+//! a panic, an abort or a hang, and wherever the host compiles to machine code, that code
+//! must give the interpreter's values bit for bit (every tape, one lane and eight, each kink
+//! held or free).
+
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+use isola::model::equations::tape::{NATIVE_LANES, Tape};
+use isola::model::equations::{EquationModel, ModelDefinition};
+use isola::solver::general::GeneralRk4;
+
+/// The model around the three expressions.
+fn session(s: &str, dx: &str, dv: &str) -> String {
+    format!(
+        r#"
+[model]
+states = ["x", "v"]
+frequency = "w"
+amplitude = "x"
+collision = ["x > 1e6"]
+[model.parameters]
+w = 1.3
+a = {{ value = 0.7, min = -10, max = 10 }}
+[model.let]
+s = {s:?}
+[model.derivatives]
+x = {dx:?}
+v = {dv:?}
+"#
+    )
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let mut lines = text.splitn(3, '\n');
+    let (s, dx) = (lines.next().unwrap_or("0"), lines.next().unwrap_or("v"));
+    let dv = lines.next().unwrap_or("-x");
+    let doc = session(s, dx, dv);
+    let Ok(def) = ModelDefinition::from_text(&doc) else {
+        return;
+    };
+    let Ok(model) = EquationModel::new(&def, &doc) else {
+        return;
+    };
+    let Ok(mut sys) = model.system(&model.defaults()) else {
+        return;
+    };
+    let c = &*model.inner;
+    if Tape::native_enabled() {
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        // states and times from the input's bytes
+        let mut seed = data.iter().fold(0x9e37_79b9_7f4a_7c15u64, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+        });
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut tapes = vec![
+            &c.time_tape,
+            &c.field_tape,
+            &c.jacobian_tape,
+            &c.output_tape,
+            &c.collision_tape,
+            &c.named_tape,
+        ];
+        tapes.extend(&c.switch_gradient_tapes);
+        for tape in tapes {
+            for round in 0..4 {
+                let scale = if round == 3 { 1e3 } else { 3.0 };
+                let mut regs = sys.registers().clone();
+                let x = [
+                    scale * (2.0 * uniform() - 1.0),
+                    scale * (2.0 * uniform() - 1.0),
+                ];
+                regs.load(&c.time_tape, 20.0 * uniform(), &x);
+                let mode = (uniform() * u32::MAX as f64) as u64;
+                let (mut native, mut interpreted) = (regs.values.clone(), regs.values.clone());
+                assert_eq!(
+                    tape.run_in(&mut native, mode),
+                    tape.interpret::<false>(&mut interpreted, mode)
+                );
+                assert_eq!(
+                    tape.run_free(&mut native),
+                    tape.interpret::<true>(&mut interpreted, 0)
+                );
+                for &r in &tape.roots {
+                    let (a, b) = (native[r as usize], interpreted[r as usize]);
+                    assert!(same(a, b), "register {r}: {a:e} native, {b:e} interpreted");
+                }
+                let mut lanes = vec![[0.0; NATIVE_LANES]; regs.values.len()];
+                for l in 0..NATIVE_LANES {
+                    let x = [
+                        scale * (2.0 * uniform() - 1.0),
+                        scale * (2.0 * uniform() - 1.0),
+                    ];
+                    regs.load(&c.time_tape, 20.0 * uniform(), &x);
+                    for (lane, &v) in lanes.iter_mut().zip(&regs.values) {
+                        lane[l] = v;
+                    }
+                }
+                let modes: [u64; NATIVE_LANES] =
+                    std::array::from_fn(|l| mode.rotate_left(l as u32));
+                let mut by_lane = lanes.clone();
+                assert_eq!(
+                    tape.run_lanes(&mut lanes, &modes),
+                    tape.interpret_lanes::<NATIVE_LANES, false>(&mut by_lane, &modes)
+                );
+                assert_eq!(
+                    tape.run_lanes_free(&mut lanes),
+                    tape.interpret_lanes::<NATIVE_LANES, true>(&mut by_lane, &[0; NATIVE_LANES])
+                );
+                for &r in &tape.roots {
+                    for (a, b) in lanes[r as usize].iter().zip(&by_lane[r as usize]) {
+                        assert!(same(*a, *b), "lanes: {a:e} native, {b:e} interpreted");
+                    }
+                }
+            }
+        }
+    }
+    // a few periods from a few starts: a value or a stop, never a panic or a hang
+    let rk = GeneralRk4::with_steps(&sys, 16);
+    for x0 in [[0.5, 0.0], [-2.0, 1.0], [30.0, -7.0]] {
+        let mut traj = rk.start(&mut sys, &x0);
+        for _ in 0..3 {
+            rk.advance_period(&mut sys, &mut traj, |_, _, _| {});
+        }
+    }
+});
