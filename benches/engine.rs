@@ -10,6 +10,7 @@ use std::sync::atomic::AtomicBool;
 use isola::analysis::global::batch::steady_states;
 use isola::analysis::{SteadyStateSpec, steady_state};
 use isola::model::equations::lanes::EquationLanes;
+use isola::model::equations::tape::NATIVE_LANES;
 use isola::model::equations::{EquationModel, ModelDefinition};
 use isola::model::{DriveSpec, ParamSpec, Params};
 use isola::solver::general::GeneralRk4;
@@ -96,15 +97,16 @@ fn written_model_steps(c: &mut Criterion) {
             traj.x[0]
         })
     });
-    g.throughput(Throughput::Elements(8 * steps));
-    g.bench_function("slack/written_8_lanes", |b| {
+    const L: usize = NATIVE_LANES;
+    g.throughput(Throughput::Elements(L as u64 * steps));
+    g.bench_function("slack/written_16_lanes", |b| {
         b.iter(|| {
-            let mut eval = EquationLanes::<8>::new(&sys);
-            let mut lanes = Lanes::<8>::idle(sys.origin());
-            for l in 0..8 {
+            let mut eval = EquationLanes::<L>::new(&sys);
+            let mut lanes = Lanes::<L>::idle(sys.origin());
+            for l in 0..L {
                 let mut x0 = *sys.origin();
-                x0[0] = black_box(p.lambda_p() + 0.01 * (l as f64 / 8.0 - 0.5));
-                x0[1] = 0.01 * l as f64 / 8.0;
+                x0[0] = black_box(p.lambda_p() + 0.01 * (l as f64 / L as f64 - 0.5));
+                x0[1] = 0.01 * l as f64 / L as f64;
                 general.restart_lane(&mut sys, &mut lanes, l, &x0);
             }
             for _ in 0..PERIODS * general.steps_per_period() {

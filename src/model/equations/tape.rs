@@ -59,7 +59,7 @@ pub struct Tape {
 
 /// Lanes a tape is compiled for besides one (the written model's batches); other lane
 /// counts are interpreted.
-pub const NATIVE_LANES: usize = 8;
+pub const NATIVE_LANES: usize = 16;
 
 /// A tape's machine code, per use: one lane or [`NATIVE_LANES`], held or free, and held
 /// with the field's states and derivatives read and written by the code itself.

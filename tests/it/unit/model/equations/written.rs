@@ -769,7 +769,9 @@ v = "a + cos(omega*t) - 0.2*v"
     for (what, sys, x0) in cases {
         let c = &sys.model().inner;
         assert!(
-            c.step_entry(1).is_some() && c.step_entry(8).is_some(),
+            c.step_entry(1).is_some()
+                && c.step_entry(isola::model::equations::tape::NATIVE_LANES)
+                    .is_some(),
             "{what}"
         );
         let mut x0 = x0;
