@@ -63,16 +63,7 @@ fuzz_target!(|data: &[u8]| {
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut tapes = vec![
-            &c.time_tape,
-            &c.field_tape,
-            &c.jacobian_tape,
-            &c.output_tape,
-            &c.collision_tape,
-            &c.named_tape,
-        ];
-        tapes.extend(&c.switch_gradient_tapes);
-        for tape in tapes {
+        for tape in c.tapes() {
             for round in 0..4 {
                 let scale = if round == 3 { 1e3 } else { 3.0 };
                 let mut regs = sys.registers().clone();

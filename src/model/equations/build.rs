@@ -163,6 +163,21 @@ pub struct Compiled {
 }
 
 impl Compiled {
+    /// Every tape of the model: time, field, Jacobian, output, collision, named values, then
+    /// each switching function's gradient.
+    pub fn tapes(&self) -> Vec<&Tape> {
+        let mut tapes = vec![
+            &self.time_tape,
+            &self.field_tape,
+            &self.jacobian_tape,
+            &self.output_tape,
+            &self.collision_tape,
+            &self.named_tape,
+        ];
+        tapes.extend(&self.switch_gradient_tapes);
+        tapes
+    }
+
     /// The plain RK4 step compiled for `lanes` (1 or [`NATIVE_LANES`]) lanes, compiled now
     /// if it is the first call; `None` where tapes are interpreted.
     #[cfg(target_arch = "x86_64")]

@@ -296,22 +296,6 @@ fn the_symbolic_jacobian_is_the_derivative_of_the_field() {
     }
 }
 
-/// Every tape of a compiled model.
-fn every_tape(
-    c: &isola::model::equations::build::Compiled,
-) -> Vec<&isola::model::equations::tape::Tape> {
-    let mut tapes = vec![
-        &c.time_tape,
-        &c.field_tape,
-        &c.jacobian_tape,
-        &c.output_tape,
-        &c.collision_tape,
-        &c.named_tape,
-    ];
-    tapes.extend(&c.switch_gradient_tapes);
-    tapes
-}
-
 /// A model that uses every function, integer and real powers and every kind of kink.
 const EVERY_OPERATION: &str = r#"
 [model]
@@ -363,7 +347,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
         let sys = model.system(&model.defaults()).unwrap();
         let c = &*model.inner;
         let dim = c.states.len();
-        for tape in every_tape(c) {
+        for tape in c.tapes() {
             for round in 0..200 {
                 let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
                 let mut regs = sys.registers().clone();
@@ -490,7 +474,7 @@ fn every_tape_of_the_catalogue_compiles_to_machine_code() {
         "user_model_duffing_isola.toml",
     ] {
         let c = catalogue(file, &[]).model().inner.clone();
-        for (i, tape) in every_tape(&c).into_iter().enumerate() {
+        for (i, tape) in c.tapes().into_iter().enumerate() {
             for lanes in [1, NATIVE_LANES] {
                 for free in [false, true] {
                     assert!(
