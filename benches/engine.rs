@@ -99,7 +99,7 @@ fn written_model_steps(c: &mut Criterion) {
     });
     const L: usize = NATIVE_LANES;
     g.throughput(Throughput::Elements(L as u64 * steps));
-    g.bench_function("slack/written_16_lanes", |b| {
+    g.bench_function(format!("slack/written_{L}_lanes"), |b| {
         b.iter(|| {
             let mut eval = EquationLanes::<L>::new(&sys);
             let mut lanes = Lanes::<L>::idle(sys.origin());

@@ -7,6 +7,10 @@ use std::collections::VecDeque;
 #[derive(Debug, Clone)]
 pub struct PeriodDetector<const N: usize = 2> {
     history: VecDeque<[f64; N]>,
+    /// The newest point's distance to the point k periods before it, for k = 1, 2, … while
+    /// the history holds 2k points: the first term of each k's mismatch, measured once per
+    /// point for [`Self::push`]'s precheck and [`Self::settling`] alike.
+    newest_back: Vec<f64>,
     max_period: usize,
     tol_converged: f64,
     tol_match: f64,
@@ -25,6 +29,7 @@ impl<const N: usize> PeriodDetector<N> {
     pub fn new(max_period: usize, tol_converged: f64, tol_match: f64) -> Self {
         PeriodDetector {
             history: VecDeque::with_capacity(2 * max_period + 1),
+            newest_back: Vec::with_capacity(max_period),
             max_period,
             tol_converged,
             tol_match,
@@ -45,18 +50,21 @@ impl<const N: usize> PeriodDetector<N> {
             self.history.pop_front();
         }
         self.history.push_back(point);
+        let n = self.history.len();
+        let newest = &self.history[n - 1];
+        self.newest_back.clear();
+        self.newest_back.extend(
+            (1..=self.max_period)
+                .take_while(|&k| 2 * k <= n)
+                .map(|k| distance(newest, &self.history[n - 1 - k])),
+        );
         // cheap precheck: the newest point must be back within tol_converged of the point k
         // periods before for some k, or nothing has converged
-        let n = self.history.len();
-        let near = |k: usize| 2 * k <= n && self.newest_back_within(k, self.tol_converged);
-        if !(1..=self.max_period).any(near) {
+        if !self.newest_back.iter().any(|&d| d < self.tol_converged) {
             return None;
         }
         let mut smallest_match = None;
-        for k in 1..=self.max_period {
-            if 2 * k > n {
-                break;
-            }
+        for k in 1..=self.newest_back.len() {
             let d = self.mismatch(k);
             if d < self.tol_match && smallest_match.is_none() {
                 smallest_match = Some(k);
@@ -71,17 +79,8 @@ impl<const N: usize> PeriodDetector<N> {
     /// The smallest k whose last k points are back within `tol` of the points k periods
     /// before: the points look settled on a k-cycle (to `tol`, not yet to `tol_converged`).
     pub fn settling(&self, tol: f64) -> Option<usize> {
-        let n = self.history.len();
-        (1..=self.max_period)
-            .take_while(|&k| 2 * k <= n)
-            .find(|&k| self.newest_back_within(k, tol) && self.mismatch(k) < tol)
-    }
-
-    /// The newest point lies within `tol` of the point k periods before it: the cheap
-    /// precheck of a k-cycle (the first term of [`Self::mismatch`]).
-    fn newest_back_within(&self, k: usize, tol: f64) -> bool {
-        let n = self.history.len();
-        distance(&self.history[n - 1], &self.history[n - 1 - k]) < tol
+        (1..=self.newest_back.len())
+            .find(|&k| self.newest_back[k - 1] < tol && self.mismatch(k) < tol)
     }
 
     /// max over the last k points of the distance to the point k periods earlier.
