@@ -21,7 +21,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use crate::analysis::global::capture_cover::{covered_radius, largest_passing};
+use crate::analysis::global::capture_cover::covered_radius;
 use crate::analysis::global::ellipse::Shape;
 use crate::analysis::global::flow::Flow;
 
@@ -123,39 +123,40 @@ pub fn capture_regions(
 
 /// The radius of the largest ellipse of `shape` around `center`, of `cap`, cap/2, cap/4, …
 /// (0 if none), whose ring of samples passes the one-return test of the module's description
-/// together with every smaller ring: all rings are integrated at once, one pass.
+/// together with every smaller ring. The rings are integrated from the innermost out, one at a
+/// time, up to the first that fails: the rings beyond it could not count (most regions stop
+/// at cap/8 or cap/16, so this integrates half to two thirds of the samples of all six).
 fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
     // the ellipse's V, whatever its radius
     let region = CaptureRegion::new(center, shape, 0.0);
     // V must shrink by at least an eighth of what the linearised map takes off
     let required = 1.0 - (1.0 - shape.shrink) / 8.0;
     let t = shape.t;
-    let radii: Vec<f64> = (0..RINGS).map(|n| cap * 0.5f64.powi(n as i32)).collect();
-    let samples: Vec<[f64; 2]> = radii
-        .iter()
-        .enumerate()
-        .flat_map(|(n, &r)| {
-            (0..RING_POINTS).map(move |i| {
+    let ring = |n: usize| -> Vec<[f64; 2]> {
+        let r = cap * 0.5f64.powi(n as i32);
+        (0..RING_POINTS)
+            .map(|i| {
                 // rings staggered so that no two samples share a direction
                 let turn = (i as f64 + n as f64 / RINGS as f64) / RING_POINTS as f64;
                 let (sin, cos) = (std::f64::consts::TAU * turn).sin_cos();
                 let d = t * Vector2::new(cos, sin);
                 [center[0] + r * d[0], center[1] + r * d[1]]
             })
-        })
-        .collect();
-    let starts: Vec<Option<[f64; 2]>> = samples.iter().copied().map(Some).collect();
-    let images = flow.iterate(&starts, k);
-    let ring_passes: Vec<bool> = samples
-        .chunks(RING_POINTS)
-        .zip(images.chunks(RING_POINTS))
-        .map(|(from, to)| {
-            from.iter()
-                .zip(to)
-                .all(|(&x, y)| y.is_some_and(|y| region.v(y) <= required * region.v(x)))
-        })
-        .collect();
-    largest_passing(&radii, &ring_passes)
+            .collect()
+    };
+    let passes = |samples: &[[f64; 2]]| {
+        let starts: Vec<Option<[f64; 2]>> = samples.iter().copied().map(Some).collect();
+        let images = flow.iterate(&starts, k);
+        samples
+            .iter()
+            .zip(&images)
+            .all(|(&x, y)| y.is_some_and(|y| region.v(y) <= required * region.v(x)))
+    };
+    (0..RINGS)
+        .rev()
+        .take_while(|&n| passes(&ring(n)))
+        .last()
+        .map_or(0.0, |n| cap * 0.5f64.powi(n as i32))
 }
 
 /// The Jacobian of the one-period map at each point, by central differences.

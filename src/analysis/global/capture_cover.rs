@@ -101,7 +101,7 @@ pub(super) fn covered_radius(
 
 /// The largest of `radii` (outermost first) inside which every ring passes: `ring_passes`
 /// holds from the innermost ring out to it. 0 if the innermost ring fails.
-pub(super) fn largest_passing(radii: &[f64], ring_passes: &[bool]) -> f64 {
+fn largest_passing(radii: &[f64], ring_passes: &[bool]) -> f64 {
     radii
         .iter()
         .zip(ring_passes)
