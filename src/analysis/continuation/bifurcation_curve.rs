@@ -359,15 +359,17 @@ impl<M: Continuable> Curve<'_, M> {
         })
     }
 
-    /// The flow at `y` and the Jacobian of the residual there.
-    fn evaluate(&self, y: &DVector<f64>) -> Result<Solved, Failure> {
+    /// The flow at `y` and the Jacobian of the residual there; `flow`, if given, is the flow
+    /// at `y` already computed.
+    fn evaluate(&self, y: &DVector<f64>, flow: Option<PeriodFlow>) -> Result<Solved, Failure> {
         let n = self.n;
-        // y, then each column's two sides: orbits computed side by side (each exactly as
-        // alone), the first failure in this order returned
+        // y (unless its flow is given), then each column's two sides: orbits computed side by
+        // side (each exactly as alone), the first failure in this order returned
         let steps: Vec<f64> = (0..n + 2)
             .map(|c| DIFFERENCE_STEP * y[c].abs().max(1.0))
             .collect();
-        let mut at = vec![y.clone()];
+        let given = flow.is_some();
+        let mut at = if given { vec![] } else { vec![y.clone()] };
         for (c, &d) in steps.iter().enumerate() {
             let (mut up, mut down) = (y.clone(), y.clone());
             up[c] += d;
@@ -380,6 +382,10 @@ impl<M: Continuable> Curve<'_, M> {
             .collect::<Vec<_>>()
             .into_iter()
             .collect::<Result<_, _>>()?;
+        if let Some(flow) = flow {
+            at.insert(0, y.clone());
+            flows.insert(0, flow);
+        }
         let mut jac = DMatrix::zeros(n + 1, n + 2);
         for (c, &d) in steps.iter().enumerate() {
             let (up, down) = (1 + 2 * c, 2 + 2 * c);
@@ -403,27 +409,49 @@ impl<M: Continuable> Curve<'_, M> {
         })
     }
 
-    /// Newton on [residual; t·(y − pred)] = 0 from the predictor.
+    /// Newton's method on [residual; t·(y − pred)] = 0 from the predictor, as a chord method:
+    /// the Jacobian (nine orbits) is kept from one iterate to the next, so that an iteration
+    /// integrates one orbit, while its steps at least halve; where one does not, the Jacobian
+    /// is evaluated afresh at that iterate. The Jacobian at the solution is evaluated in full,
+    /// for the tangent there. `iterations` counts the steps taken.
     fn correct(&self, pred: DVector<f64>, t: &DVector<f64>) -> Result<Solved, Failure> {
         let n = self.n;
         let tol = self.spec.shooting.newton_tol;
-        let mut y = pred.clone();
+        let mut s = self.evaluate(&pred, None)?;
+        let mut lu = bordered(&s.jac, t).lu();
+        let mut fresh = true;
+        let mut last_step = f64::INFINITY;
         for it in 0..self.spec.shooting.max_iterations {
-            let mut s = self.evaluate(&y)?;
-            let r = self.residual(&y, &s.flow);
+            let r = self.residual(&s.y, &s.flow);
             let state_residual = (0..n).fold(0.0f64, |m, i| m.max(r[i].abs()));
             if it > 0 && state_residual < tol && r[n].abs() < TEST_TOL_FACTOR * tol {
+                if !fresh {
+                    s = self.evaluate(&s.y, Some(s.flow.clone()))?;
+                }
                 s.iterations = it;
                 return Ok(s);
             }
-            let a = bordered(&s.jac, t);
-            let along = -dot(t, &(&y - &pred));
+            let along = -dot(t, &(&s.y - &pred));
             let rhs = DVector::from_fn(n + 2, |i, _| if i <= n { -r[i] } else { along });
-            let dy = a.lu().solve(&rhs).ok_or(Failure::Diverged)?;
+            let mut dy = lu.solve(&rhs).ok_or(Failure::Diverged)?;
+            let finite = dy.iter().all(|v| v.is_finite());
+            if !fresh && (!finite || dy.amax() > 0.5 * last_step) {
+                s = self.evaluate(&s.y, Some(s.flow.clone()))?;
+                lu = bordered(&s.jac, t).lu();
+                dy = lu.solve(&rhs).ok_or(Failure::Diverged)?;
+            }
             if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
                 return Err(Failure::Diverged);
             }
-            y += dy;
+            last_step = dy.amax();
+            let y = &s.y + dy;
+            s = Solved {
+                flow: self.flow(&y)?,
+                y,
+                jac: s.jac,
+                iterations: 0,
+            };
+            fresh = false;
         }
         Err(Failure::Diverged)
     }
