@@ -46,8 +46,9 @@ fn curve(second: FamilyParameter, min: f64, max: f64) -> CurveSpec {
 
 const FOLD_FROM: &str = "width of the bisection bracket of the fold on the continued branch \
                          (shooting to 1e-11)";
-const LIMIT_FROM: &str = "turning point of the fold curve in (ω_e, parameter), located to the \
-                          continuation's Newton tolerance (at least 1e-9)";
+const LIMIT_FROM: &str = "turning point of the fold curve in (ω_e, parameter): its bracket, \
+                          plus how far a point solved to the continuation's Newton tolerance may \
+                          lie from the curve (at least 1e-9)";
 
 /// The hunt (frequency response from many starts, with sweeps both ways, then every
 /// subharmonic branch continued in ω_e) at ADR `adr`.

@@ -64,8 +64,9 @@ fn reproduce_quick_reports_every_claim_with_a_verdict() {
     assert_eq!(verdict("isola-birth-adr"), "differs");
     // and merges where the paper says, to its two decimals
     assert!((value("isola-merge-adr") - 0.645260).abs() < 1e-5);
-    // located on the fold curve the attached branch gains there, not just bracketed
-    assert!(claim("isola-merge-adr")["precision"].as_f64().unwrap() <= 1e-8);
+    // located on the fold curve the attached branch gains there, not just bracketed (the
+    // fold curve's points solve its test function to 1e-8: about 4e-8 in ADR there)
+    assert!(claim("isola-merge-adr")["precision"].as_f64().unwrap() <= 1e-7);
     assert_eq!(verdict("isola-merge-adr"), "agrees");
     // the ADR 0.6 isola's lower fold, and the narrow period-3 isola below the paper's band
     assert!((value("isola-adr06") - 3.589644726).abs() < 1e-8);

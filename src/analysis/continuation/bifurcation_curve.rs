@@ -160,7 +160,8 @@ pub struct Extremum {
     /// A minimum of that parameter (else a maximum).
     pub minimum: bool,
     pub point: CurvePoint,
-    /// Width of the last bracket in that parameter.
+    /// ± on the point's value of that parameter: the last bracket's width, plus how far the
+    /// point may lie from the curve with its equations solved to the Newton tolerance.
     pub precision: f64,
 }
 
@@ -456,6 +457,27 @@ impl<M: Continuable> Curve<'_, M> {
         Err(Failure::Diverged)
     }
 
+    /// How far coordinate `c` of the corrected point `s` may lie from the curve's own: its
+    /// equations hold to the Newton tolerance (the test function to [`TEST_TOL_FACTOR`] times
+    /// it), and a residual in a row moves `c`, across the curve, by that row's entry of the
+    /// inverse of the Jacobian bordered with the tangent (NaN where it is singular).
+    fn solved_to(&self, s: &Solved, prev: &DVector<f64>, c: usize) -> f64 {
+        let n = self.n;
+        let tol = self.spec.shooting.newton_tol;
+        let inverse = self
+            .tangent(s, prev)
+            .and_then(|tangent| bordered(&s.jac, &tangent).try_inverse());
+        let Some(inverse) = inverse else {
+            return f64::NAN;
+        };
+        (0..=n)
+            .map(|row| {
+                let residual = if row < n { tol } else { TEST_TOL_FACTOR * tol };
+                inverse[(c, row)].abs() * residual
+            })
+            .sum()
+    }
+
     /// The unit tangent at `s` (null vector of the Jacobian), oriented along `prev`.
     fn tangent(&self, s: &Solved, prev: &DVector<f64>) -> Option<DVector<f64>> {
         null_vector(&s.jac, prev)
@@ -622,13 +644,14 @@ impl<M: Continuable> Curve<'_, M> {
                 break;
             }
         }
-        let precision = s_hi
+        let bracket = s_hi
             .as_ref()
             .map_or(f64::NAN, |s| (s.y[c] - s_lo.y[c]).abs());
         let best = match s_hi {
             Some(s) if g_hi.abs() < g_lo.abs() => s,
             _ => s_lo,
         };
+        let precision = bracket + self.solved_to(&best, t, c);
         // at a minimum the coordinate was decreasing before it
         let minimum = t[c] < 0.0;
         Extremum {

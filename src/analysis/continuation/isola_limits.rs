@@ -116,8 +116,7 @@ fn isola_shrinks<M: Continuable>(
 fn limit(p: &CurvePoint, precision: f64) -> IsolaLimit {
     IsolaLimit {
         value: p.second,
-        // the curve's points solve their equations to the Newton tolerance with orbits
-        // integrated at 1e-11: below 1e-9 the bracket says nothing
+        // the orbits are integrated to 1e-11: below 1e-9 the estimate says nothing
         precision: precision.max(1e-9),
         omega: p.omega,
         amplitude: p.amplitude,

@@ -13,7 +13,8 @@
 /// (before, it crawled into a corner until its point limit).
 /// 3: a curve of bifurcations corrects its points by a chord method (the Jacobian kept
 /// while the steps at least halve), so its points and extrema move within the corrector's
-/// tolerance (the map's turning points by up to 4e-8).
+/// tolerance (the map's turning points by up to 4e-8); a turning point's precision adds how
+/// far its point may lie from the curve to the bracket's width.
 pub const NUMERICS_VERSION: u32 = 3;
 
 pub mod bifurcation_curve;
