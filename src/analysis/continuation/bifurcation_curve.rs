@@ -460,7 +460,8 @@ impl<M: Continuable> Curve<'_, M> {
     /// How far coordinate `c` of the corrected point `s` may lie from the curve's own: its
     /// equations hold to the Newton tolerance (the test function to [`TEST_TOL_FACTOR`] times
     /// it), and a residual in a row moves `c`, across the curve, by that row's entry of the
-    /// inverse of the Jacobian bordered with the tangent (NaN where it is singular).
+    /// inverse of the Jacobian bordered with the tangent (infinite, unknown, where that is
+    /// singular).
     fn solved_to(&self, s: &Solved, prev: &DVector<f64>, c: usize) -> f64 {
         let n = self.n;
         let tol = self.spec.shooting.newton_tol;
@@ -468,7 +469,7 @@ impl<M: Continuable> Curve<'_, M> {
             .tangent(s, prev)
             .and_then(|tangent| bordered(&s.jac, &tangent).try_inverse());
         let Some(inverse) = inverse else {
-            return f64::NAN;
+            return f64::INFINITY;
         };
         (0..=n)
             .map(|row| {
