@@ -7,7 +7,8 @@
 //! continuing in ADR at fixed ω (an independent computation), and lies below it at
 //! neighbouring ω; the merging value (located by `isola reproduce`, whose test holds it) sits
 //! between an ADR where the branch is closed and one where it is attached, both checked by
-//! fresh continuations.
+//! fresh continuations; the birth located along curves stepped differently agrees within its
+//! stated precisions (which the brackets' widths alone do not cover).
 
 use isola::analysis::Progress;
 use isola::analysis::continuation::bifurcation_curve::{
@@ -304,4 +305,52 @@ fn a_fold_curve_crawling_into_a_corner_ends_there() {
         .map(|e| e.point.second)
         .fold(f64::INFINITY, f64::min);
     assert!((birth - 0.206428685).abs() < 1e-8, "{birth}");
+}
+
+/// A turning point's precision covers the path taken to it: the ADR 0.4 isola's fold curve,
+/// stepped at most 0.03 and at most 0.011 in arclength (other points, other corrections,
+/// other brackets), has its minimum in ADR (the birth) at values that agree within the two
+/// precisions. Each is the last bracket's width plus how far a point solved to the Newton
+/// tolerance may lie from the curve: the brackets alone are far narrower than the difference.
+#[test]
+fn a_turning_points_precision_covers_the_path_taken_to_it() {
+    let (p, isola) = subharmonic(0.4, 4.5, 0.15);
+    let low = isola
+        .of_kind(BifurcationKind::Fold)
+        .min_by(|a, b| a.omega.total_cmp(&b.omega))
+        .unwrap();
+    let birth_with = |step_max: f64| {
+        let spec = CurveSpec {
+            step_max,
+            max: 0.4 + 1e-3,
+            ..curve_spec()
+        };
+        let curve = continue_bifurcation(
+            &p,
+            ContinuationParameter::Omega,
+            low,
+            &spec,
+            &Progress::new(0),
+        )
+        .unwrap();
+        curve
+            .extrema_of(Turning::Second)
+            .filter(|e| e.minimum)
+            .min_by(|a, b| a.point.second.total_cmp(&b.point.second))
+            .expect("a birth")
+            .clone()
+    };
+    let (a, b) = (birth_with(0.03), birth_with(0.011));
+    let difference = (a.point.second - b.point.second).abs();
+    eprintln!(
+        "births {} ± {:.1e} and {} ± {:.1e}: {difference:.1e} apart",
+        a.point.second, a.precision, b.point.second, b.precision
+    );
+    assert!(
+        (a.point.second - 0.206428685).abs() < 1e-7,
+        "{}",
+        a.point.second
+    );
+    assert!(a.precision < 1e-7 && b.precision < 1e-7);
+    assert!(difference <= a.precision + b.precision);
 }
