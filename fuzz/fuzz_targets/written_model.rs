@@ -1,8 +1,8 @@
 //! A model written from the input (three expressions: a named value `s` and the derivatives
 //! of x and v) → parsed, compiled and run: any input must end in a value or an error, never
 //! a panic, an abort or a hang, and wherever the host compiles to machine code, that code
-//! must give the interpreter's values bit for bit (every tape, one lane and eight, each kink
-//! held or free).
+//! must give the interpreter's values bit for bit (every tape, one lane and `NATIVE_LANES`,
+//! each kink held or free).
 
 #![no_main]
 
@@ -31,6 +31,14 @@ x = {dx:?}
 v = {dv:?}
 "#
     )
+}
+
+/// A state within `scale` of the origin, drawn from `uniform`.
+fn state(uniform: &mut impl FnMut() -> f64, scale: f64) -> [f64; 2] {
+    [
+        scale * (2.0 * uniform() - 1.0),
+        scale * (2.0 * uniform() - 1.0),
+    ]
 }
 
 fuzz_target!(|data: &[u8]| {
@@ -67,10 +75,7 @@ fuzz_target!(|data: &[u8]| {
             for round in 0..4 {
                 let scale = if round == 3 { 1e3 } else { 3.0 };
                 let mut regs = sys.registers().clone();
-                let x = [
-                    scale * (2.0 * uniform() - 1.0),
-                    scale * (2.0 * uniform() - 1.0),
-                ];
+                let x = state(&mut uniform, scale);
                 regs.load(&c.time_tape, 20.0 * uniform(), &x);
                 let mode = (uniform() * u32::MAX as f64) as u64;
                 let (mut native, mut interpreted) = (regs.values.clone(), regs.values.clone());
@@ -88,10 +93,7 @@ fuzz_target!(|data: &[u8]| {
                 }
                 let mut lanes = vec![[0.0; NATIVE_LANES]; regs.values.len()];
                 for l in 0..NATIVE_LANES {
-                    let x = [
-                        scale * (2.0 * uniform() - 1.0),
-                        scale * (2.0 * uniform() - 1.0),
-                    ];
+                    let x = state(&mut uniform, scale);
                     regs.load(&c.time_tape, 20.0 * uniform(), &x);
                     for (lane, &v) in lanes.iter_mut().zip(&regs.values) {
                         lane[l] = v;

@@ -15,7 +15,7 @@ use isola::analysis::continuation::bifurcation_curve::{
     BifurcationCurve, CurveSpec, Turning, continue_bifurcation,
 };
 use isola::analysis::continuation::branch::{
-    BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
+    Bifurcation, BifurcationKind, BranchEnd, ContinuationSpec, ContinuedBranch, continue_branch,
 };
 use isola::analysis::continuation::hunt::Verdict;
 use isola::analysis::continuation::isola_limits::{isola_birth, isola_vanishing};
@@ -70,6 +70,30 @@ fn lowest_adr_at(isola: &ContinuedBranch, omega: f64) -> f64 {
     fold.parameter
 }
 
+/// The fold of `isola` at its lowest ω (`lowest`) or its highest.
+fn end_fold(isola: &ContinuedBranch, lowest: bool) -> &Bifurcation {
+    let by_omega = |a: &&Bifurcation, b: &&Bifurcation| a.omega.total_cmp(&b.omega);
+    let folds = isola.of_kind(BifurcationKind::Fold);
+    if lowest {
+        folds.min_by(by_omega)
+    } else {
+        folds.max_by(by_omega)
+    }
+    .unwrap()
+}
+
+/// The curve of `bif` (found continuing in ω about `p`) in ω and `spec.second`.
+fn curve_of(p: &Params, bif: &Bifurcation, spec: &CurveSpec) -> BifurcationCurve {
+    continue_bifurcation(
+        p,
+        ContinuationParameter::Omega,
+        bif,
+        spec,
+        &Progress::new(0),
+    )
+    .unwrap()
+}
+
 /// Every point of `curve` has a multiplier within 1e-6 of +1.
 fn assert_every_point_a_fold(curve: &BifurcationCurve) {
     for pt in &curve.points {
@@ -97,27 +121,13 @@ fn curve_spec() -> CurveSpec {
 #[test]
 fn the_isola_fold_curve_joins_its_folds_and_its_birth() {
     let (p, isola) = subharmonic(0.6, 3.7, 0.3);
-    let low = isola
-        .of_kind(BifurcationKind::Fold)
-        .min_by(|a, b| a.omega.total_cmp(&b.omega))
-        .unwrap();
-    let high = isola
-        .of_kind(BifurcationKind::Fold)
-        .max_by(|a, b| a.omega.total_cmp(&b.omega))
-        .unwrap();
+    let (low, high) = (end_fold(&isola, true), end_fold(&isola, false));
     let spec = CurveSpec {
         max: 0.6 + 1e-3,
         ..curve_spec()
     };
     let started = std::time::Instant::now();
-    let curve = continue_bifurcation(
-        &p,
-        ContinuationParameter::Omega,
-        low,
-        &spec,
-        &Progress::new(0),
-    )
-    .unwrap();
+    let curve = curve_of(&p, low, &spec);
     eprintln!(
         "fold curve: {} points in {:.2} s, ends {:?}",
         curve.points.len(),
@@ -260,10 +270,7 @@ fn a_vanishing_isola_is_located_on_its_fold_curve() {
 #[test]
 fn a_fold_curve_crawling_into_a_corner_ends_there() {
     let (p, isola) = subharmonic(0.6, 3.7, 0.3);
-    let high = isola
-        .of_kind(BifurcationKind::Fold)
-        .max_by(|a, b| a.omega.total_cmp(&b.omega))
-        .unwrap();
+    let high = end_fold(&isola, false);
     let spec = CurveSpec {
         first_min: 1.0,
         first_max: 6.0,
@@ -272,14 +279,7 @@ fn a_fold_curve_crawling_into_a_corner_ends_there() {
         max_points: 400,
         ..CurveSpec::default()
     };
-    let curve = continue_bifurcation(
-        &p,
-        ContinuationParameter::Omega,
-        high,
-        &spec,
-        &Progress::new(0),
-    )
-    .unwrap();
+    let curve = curve_of(&p, high, &spec);
     eprintln!("{} points, ends {:?}", curve.points.len(), curve.ends);
     assert!(curve.ends.contains(&BranchEnd::Stalled), "{:?}", curve.ends);
     assert!(curve.points.len() < 400, "{}", curve.points.len());
@@ -315,25 +315,14 @@ fn a_fold_curve_crawling_into_a_corner_ends_there() {
 #[test]
 fn a_turning_points_precision_covers_the_path_taken_to_it() {
     let (p, isola) = subharmonic(0.4, 4.5, 0.15);
-    let low = isola
-        .of_kind(BifurcationKind::Fold)
-        .min_by(|a, b| a.omega.total_cmp(&b.omega))
-        .unwrap();
+    let low = end_fold(&isola, true);
     let birth_with = |step_max: f64| {
         let spec = CurveSpec {
             step_max,
             max: 0.4 + 1e-3,
             ..curve_spec()
         };
-        let curve = continue_bifurcation(
-            &p,
-            ContinuationParameter::Omega,
-            low,
-            &spec,
-            &Progress::new(0),
-        )
-        .unwrap();
-        curve
+        curve_of(&p, low, &spec)
             .extrema_of(Turning::Second)
             .filter(|e| e.minimum)
             .min_by(|a, b| a.point.second.total_cmp(&b.point.second))
