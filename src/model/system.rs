@@ -28,6 +28,10 @@ pub trait System: Clone + Send {
     fn period(&self) -> f64;
     /// Bits of the mode that can change along a trajectory.
     fn switch_mask(&self) -> Mode;
+    /// Bits of the switching functions across which the field is continuous (the kinks of
+    /// `max`, `min` and `abs`): a step taken a little past one of these errs by only the
+    /// square of how far, where past any other it errs by as much.
+    fn continuous_switches(&self) -> Mode;
     /// The mode at (τ, x): each kink on the branch its switching function's sign selects.
     fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode;
     /// dx/dτ on the smooth piece `mode` (kinks held on their branches, so that an

@@ -866,7 +866,7 @@ impl<'d> Builder<'d> {
                     } else {
                         self.graph.sub(b, acc)
                     };
-                    acc = self.kink(s, false, acc, b, place, span)?;
+                    acc = self.kink(s, false, true, acc, b, place, span)?;
                 }
                 Ok(acc)
             }
@@ -874,7 +874,7 @@ impl<'d> Builder<'d> {
                 arity("1 argument", args.len() == 1)?;
                 let a = self.expr(&args[0], place, local)?;
                 let minus = self.graph.neg(a);
-                self.kink(a, false, a, minus, place, span)
+                self.kink(a, false, true, a, minus, place, span)
             }
             "pow" => {
                 arity("2 arguments", args.len() == 2)?;
@@ -913,22 +913,26 @@ impl<'d> Builder<'d> {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn kink(
         &mut self,
         value: NodeId,
         strict: bool,
+        continuous: bool,
         on: NodeId,
         off: NodeId,
         place: &Place,
         span: Span,
     ) -> Result<NodeId, EquationError> {
-        self.graph.kink(value, strict, on, off).map_err(|_| {
-            self.error_at(
-                place,
-                span,
-                format!("more than {MAX_SWITCHES} kinks (max, min, abs, if) in the model"),
-            )
-        })
+        self.graph
+            .kink(value, strict, continuous, on, off)
+            .map_err(|_| {
+                self.error_at(
+                    place,
+                    span,
+                    format!("more than {MAX_SWITCHES} kinks (max, min, abs, if) in the model"),
+                )
+            })
     }
 
     /// `on` where `cond` holds, else `off`: a kink per comparison.
@@ -941,7 +945,9 @@ impl<'d> Builder<'d> {
         span: Span,
     ) -> Result<NodeId, EquationError> {
         match cond {
-            Cond::Positive { value, strict } => self.kink(*value, *strict, on, off, place, span),
+            Cond::Positive { value, strict } => {
+                self.kink(*value, *strict, false, on, off, place, span)
+            }
             Cond::And(a, b) => {
                 let inner = self.branch(b, on, off, place, span)?;
                 self.branch(a, inner, off, place, span)

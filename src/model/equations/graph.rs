@@ -123,6 +123,9 @@ pub enum Node {
 pub struct Switch {
     pub value: NodeId,
     pub strict: bool,
+    /// Whether every kink of this switch has equal branches where its value is zero (those
+    /// of `max`, `min` and `abs`), so that what depends on it is continuous across it.
+    pub continuous: bool,
 }
 
 impl Switch {
@@ -302,11 +305,13 @@ impl Graph {
     }
 
     /// A new switching function `value`, and the node that is `on` where it is on and `off`
-    /// elsewhere. Fails past [`MAX_SWITCHES`].
+    /// elsewhere; `continuous` where `on` and `off` are equal wherever `value` is zero.
+    /// Fails past [`MAX_SWITCHES`].
     pub fn kink(
         &mut self,
         value: NodeId,
         strict: bool,
+        continuous: bool,
         on: NodeId,
         off: NodeId,
     ) -> Result<NodeId, usize> {
@@ -314,18 +319,36 @@ impl Graph {
             return Ok(on);
         }
         if let Some(v) = self.constant(value) {
-            let s = Switch { value, strict };
-            return Ok(if s.on(v) { on } else { off });
+            return Ok(
+                if (Switch {
+                    value,
+                    strict,
+                    continuous,
+                })
+                .on(v)
+                {
+                    on
+                } else {
+                    off
+                },
+            );
         }
         let k = match self
             .switches
             .iter()
             .position(|s| s.value == value && s.strict == strict)
         {
-            Some(k) => k,
+            Some(k) => {
+                self.switches[k].continuous &= continuous;
+                k
+            }
             None if self.switches.len() == MAX_SWITCHES => return Err(MAX_SWITCHES),
             None => {
-                self.switches.push(Switch { value, strict });
+                self.switches.push(Switch {
+                    value,
+                    strict,
+                    continuous,
+                });
                 self.switches.len() - 1
             }
         };

@@ -153,6 +153,13 @@ impl System for EquationSystem {
         self.model.inner.field_tape.switch_mask
     }
 
+    fn continuous_switches(&self) -> Mode {
+        let switches = self.model.inner.graph.switches.iter();
+        (switches.enumerate())
+            .filter(|(_, s)| s.continuous)
+            .fold(0, |mask, (k, _)| mask | 1 << k)
+    }
+
     fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode {
         let c = &*self.model.inner;
         self.regs.load(&c.time_tape, tau, x);
