@@ -3,13 +3,18 @@
 
 use crate::model::Params;
 
+/// (φ_I², φ_II²) and their rates d(φ²)/dτ at one instant.
+pub type DriveWithRate = ((f64, f64), (f64, f64));
+
 /// φ_I² and φ_II² at τ = k·h/2, k = 0..=2n, over one period T = n·h, and the drive
-/// anchored at each step's start for the split steps.
+/// anchored at each step's start for the split steps, with its values and rates at the
+/// step's ends.
 #[derive(Debug, Clone)]
 pub struct DriveTable {
     phi_sq_i: Vec<f64>,
     phi_sq_ii: Vec<f64>,
     step_starts: Vec<LocalDrive>,
+    step_ends: Vec<[DriveWithRate; 2]>,
 }
 
 impl DriveTable {
@@ -19,14 +24,27 @@ impl DriveTable {
         let (phi_sq_i, phi_sq_ii) = (0..=2 * n)
             .map(|k| p.phi_sq_at(k as f64 * half_step))
             .unzip();
-        let step_starts = (0..n)
+        let step_starts: Vec<LocalDrive> = (0..n)
             .map(|k| LocalDrive::new(p, 2.0 * k as f64 * half_step))
+            .collect();
+        // the integrator's step, T/n
+        let h = p.period() / n as f64;
+        let step_ends = (step_starts.iter())
+            .map(|d| [d.phi_sq_with_rate(0.0), d.phi_sq_with_rate(h)])
             .collect();
         DriveTable {
             phi_sq_i,
             phi_sq_ii,
             step_starts,
+            step_ends,
         }
+    }
+
+    /// [`LocalDrive::phi_sq_with_rate`] of step `k`'s drive at the step's start and end (the
+    /// same numbers, computed once).
+    #[inline(always)]
+    pub fn step_ends(&self, k: usize) -> [DriveWithRate; 2] {
+        self.step_ends[k]
     }
 
     /// The drive anchored at the start of step `k`.
@@ -82,7 +100,7 @@ impl LocalDrive {
 
     /// (φ_I², φ_II²) and their rates d(φ²)/dτ at τ₀ + `delta`, for |ω·δ| ≤ π/4.
     #[inline(always)]
-    pub fn phi_sq_with_rate(&self, delta: f64) -> ((f64, f64), (f64, f64)) {
+    pub fn phi_sq_with_rate(&self, delta: f64) -> DriveWithRate {
         let (sd, cd) = small_sin_cos(self.omega * delta);
         let at = |m: usize| {
             let c = self.cos0[m] * cd - self.sin0[m] * sd;

@@ -10,7 +10,7 @@
 //! slack (MODEL.md §4b).
 
 use super::Collision;
-use super::drive_table::{DriveTable, LocalDrive};
+use super::drive_table::{DriveTable, DriveWithRate, LocalDrive};
 use super::field::{Field, Membrane, Mode};
 use super::hermite;
 use super::isa::{self, Isa};
@@ -415,6 +415,7 @@ impl Rk4 {
     fn split_steps(&self, k: usize, batch: &mut SplitBatch) {
         let (f, h) = (&self.field, self.h);
         let drive = self.table.step_start(k);
+        let drive_ends = self.table.step_ends(k);
         let phi_end = self.table.at(2 * k + 2);
         let end_of = |end: [f64; 2]| {
             let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
@@ -428,7 +429,8 @@ impl Rk4 {
         for j in 0..b.len {
             let (start, a0, mode0) = b.start(j);
             let unsplit = ([b.x1[j], b.v1[j]], b.a1[j]);
-            match self.first_switch(drive, (start, a0), unsplit, 0.0, h, mode0) {
+            let switch = self.first_switch(drive, drive_ends, (start, a0), unsplit, 0.0, h, mode0);
+            match switch {
                 Some(switch) => {
                     (at[j], simple[j]) = (switch.at, true);
                     mode1[j] = Mode::code(mode0.flipped(switch.membrane));
@@ -566,7 +568,8 @@ impl Rk4 {
             let start = (y, accel(y, ends.0, mode));
             let y1 = step(start, t, hs, mode);
             let end = (y1, accel(y1, ends.1, mode));
-            match self.first_switch(drive, start, end, t, hs, mode) {
+            let drive_ends = [drive.phi_sq_with_rate(t), drive.phi_sq_with_rate(t + hs)];
+            match self.first_switch(drive, drive_ends, start, end, t, hs, mode) {
                 None => return y1,
                 Some(switch) => {
                     y = step(start, t, switch.at, mode);
@@ -630,10 +633,13 @@ impl Rk4 {
     /// is the root of the switching function's cubic Hermite interpolant from its values and
     /// rates at both ends (O(h³), like the state's own interpolant); otherwise the switching
     /// functions are scanned along the state's interpolant for a brief excursion.
+    /// `drive_ends`: the drive's values and rates at τ₀ + t0 and τ₀ + t0 + h.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn first_switch(
         &self,
         drive: &LocalDrive,
+        [drive_start, drive_end]: [DriveWithRate; 2],
         (y0, a0): ([f64; 2], f64),
         (y1, a1): ([f64; 2], f64),
         t0: f64,
@@ -649,7 +655,6 @@ impl Rk4 {
         };
         let negative = |g: [f64; 2]| g[0] < 0.0 || g[1] < 0.0;
         // usually the end of the step already shows the switch
-        let (drive_start, drive_end) = (drive.phi_sq_with_rate(t0), drive.phi_sq_with_rate(t0 + h));
         let g_start = self.switching(y0, drive_start.0, mode);
         let g_end = self.switching(y1, drive_end.0, mode);
         let (s_root_i, s_root_ii) = if negative(g_end) {
@@ -694,7 +699,7 @@ impl Rk4 {
 
 /// One end of a step for [`Rk4::end_switch`]: state, acceleration, the drive's (φ_I², φ_II²)
 /// and their rates, and both switching functions.
-type SwitchEnd = ([f64; 2], f64, ((f64, f64), (f64, f64)), [f64; 2]);
+type SwitchEnd = ([f64; 2], f64, DriveWithRate, [f64; 2]);
 
 /// A step's start: state, acceleration and mode.
 type StepStart = ([f64; 2], f64, Mode);
