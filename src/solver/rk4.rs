@@ -28,8 +28,6 @@ const SWITCH_TOLERANCE: f64 = 1e-6;
 const NEWTON_TOLERANCE: f64 = 1e-4;
 /// Samples of the switching functions per step when looking for a sign change.
 const SWITCH_SCAN_POINTS: usize = 4;
-/// Lanes whose split steps are taken side by side (one AVX-512 register of doubles).
-const SPLIT_BATCH: usize = 8;
 
 /// The fixed-step integrator for one parameter set.
 #[derive(Debug, Clone)]
@@ -178,8 +176,8 @@ impl Rk4 {
             Isa::X86_64V4 => unsafe { self.advance_period_v4(lanes, observe) },
             #[cfg(target_arch = "x86_64")]
             Isa::X86_64V3 => unsafe { self.advance_period_v3(lanes, observe) },
-            _ => self.advance_period_body(lanes, observe, |k, batch| {
-                self.split_steps_baseline(k, batch)
+            _ => self.advance_period_body(lanes, observe, |k, start, unsplit| {
+                self.split_step_baseline(k, start, unsplit)
             }),
         }
     }
@@ -188,13 +186,15 @@ impl Rk4 {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
     fn advance_period_v3<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // a closure here has these instructions too
-        self.advance_period_body(lanes, observe, |k, batch| self.split_steps_v3(k, batch));
+        self.advance_period_body(lanes, observe, |k, start, unsplit| {
+            self.split_step_v3(k, start, unsplit)
+        });
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c")]
-    fn split_steps_v3(&self, k: usize, batch: &mut SplitBatch) {
-        self.split_steps(k, batch)
+    fn split_step_v3(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -203,31 +203,33 @@ impl Rk4 {
     )]
     fn advance_period_v4<const L: usize>(&self, lanes: &mut Lanes<L>, observe: Observer<'_, L>) {
         // a closure here has these instructions too
-        self.advance_period_body(lanes, observe, |k, batch| self.split_steps_v4(k, batch));
+        self.advance_period_body(lanes, observe, |k, start, unsplit| {
+            self.split_step_v4(k, start, unsplit)
+        });
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(
         enable = "avx2,fma,bmi1,bmi2,lzcnt,movbe,f16c,avx512f,avx512bw,avx512cd,avx512dq,avx512vl"
     )]
-    fn split_steps_v4(&self, k: usize, batch: &mut SplitBatch) {
-        self.split_steps(k, batch)
+    fn split_step_v4(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
     }
 
     #[inline(never)]
-    fn split_steps_baseline(&self, k: usize, batch: &mut SplitBatch) {
-        self.split_steps(k, batch)
+    fn split_step_baseline(&self, k: usize, start: StepStart, unsplit: StepEnd) -> StepEnd3 {
+        self.split_step(k, start, unsplit)
     }
 
     /// The one body of every version of [`Self::advance_period`], inlined into each so that
-    /// each is compiled for its instruction set; `split` is [`Self::split_steps`] compiled for
+    /// each is compiled for its instruction set; `split` is [`Self::split_step`] compiled for
     /// the same (out of line: a lane switches in few steps).
     #[inline(always)]
     fn advance_period_body<const L: usize>(
         &self,
         lanes: &mut Lanes<L>,
         mut observe: Observer<'_, L>,
-        split: impl Fn(usize, &mut SplitBatch),
+        split: impl Fn(usize, StepStart, StepEnd) -> StepEnd3,
     ) {
         let (h, f) = (self.h, &self.field);
         let half = 0.5 * h;
@@ -286,30 +288,19 @@ impl Rk4 {
                 lanes.mode[i] = m_end;
             }
             if trouble {
-                // the switched lanes' steps split, up to SPLIT_BATCH side by side
-                let mut batch = SplitBatch::default();
-                for i in 0..L {
-                    if lanes.collision[i].is_some() || !switched[i] {
-                        continue;
-                    }
-                    let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
-                    let unsplit = ([lanes.x[i], lanes.v[i]], lanes.a[i]);
-                    batch.push(i, start, unsplit);
-                    if batch.len == SPLIT_BATCH {
-                        split(k, &mut batch);
-                        batch.take_ends(lanes);
-                    }
-                }
-                if batch.len > 0 {
-                    split(k, &mut batch);
-                    batch.take_ends(lanes);
-                }
                 // the drive is T-periodic: split steps are anchored at the step's phase within
                 // the period, so a trajectory never depends on how many periods its lane ran
                 let phase_tau = k as f64 * h;
                 for i in 0..L {
                     if lanes.collision[i].is_some() {
                         continue;
+                    }
+                    if switched[i] {
+                        let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
+                        let unsplit = ([lanes.x[i], lanes.v[i]], lanes.a[i]);
+                        let (end, a_end, mode_end) = split(k, start, unsplit);
+                        [lanes.x[i], lanes.v[i]] = end;
+                        (lanes.a[i], lanes.mode[i]) = (a_end, Mode::code(mode_end));
                     }
                     if !(f.inside(lanes.x[i]) && lanes.v[i].is_finite()) {
                         let periods = (lanes.period - lanes.start_period[i]) as f64;
@@ -401,18 +392,15 @@ impl Rk4 {
         ]
     }
 
-    /// RK4 step `k` of the period split where a membrane switches between taut and slack, for
-    /// each lane of `batch`, each side integrated on its own smooth piece. A lane's start is
-    /// its step's start (state, acceleration, mode); its unsplit end is the same step taken
-    /// through the kink (its end state and true acceleration there): their cubic Hermite
-    /// interpolant places the switch to O(h³), and a switch misplaced by δ costs only O(δ²),
-    /// so two sub-steps finish the job. These sub-steps are taken for every lane side by side
-    /// (the same operations as one lane's, so each lane's values are as if taken alone).
-    /// Anything less simple (no sign change on that interpolant, or another switch after the
-    /// first) goes to [`Self::split_from`], lane by lane. Sets each lane's end state, its
-    /// acceleration and mode.
+    /// RK4 step `k` of the period split where a membrane switches between taut and slack,
+    /// each side integrated on its own smooth piece. `start` is the step's start (state,
+    /// acceleration, mode); `unsplit` is the same step taken through the kink (its end state
+    /// and true acceleration there): its cubic Hermite interpolant places the switch to O(h³),
+    /// and a switch misplaced by δ costs only O(δ²), so two sub-steps finish the job. Anything
+    /// less simple (no sign change on that interpolant, or another switch after the first)
+    /// goes to [`Self::split_from`]. Returns the end state, its acceleration and mode.
     #[inline(always)]
-    fn split_steps(&self, k: usize, batch: &mut SplitBatch) {
+    fn split_step(&self, k: usize, (start, a0, mode0): StepStart, unsplit: StepEnd) -> StepEnd3 {
         let (f, h) = (&self.field, self.h);
         let drive = self.table.step_start(k);
         let drive_ends = self.table.step_ends(k);
@@ -421,128 +409,22 @@ impl Rk4 {
             let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
             (end, a, mode)
         };
-        let b = &mut *batch;
-        // where each lane switches first, and the piece it switches to (as Mode::code)
-        let mut at = [0.0; SPLIT_BATCH];
-        let mut simple = [false; SPLIT_BATCH];
-        let mut mode1 = [0.0; SPLIT_BATCH];
-        for j in 0..b.len {
-            let (start, a0, mode0) = b.start(j);
-            let unsplit = ([b.x1[j], b.v1[j]], b.a1[j]);
-            let switch = self.first_switch(drive, drive_ends, (start, a0), unsplit, 0.0, h, mode0);
-            match switch {
-                Some(switch) => {
-                    (at[j], simple[j]) = (switch.at, true);
-                    mode1[j] = Mode::code(mode0.flipped(switch.membrane));
-                }
-                None => b.ends[j] = end_of(self.split_from(drive, start, 0.0, h, mode0)),
-            }
-        }
-        // the two sub-steps of every lane side by side, in as few lanes of a register as hold
-        // them (most steps split one lane)
-        let switches = (&at, &simple, &mode1);
-        match b.len {
-            1 => self.sub_steps::<1>(drive, phi_end, b, switches),
-            2 => self.sub_steps::<2>(drive, phi_end, b, switches),
-            3 | 4 => self.sub_steps::<4>(drive, phi_end, b, switches),
-            _ => self.sub_steps::<SPLIT_BATCH>(drive, phi_end, b, switches),
-        }
-    }
-
-    /// The sub-steps of [`Self::split_steps`] for the first `W` members of `b` side by side
-    /// (members past its `len`, or without a simple switch, compute what is not used), stage
-    /// by stage as [`Self::step_in_mode`] takes them: from each member's start to its switch
-    /// at `at` (from its start), then on the piece `mode1` (as [`Mode::code`]) to the step's
-    /// end, where (φ_I², φ_II²) is `phi_end`.
-    #[inline(always)]
-    fn sub_steps<const W: usize>(
-        &self,
-        drive: &LocalDrive,
-        phi_end: (f64, f64),
-        b: &mut SplitBatch,
-        (at, simple, mode1): (
-            &[f64; SPLIT_BATCH],
-            &[bool; SPLIT_BATCH],
-            &[f64; SPLIT_BATCH],
-        ),
-    ) {
-        let (f, h) = (&self.field, self.h);
-        let first = |a: &[f64; SPLIT_BATCH]| -> [f64; W] { std::array::from_fn(|j| a[j]) };
-        let (at, mode0, mode1) = (first(at), first(&b.mode0), first(mode1));
-        let (mut phi_half, mut phi_at, mut phi_mid) = ([[0.0; W]; 2], [[0.0; W]; 2], [[0.0; W]; 2]);
-        for j in 0..W {
-            (phi_half[0][j], phi_half[1][j]) = drive.phi_sq(0.5 * at[j]);
-            (phi_at[0][j], phi_at[1][j]) = drive.phi_sq(at[j]);
-            (phi_mid[0][j], phi_mid[1][j]) = drive.phi_sq(0.5 * (at[j] + h));
-        }
-        let start = [&first(&b.x0), &first(&b.v0), &first(&b.a0)];
-        let (x_at, v_at) = self.steps_in_mode(start, &at, &phi_half, &phi_at, &mode0);
-        let mut a_at = [0.0; W];
-        for j in 0..W {
-            let mode = Mode::from_code(mode1[j]);
-            a_at[j] = f.accel_in_mode(x_at[j], v_at[j], phi_at[0][j], phi_at[1][j], mode);
-        }
-        let rest: [f64; W] = std::array::from_fn(|j| h - at[j]);
-        let phi_end_all = [[phi_end.0; W], [phi_end.1; W]];
-        let (x_end, v_end) =
-            self.steps_in_mode([&x_at, &v_at, &a_at], &rest, &phi_mid, &phi_end_all, &mode1);
-        let (mut a_end, mut mode_end) = ([0.0; W], [0.0; W]);
-        for j in 0..W {
-            (a_end[j], mode_end[j]) = f.accel_coded(x_end[j], v_end[j], phi_end.0, phi_end.1);
-        }
-        for j in 0..b.len.min(W) {
-            if !simple[j] {
-                continue;
-            }
-            b.ends[j] = if mode_end[j] == mode1[j] {
-                ([x_end[j], v_end[j]], a_end[j], Mode::from_code(mode_end[j]))
-            } else {
-                // another switch after the first
-                let piece = Mode::from_code(mode1[j]);
-                let y = self.split_from(drive, [x_at[j], v_at[j]], at[j], h, piece);
-                let (a, mode) = f.accel(y[0], y[1], phi_end.0, phi_end.1);
-                (y, a, mode)
-            };
-        }
-    }
-
-    /// [`Self::step_in_mode`] for `W` lanes side by side: from (x, v) with acceleration a
-    /// (`y`), steps of lengths `h`, with (φ_I², φ_II²) `phi_mid` half-way and `phi_end` at
-    /// the end, on the pieces `mode` (as [`Mode::code`]). Each stage is one loop over the
-    /// lanes, the same operations as one lane's.
-    #[inline(always)]
-    fn steps_in_mode<const W: usize>(
-        &self,
-        [x, v, a]: [&[f64; W]; 3],
-        h: &[f64; W],
-        phi_mid: &[[f64; W]; 2],
-        phi_end: &[[f64; W]; 2],
-        mode: &[f64; W],
-    ) -> ([f64; W], [f64; W]) {
-        let f = &self.field;
-        let accel = |j: usize, x: f64, v: f64, phi: &[[f64; W]; 2]| {
-            f.accel_in_mode(x, v, phi[0][j], phi[1][j], Mode::from_code(mode[j]))
+        let first = self.first_switch(drive, drive_ends, (start, a0), unsplit, 0.0, h, mode0);
+        let Some(switch) = first else {
+            return end_of(self.split_from(drive, start, 0.0, h, mode0));
         };
-        let (mut v2, mut a2, mut v3, mut a3, mut v4, mut a4) =
-            ([0.0; W], [0.0; W], [0.0; W], [0.0; W], [0.0; W], [0.0; W]);
-        for j in 0..W {
-            let (x2, v) = (x[j] + 0.5 * h[j] * v[j], v[j] + 0.5 * h[j] * a[j]);
-            (v2[j], a2[j]) = (v, accel(j, x2, v, phi_mid));
+        let s = switch.at;
+        let phi_s = drive.phi_sq(s);
+        let at_switch = self.step_in_mode((start, a0), s, drive.phi_sq(0.5 * s), phi_s, mode0);
+        let mode1 = mode0.flipped(switch.membrane);
+        let a_switch = f.accel_in_mode(at_switch[0], at_switch[1], phi_s.0, phi_s.1, mode1);
+        let phi_mid = drive.phi_sq(0.5 * (s + h));
+        let end = end_of(self.step_in_mode((at_switch, a_switch), h - s, phi_mid, phi_end, mode1));
+        if end.2 == mode1 {
+            end
+        } else {
+            end_of(self.split_from(drive, at_switch, s, h, mode1))
         }
-        for j in 0..W {
-            let (x3, v) = (x[j] + 0.5 * h[j] * v2[j], v[j] + 0.5 * h[j] * a2[j]);
-            (v3[j], a3[j]) = (v, accel(j, x3, v, phi_mid));
-        }
-        for j in 0..W {
-            let (x4, v) = (x[j] + h[j] * v3[j], v[j] + h[j] * a3[j]);
-            (v4[j], a4[j]) = (v, accel(j, x4, v, phi_end));
-        }
-        let (mut x_end, mut v_end) = ([0.0; W], [0.0; W]);
-        for j in 0..W {
-            x_end[j] = x[j] + h[j] / 6.0 * (v[j] + 2.0 * v2[j] + 2.0 * v3[j] + v4[j]);
-            v_end[j] = v[j] + h[j] / 6.0 * (a[j] + 2.0 * a2[j] + 2.0 * a3[j] + a4[j]);
-        }
-        (x_end, v_end)
     }
 
     /// The careful split: from time `t` of a step of length `h`, take trial steps on the
@@ -703,54 +585,6 @@ type SwitchEnd = ([f64; 2], f64, DriveWithRate, [f64; 2]);
 
 /// A step's start: state, acceleration and mode.
 type StepStart = ([f64; 2], f64, Mode);
-
-/// Up to [`SPLIT_BATCH`] lanes whose step is split, side by side: each one's lane, its step's
-/// start, its unsplit end (state and acceleration), and the split step's end once taken.
-#[derive(Default)]
-struct SplitBatch {
-    len: usize,
-    lane: [usize; SPLIT_BATCH],
-    x0: [f64; SPLIT_BATCH],
-    v0: [f64; SPLIT_BATCH],
-    a0: [f64; SPLIT_BATCH],
-    /// As [`Mode::code`].
-    mode0: [f64; SPLIT_BATCH],
-    x1: [f64; SPLIT_BATCH],
-    v1: [f64; SPLIT_BATCH],
-    a1: [f64; SPLIT_BATCH],
-    ends: [StepEnd3; SPLIT_BATCH],
-}
-
-impl SplitBatch {
-    /// Adds lane `lane`'s step from `start`, whose unsplit end is `unsplit`.
-    fn push(&mut self, lane: usize, (y0, a0, mode0): StepStart, (y1, a1): StepEnd) {
-        let j = self.len;
-        self.lane[j] = lane;
-        [self.x0[j], self.v0[j], self.a0[j]] = [y0[0], y0[1], a0];
-        self.mode0[j] = Mode::code(mode0);
-        [self.x1[j], self.v1[j], self.a1[j]] = [y1[0], y1[1], a1];
-        self.len += 1;
-    }
-
-    /// Member `j`'s step start.
-    #[inline(always)]
-    fn start(&self, j: usize) -> StepStart {
-        (
-            [self.x0[j], self.v0[j]],
-            self.a0[j],
-            Mode::from_code(self.mode0[j]),
-        )
-    }
-
-    /// Writes each member's split step's end into its lane, and empties the batch.
-    fn take_ends<const L: usize>(&mut self, lanes: &mut Lanes<L>) {
-        for (&i, &([x, v], a, mode)) in self.lane[..self.len].iter().zip(&self.ends) {
-            [lanes.x[i], lanes.v[i]] = [x, v];
-            (lanes.a[i], lanes.mode[i]) = (a, Mode::code(mode));
-        }
-        self.len = 0;
-    }
-}
 /// A step's end: state and acceleration.
 type StepEnd = ([f64; 2], f64);
 /// A step's end: state, acceleration and mode.
