@@ -95,6 +95,22 @@ fn a_written_model_that_goes_slack_keeps_fourth_order() {
     }
 }
 
+/// x'' = `accel` (a function of x, v and t), forced at `omega`, its amplitude that of x.
+fn second_order(omega: f64, accel: &str) -> EquationSystem {
+    crate::common::written(&format!(
+        r#"[model]
+states = ["x", "v"]
+frequency = "omega"
+amplitude = "x"
+[model.parameters]
+omega = {omega:?}
+[model.derivatives]
+x = "v"
+v = "{accel}"
+"#
+    ))
+}
+
 /// A relay oscillator x'' = −1 where x > 0, +1 elsewhere: piecewise quadratic, so that RK4
 /// is exact on each piece and only locating the switches errs. From x = 0.455, v = −0.3 (0.3
 /// after the top of its orbit, x = 0.5) it switches at t = 0.7, 2.7, … and is back after each
@@ -104,18 +120,7 @@ fn a_written_model_that_goes_slack_keeps_fourth_order() {
 /// error is 3.4e-8; taken as a continuous switch, located to 1e-6 of the step, it was 8.4e-5.
 #[test]
 fn a_switch_across_which_the_field_jumps_is_located_tightly() {
-    let mut sys = crate::common::written(
-        r#"[model]
-states = ["x", "v"]
-frequency = "omega"
-amplitude = "x"
-[model.parameters]
-omega = 1.5707963267948966
-[model.derivatives]
-x = "v"
-v = "if(x > 0, -1, 1)"
-"#,
-    );
+    let mut sys = second_order(std::f64::consts::FRAC_PI_2, "if(x > 0, -1, 1)");
     assert_eq!(sys.continuous_switches() & sys.switch_mask(), 0);
     let x0 = [0.455, -0.3];
     for n in [64, 100] {
@@ -130,17 +135,10 @@ v = "if(x > 0, -1, 1)"
 /// are not; a switch that both share is not.
 #[test]
 fn switches_are_continuous_only_where_every_kink_of_theirs_is() {
-    let sys = crate::common::written(
-        r#"[model]
-states = ["x", "v"]
-frequency = "omega"
-amplitude = "x"
-[model.parameters]
-omega = 1.0
-[model.derivatives]
-x = "v"
-v = "cos(omega*t) - max(x, 0.5) - min(v, 0.1) - abs(x + v) - if(x < -1, 1, 0) - max(v, 0) + if(v >= 0, 1, 0)"
-"#,
+    let sys = second_order(
+        1.0,
+        "cos(omega*t) - max(x, 0.5) - min(v, 0.1) - abs(x + v) - if(x < -1, 1, 0) - max(v, 0) \
+         + if(v >= 0, 1, 0)",
     );
     let mask = sys.switch_mask();
     // five switching functions: max(v, 0) and v ≥ 0 share theirs
