@@ -18,8 +18,9 @@ pub struct DriveTable {
 }
 
 impl DriveTable {
-    /// Tabulates the drive for `n` steps per period.
-    pub fn new(p: &Params, n: usize) -> Self {
+    /// Tabulates the drive for `n` steps per period of length `h` (T/n, as the integrator
+    /// has it).
+    pub fn new(p: &Params, n: usize, h: f64) -> Self {
         let half_step = p.period() / (2 * n) as f64;
         let (phi_sq_i, phi_sq_ii) = (0..=2 * n)
             .map(|k| p.phi_sq_at(k as f64 * half_step))
@@ -27,8 +28,6 @@ impl DriveTable {
         let step_starts: Vec<LocalDrive> = (0..n)
             .map(|k| LocalDrive::new(p, 2.0 * k as f64 * half_step))
             .collect();
-        // the integrator's step, T/n
-        let h = p.period() / n as f64;
         let step_ends = (step_starts.iter())
             .map(|d| [d.phi_sq_with_rate(0.0), d.phi_sq_with_rate(h)])
             .collect();

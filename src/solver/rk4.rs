@@ -75,12 +75,13 @@ impl Rk4 {
     /// An integrator with exactly `n` steps per forcing period.
     pub fn with_steps(params: &Params, n: usize) -> Self {
         let n = n.max(1);
+        let h = params.period() / n as f64;
         Rk4 {
             params: *params,
             field: Field::new(params),
-            table: DriveTable::new(params, n),
+            table: DriveTable::new(params, n, h),
             n,
-            h: params.period() / n as f64,
+            h,
         }
     }
 

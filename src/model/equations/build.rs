@@ -156,6 +156,9 @@ pub struct Compiled {
     /// Per switching function h: ∂h/∂x_j for each state, then ∂h/∂τ.
     pub switch_gradients: Vec<Vec<NodeId>>,
     pub switch_gradient_tapes: Vec<Tape>,
+    /// Bits of the switching functions across which the field is continuous
+    /// ([`super::graph::Switch::continuous`]).
+    pub continuous_switches: u64,
     /// The plain RK4 step as machine code, for one lane and for [`NATIVE_LANES`], compiled
     /// at its first use ([`Compiled::step_entry`]).
     #[cfg(target_arch = "x86_64")]
@@ -643,6 +646,9 @@ impl<'d> Builder<'d> {
             collision_tape: tape(&collision_roots),
             named_tape: tape(&named_roots),
             switch_gradient_tapes: switch_gradients.iter().map(|r| tape(r)).collect(),
+            continuous_switches: (g.switches.iter().enumerate())
+                .filter(|(_, s)| s.continuous)
+                .fold(0, |mask, (k, _)| mask | 1 << k),
             switch_gradients,
             jacobian,
             output: [y, rate],

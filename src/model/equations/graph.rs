@@ -319,19 +319,12 @@ impl Graph {
             return Ok(on);
         }
         if let Some(v) = self.constant(value) {
-            return Ok(
-                if (Switch {
-                    value,
-                    strict,
-                    continuous,
-                })
-                .on(v)
-                {
-                    on
-                } else {
-                    off
-                },
-            );
+            let s = Switch {
+                value,
+                strict,
+                continuous,
+            };
+            return Ok(if s.on(v) { on } else { off });
         }
         let k = match self
             .switches

@@ -154,10 +154,7 @@ impl System for EquationSystem {
     }
 
     fn continuous_switches(&self) -> Mode {
-        let switches = self.model.inner.graph.switches.iter();
-        (switches.enumerate())
-            .filter(|(_, s)| s.continuous)
-            .fold(0, |mask, (k, _)| mask | 1 << k)
+        self.model.inner.continuous_switches
     }
 
     fn mode_at(&mut self, tau: f64, x: &Vector) -> Mode {

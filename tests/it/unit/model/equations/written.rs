@@ -95,13 +95,14 @@ fn a_written_model_that_goes_slack_keeps_fourth_order() {
     }
 }
 
-/// x'' = `accel` (a function of x, v and t), forced at `omega`, its amplitude that of x.
-fn second_order(omega: f64, accel: &str) -> EquationSystem {
+/// x'' = `accel` (a function of x, v and t), forced at `omega`, its amplitude that of
+/// `amplitude`.
+fn second_order(omega: f64, amplitude: &str, accel: &str) -> EquationSystem {
     crate::common::written(&format!(
         r#"[model]
 states = ["x", "v"]
 frequency = "omega"
-amplitude = "x"
+amplitude = "{amplitude}"
 [model.parameters]
 omega = {omega:?}
 [model.derivatives]
@@ -120,7 +121,7 @@ v = "{accel}"
 /// error is 3.4e-8; taken as a continuous switch, located to 1e-6 of the step, it was 8.4e-5.
 #[test]
 fn a_switch_across_which_the_field_jumps_is_located_tightly() {
-    let mut sys = second_order(std::f64::consts::FRAC_PI_2, "if(x > 0, -1, 1)");
+    let mut sys = second_order(std::f64::consts::FRAC_PI_2, "x", "if(x > 0, -1, 1)");
     assert_eq!(sys.continuous_switches() & sys.switch_mask(), 0);
     let x0 = [0.455, -0.3];
     for n in [64, 100] {
@@ -137,6 +138,7 @@ fn a_switch_across_which_the_field_jumps_is_located_tightly() {
 fn switches_are_continuous_only_where_every_kink_of_theirs_is() {
     let sys = second_order(
         1.0,
+        "x",
         "cos(omega*t) - max(x, 0.5) - min(v, 0.1) - abs(x + v) - if(x < -1, 1, 0) - max(v, 0) \
          + if(v >= 0, 1, 0)",
     );
@@ -840,18 +842,7 @@ v = "a + cos(omega*t) - 0.2*v"
 
 /// A damped linear oscillator x'' + 0.2 x' + x = cos(1.5 t) whose amplitude is `amplitude`.
 fn linear_with_amplitude(amplitude: &str) -> EquationSystem {
-    crate::common::written(&format!(
-        r#"[model]
-states = ["x", "v"]
-frequency = "omega"
-amplitude = "{amplitude}"
-[model.parameters]
-omega = 1.5
-[model.derivatives]
-x = "v"
-v = "cos(omega*t) - 0.2*v - x"
-"#
-    ))
+    second_order(1.5, amplitude, "cos(omega*t) - 0.2*v - x")
 }
 
 /// An amplitude whose expression has kinks of its own (`abs`, `max`, `if`: none of them in
