@@ -11,11 +11,24 @@ use std::time::{Duration, SystemTime};
 /// collide) is removed on error; one left by a killed writer is removed by
 /// [`remove_stale_temporaries`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::os::unix::fs::PermissionsExt;
-    let dir = match path.parent() {
+    write_atomic_unsynced(path, bytes)?;
+    sync_dir(folder_of(path));
+    Ok(())
+}
+
+/// The folder `path` is in.
+pub fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
-    };
+    }
+}
+
+/// [`write_atomic`] without the fsync of the folder after the rename: the new name is durable
+/// only once [`sync_dir`] has run on the folder (once after the last of many files).
+pub fn write_atomic_unsynced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = folder_of(path);
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -38,7 +51,6 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     tmp.write_all(bytes)?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
-    sync_dir(dir);
     Ok(())
 }
 

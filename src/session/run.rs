@@ -15,6 +15,7 @@ use super::schema::{AnalysisEntry, Session, Settings};
 use super::store::chunk::Payload;
 use super::store::finite::first_non_finite;
 use super::store::manifest::{MANIFEST_FORMAT, Manifest};
+use super::store::saver::ChunkSaver;
 use super::store::survey::{Survey, survey};
 use super::store::{self, ResultPaths, Work, lock, unix_now};
 use super::written::ModelPoint;
@@ -643,8 +644,9 @@ impl Run<'_> {
         // a chunk that is good when computed but fails when loaded (damaged meanwhile) sends
         // the run round again; a file system that damages everything ends in an error
         for _round in 0..3 {
+            let saver = ChunkSaver::start()?;
             let one = |i: usize, wait: bool| -> anyhow::Result<Step> {
-                self.one_chunk(i, wait, &existing, &compute, &content, &describe)
+                self.one_chunk(i, wait, &saver, &existing, &compute, &content, &describe)
             };
             let mut steps: Vec<(usize, Step)> = mine
                 .par_iter()
@@ -683,6 +685,8 @@ impl Run<'_> {
                     break;
                 }
             }
+            // every chunk computed is on disk before any is checked
+            saver.finish()?;
             computed += steps
                 .iter()
                 .map(|(_, s)| s)
@@ -719,10 +723,12 @@ impl Run<'_> {
 
     /// Chunk `i` in one pass: used if its file is good, computed if this run gets its claim,
     /// left to its claimer otherwise (or, with `wait`, waited for and then used or computed).
+    #[allow(clippy::too_many_arguments)]
     fn one_chunk<T: Payload>(
         &self,
         i: usize,
         wait: bool,
+        saver: &ChunkSaver,
         existing: &(impl Fn(usize) + Sync),
         compute: &(impl Fn(usize) -> anyhow::Result<Option<T>> + Sync),
         content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
@@ -732,6 +738,8 @@ impl Run<'_> {
         if self.cancelled() {
             return Ok(Step::Cancelled);
         }
+        // a chunk that could not be written ends the run: computing more would be in vain
+        saver.healthy()?;
         if let Ok(Some(_)) = work.read_chunk::<T>(i, n, |v| content(i, v)) {
             existing(i);
             return Ok(Step::Existing);
@@ -772,9 +780,11 @@ impl Run<'_> {
             // a chunk cut short by a cancel is not a chunk
             return Ok(Step::Cancelled);
         }
-        work.save_chunk(i, n, &value, started.elapsed().as_secs_f64())
+        let bytes = work
+            .encode_chunk(i, n, &value, started.elapsed().as_secs_f64())
             .with_context(at_chunk)?;
-        drop(claim);
+        // written by the saver's thread, which releases the claim then
+        work.save_chunk(saver, i, bytes, claim, at_chunk());
         Ok(Step::Computed)
     }
 
@@ -785,22 +795,24 @@ impl Run<'_> {
         content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
     ) -> anyhow::Result<(f64, Vec<usize>)> {
         let (work, n) = (self.work, self.chunks);
-        let mut seconds = 0.0;
-        let mut missing = Vec::new();
-        for i in 0..n {
-            match work.read_chunk::<T>(i, n, |v| content(i, v)) {
-                Ok(Some(d)) => seconds += d.seconds,
-                Ok(None) => missing.push(i),
+        // each chunk's seconds, or None if it is missing (read side by side)
+        let checked: Vec<Option<f64>> = (0..n)
+            .into_par_iter()
+            .map(|i| match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+                Ok(Some(d)) => Ok(Some(d.seconds)),
+                Ok(None) => Ok(None),
                 Err(_) => {
                     if let Some(_claim) = work.try_claim(i)?
                         && let Err(why) = work.read_chunk::<T>(i, n, |v| content(i, v))
                     {
                         work.reject(i, &why);
                     }
-                    missing.push(i);
+                    Ok(None)
                 }
-            }
-        }
+            })
+            .collect::<anyhow::Result<_>>()?;
+        let seconds = checked.iter().flatten().sum();
+        let missing = (0..n).filter(|&i| checked[i].is_none()).collect();
         Ok((seconds, missing))
     }
 

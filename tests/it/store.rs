@@ -757,7 +757,7 @@ fn a_non_finite_number_never_reaches_a_chunk() {
     std::fs::create_dir_all(&paths.dir).unwrap();
     let work = isola::session::store::Work::join(&paths, &fingerprint).unwrap();
     let e = work
-        .save_chunk(0, 1, &vec![1.0, f64::NAN], 0.0)
+        .encode_chunk(0, 1, &vec![1.0, f64::NAN], 0.0)
         .unwrap_err()
         .to_string();
     assert!(e.contains("[1] is NaN"), "{e}");

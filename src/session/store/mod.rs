@@ -22,6 +22,7 @@ pub mod copy;
 pub mod finite;
 pub mod lock;
 pub mod manifest;
+pub mod saver;
 pub mod survey;
 
 use std::path::{Path, PathBuf};
@@ -30,6 +31,7 @@ use std::time::Duration;
 use chunk::{ChunkError, ChunkId, Decoded, Payload};
 use lock::{Lock, Mode};
 use manifest::{Manifest, StoredFile, Unverified};
+use saver::ChunkSaver;
 
 /// Where analysis `name`'s files live.
 #[derive(Debug, Clone)]
@@ -216,22 +218,30 @@ impl Work {
         }
     }
 
-    /// Saves chunk `i` atomically (call with its claim held); `Err` names the non-finite number
+    /// Chunk `i`'s file contents, for [`Self::save_chunk`]; `Err` names the non-finite number
     /// a chunk may not hold.
-    pub fn save_chunk<T: Payload>(
+    pub fn encode_chunk<T: Payload>(
         &self,
         i: usize,
         chunks: usize,
         value: &T,
         seconds: f64,
-    ) -> anyhow::Result<()> {
-        let bytes = chunk::encode(&self.id(i, chunks), value, seconds)
-            .map_err(|found| anyhow::anyhow!("{found}"))?;
-        super::atomic::remove_stale_temporaries(&self.dir, &format!("{i:06}"), Duration::ZERO);
-        let path = self.chunk_path(i);
-        super::atomic::write_atomic(&path, &bytes).map_err(io_at(&path))?;
-        tracing::debug!(file = %path.display(), "chunk saved");
-        Ok(())
+    ) -> anyhow::Result<Vec<u8>> {
+        chunk::encode(&self.id(i, chunks), value, seconds)
+            .map_err(|found| anyhow::anyhow!("{found}"))
+    }
+
+    /// Queues chunk `i`'s file on `saver`, to be written atomically under `claim`, which is
+    /// released once it is; `context` names the chunk in an error.
+    pub fn save_chunk(
+        &self,
+        saver: &ChunkSaver,
+        i: usize,
+        bytes: Vec<u8>,
+        claim: Lock,
+        context: String,
+    ) {
+        saver.save(self.chunk_path(i), bytes, claim, context);
     }
 
     /// Waits for the right to assemble the result; `None` if cancelled.
