@@ -644,7 +644,7 @@ impl Run<'_> {
         // a chunk that is good when computed but fails when loaded (damaged meanwhile) sends
         // the run round again; a file system that damages everything ends in an error
         for _round in 0..3 {
-            let saver = ChunkSaver::start()?;
+            let saver = ChunkSaver::start(&self.work.dir)?;
             let one = |i: usize, wait: bool| -> anyhow::Result<Step> {
                 self.one_chunk(i, wait, &saver, &existing, &compute, &content, &describe)
             };

@@ -7,14 +7,11 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::Duration;
 
 use anyhow::Context;
 
 use super::lock::Lock;
-use crate::session::atomic::{
-    folder_of, remove_stale_temporaries, sync_dir, write_atomic_unsynced,
-};
+use crate::session::atomic::{folder_of, is_temporary_of, sync_dir, write_atomic_unsynced};
 
 /// One chunk's file to write, and the claim that keeps other runs off the chunk until it is
 /// written.
@@ -38,8 +35,20 @@ pub struct ChunkSaver {
 }
 
 impl ChunkSaver {
-    /// Starts the writing thread.
-    pub fn start() -> anyhow::Result<Self> {
+    /// Starts the writing thread for the chunks of folder `dir`. The temporaries found there
+    /// now were left by killed writers; each is removed before its chunk is written (under
+    /// the chunk's claim, so that no live writer's is), and the folder is read only this once
+    /// (reading it for every chunk took seconds for the 1 957 chunks of a 1001 × 1001 basin).
+    pub fn start(dir: &Path) -> anyhow::Result<Self> {
+        let mut leftovers: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .map(|e| e.path())
+                    .filter(|p| is_temporary(p))
+                    .collect()
+            })
+            .unwrap_or_default();
         let (jobs, received) = channel::<Job>();
         let failure: Arc<Mutex<Option<anyhow::Error>>> = Arc::default();
         let failed = Arc::clone(&failure);
@@ -52,6 +61,7 @@ impl ChunkSaver {
                     let batch: Vec<Job> =
                         std::iter::once(first).chain(received.try_iter()).collect();
                     for job in &batch {
+                        remove_leftovers(&mut leftovers, &job.path);
                         if let Err(e) = write(job) {
                             failed
                                 .lock()
@@ -123,15 +133,33 @@ impl Drop for ChunkSaver {
     }
 }
 
-/// One chunk's file, atomically but for its folder's fsync, after any temporaries a killed
-/// writer of it left.
-fn write(job: &Job) -> anyhow::Result<()> {
-    let stem = job
-        .path
+/// True for the name of a temporary that [`crate::session::atomic::write_atomic`] makes.
+fn is_temporary(path: &Path) -> bool {
+    path.file_name()
+        .map(|n| n.to_string_lossy())
+        .is_some_and(|n| n.starts_with('.') && n.ends_with(".tmp"))
+}
+
+/// Removes the temporaries among `leftovers` of the file `path` (and forgets them).
+fn remove_leftovers(leftovers: &mut Vec<PathBuf>, path: &Path) {
+    let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    remove_stale_temporaries(folder_of(&job.path), &stem, Duration::ZERO);
+    leftovers.retain(|tmp| {
+        let name = tmp.file_name().map(|n| n.to_string_lossy().into_owned());
+        if !name.is_some_and(|n| is_temporary_of(&n, &stem)) {
+            return true;
+        }
+        if std::fs::remove_file(tmp).is_ok() {
+            tracing::info!(file = %tmp.display(), "stale temporary removed");
+        }
+        false
+    });
+}
+
+/// One chunk's file, atomically but for its folder's fsync.
+fn write(job: &Job) -> anyhow::Result<()> {
     write_atomic_unsynced(&job.path, &job.bytes)
         .map_err(|e| anyhow::anyhow!("{}: {e}", job.path.display()))
         .with_context(|| job.context.clone())?;
@@ -151,11 +179,14 @@ mod tests {
     }
 
     /// Every queued chunk is on disk, whole, once `finish` returns, and its claim is free
-    /// again.
+    /// again; a killed writer's temporary of a chunk written is gone, another chunk's kept.
     #[test]
     fn chunks_are_written_whole_and_their_claims_released() {
         let dir = tempfile::tempdir().unwrap();
-        let saver = ChunkSaver::start().unwrap();
+        let leftover = |i: usize| dir.path().join(format!(".{i:06}.json.Xy12ab.tmp"));
+        std::fs::write(leftover(3), "half a chunk").unwrap();
+        std::fs::write(leftover(99), "half a chunk").unwrap();
+        let saver = ChunkSaver::start(dir.path()).unwrap();
         for i in 0..20 {
             let bytes = format!("chunk {i}\n").repeat(1000).into_bytes();
             let path = dir.path().join(format!("{i:06}.json"));
@@ -172,7 +203,7 @@ mod tests {
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .filter(|n| n.ends_with(".tmp"))
             .collect();
-        assert!(names.is_empty(), "{names:?}");
+        assert_eq!(names, [".000099.json.Xy12ab.tmp"]);
     }
 
     /// A chunk that cannot be written is an error naming it and its file, seen by the
@@ -180,7 +211,7 @@ mod tests {
     #[test]
     fn a_chunk_that_cannot_be_written_is_an_error_naming_it() {
         let dir = tempfile::tempdir().unwrap();
-        let saver = ChunkSaver::start().unwrap();
+        let saver = ChunkSaver::start(dir.path()).unwrap();
         saver.healthy().unwrap();
         let gone = dir.path().join("gone").join("000003.json");
         saver.save(
@@ -192,7 +223,7 @@ mod tests {
         let started = std::time::Instant::now();
         while saver.healthy().is_ok() {
             assert!(started.elapsed().as_secs() < 60, "no failure seen");
-            std::thread::sleep(Duration::from_millis(1));
+            std::thread::sleep(std::time::Duration::from_millis(1));
         }
         let e = format!("{:#}", saver.finish().unwrap_err());
         assert!(
