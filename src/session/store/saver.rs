@@ -25,9 +25,9 @@ struct Job {
 }
 
 /// Writes chunk files atomically ([`crate::session::atomic::write_atomic`]) in the order
-/// given, each claim released once its file is in place and its name durable. The first failure is kept:
-/// [`Self::healthy`] reports it to the threads computing, so that they stop, and
-/// [`Self::finish`] returns it.
+/// given, each claim released once its file is in place and its name durable. The first
+/// failure is kept: [`Self::healthy`] reports it to the threads computing, so that they stop,
+/// and [`Self::finish`] returns it.
 pub struct ChunkSaver {
     jobs: Option<Sender<Job>>,
     thread: Option<JoinHandle<()>>,
