@@ -17,7 +17,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 /// The folder `path` is in.
-pub fn folder_of(path: &Path) -> &Path {
+fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -61,13 +61,18 @@ pub fn sync_dir(dir: &Path) {
     }
 }
 
+/// True for the name of a temporary that [`write_atomic`] makes (`.NAME.XXXXXX.tmp`).
+pub fn is_temporary(file_name: &str) -> bool {
+    file_name.starts_with('.') && file_name.ends_with(".tmp")
+}
+
 /// True for the name of a temporary that [`write_atomic`] makes for a file whose name starts
 /// with `stem` (`stem` = `basin` matches `.basin.csv.XXXXXX.tmp`).
 pub fn is_temporary_of(file_name: &str, stem: &str) -> bool {
-    file_name
-        .strip_prefix('.')
-        .and_then(|rest| rest.strip_prefix(stem))
-        .is_some_and(|rest| rest.starts_with('.') && rest.ends_with(".tmp"))
+    is_temporary(file_name)
+        && file_name[1..]
+            .strip_prefix(stem)
+            .is_some_and(|rest| rest.starts_with('.'))
 }
 
 /// Removes the temporaries of files named `stem…` in `dir` that were last written more than

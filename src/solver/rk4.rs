@@ -447,11 +447,11 @@ impl Rk4 {
             if hs <= 0.0 {
                 return y;
             }
-            let ends = (drive.phi_sq(t), drive.phi_sq(t + hs));
-            let start = (y, accel(y, ends.0, mode));
-            let y1 = step(start, t, hs, mode);
-            let end = (y1, accel(y1, ends.1, mode));
+            // the drive at both ends, with its rates for locating a switch
             let drive_ends = [drive.phi_sq_with_rate(t), drive.phi_sq_with_rate(t + hs)];
+            let start = (y, accel(y, drive_ends[0].0, mode));
+            let y1 = step(start, t, hs, mode);
+            let end = (y1, accel(y1, drive_ends[1].0, mode));
             match self.first_switch(drive, drive_ends, start, end, t, hs, mode) {
                 None => return y1,
                 Some(switch) => {

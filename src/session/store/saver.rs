@@ -11,7 +11,7 @@ use std::thread::JoinHandle;
 use anyhow::Context;
 
 use super::lock::Lock;
-use crate::session::atomic::{folder_of, is_temporary_of, sync_dir, write_atomic_unsynced};
+use crate::session::atomic::{is_temporary, is_temporary_of, sync_dir, write_atomic_unsynced};
 
 /// One chunk's file to write, and the claim that keeps other runs off the chunk until it is
 /// written.
@@ -44,11 +44,12 @@ impl ChunkSaver {
             .map(|entries| {
                 entries
                     .flatten()
+                    .filter(|e| is_temporary(&e.file_name().to_string_lossy()))
                     .map(|e| e.path())
-                    .filter(|p| is_temporary(p))
                     .collect()
             })
             .unwrap_or_default();
+        let dir = dir.to_path_buf();
         let (jobs, received) = channel::<Job>();
         let failure: Arc<Mutex<Option<anyhow::Error>>> = Arc::default();
         let failed = Arc::clone(&failure);
@@ -69,10 +70,7 @@ impl ChunkSaver {
                                 .get_or_insert(e);
                         }
                     }
-                    let mut folders: Vec<&Path> =
-                        batch.iter().map(|j| folder_of(&j.path)).collect();
-                    folders.dedup();
-                    folders.into_iter().for_each(sync_dir);
+                    sync_dir(&dir);
                     // the claims go
                     drop(batch);
                 }
@@ -85,7 +83,8 @@ impl ChunkSaver {
         })
     }
 
-    /// Queues chunk file `path`, written under `claim`; `context` names the chunk in an error.
+    /// Queues chunk file `path` (in the saver's folder), written under `claim`; `context`
+    /// names the chunk in an error.
     pub fn save(&self, path: PathBuf, bytes: Vec<u8>, claim: Lock, context: String) {
         let job = Job {
             path,
@@ -133,13 +132,6 @@ impl Drop for ChunkSaver {
     }
 }
 
-/// True for the name of a temporary that [`crate::session::atomic::write_atomic`] makes.
-fn is_temporary(path: &Path) -> bool {
-    path.file_name()
-        .map(|n| n.to_string_lossy())
-        .is_some_and(|n| n.starts_with('.') && n.ends_with(".tmp"))
-}
-
 /// Removes the temporaries among `leftovers` of the file `path` (and forgets them).
 fn remove_leftovers(leftovers: &mut Vec<PathBuf>, path: &Path) {
     let stem = path
@@ -165,71 +157,4 @@ fn write(job: &Job) -> anyhow::Result<()> {
         .with_context(|| job.context.clone())?;
     tracing::debug!(file = %job.path.display(), "chunk saved");
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::session::store::lock::Mode;
-
-    fn claim(dir: &Path, i: usize) -> Lock {
-        Lock::try_acquire(&dir.join(format!("{i:06}.claim")), Mode::Exclusive)
-            .unwrap()
-            .expect("free")
-    }
-
-    /// Every queued chunk is on disk, whole, once `finish` returns, and its claim is free
-    /// again; a killed writer's temporary of a chunk written is gone, another chunk's kept.
-    #[test]
-    fn chunks_are_written_whole_and_their_claims_released() {
-        let dir = tempfile::tempdir().unwrap();
-        let leftover = |i: usize| dir.path().join(format!(".{i:06}.json.Xy12ab.tmp"));
-        std::fs::write(leftover(3), "half a chunk").unwrap();
-        std::fs::write(leftover(99), "half a chunk").unwrap();
-        let saver = ChunkSaver::start(dir.path()).unwrap();
-        for i in 0..20 {
-            let bytes = format!("chunk {i}\n").repeat(1000).into_bytes();
-            let path = dir.path().join(format!("{i:06}.json"));
-            saver.save(path, bytes, claim(dir.path(), i), format!("chunk {i}"));
-        }
-        saver.finish().unwrap();
-        for i in 0..20 {
-            let text = std::fs::read_to_string(dir.path().join(format!("{i:06}.json"))).unwrap();
-            assert_eq!(text, format!("chunk {i}\n").repeat(1000));
-            claim(dir.path(), i);
-        }
-        let names: Vec<String> = std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".tmp"))
-            .collect();
-        assert_eq!(names, [".000099.json.Xy12ab.tmp"]);
-    }
-
-    /// A chunk that cannot be written is an error naming it and its file, seen by the
-    /// threads still computing and returned by `finish`; its claim is released all the same.
-    #[test]
-    fn a_chunk_that_cannot_be_written_is_an_error_naming_it() {
-        let dir = tempfile::tempdir().unwrap();
-        let saver = ChunkSaver::start(dir.path()).unwrap();
-        saver.healthy().unwrap();
-        let gone = dir.path().join("gone").join("000003.json");
-        saver.save(
-            gone,
-            b"x".to_vec(),
-            claim(dir.path(), 3),
-            "basin, chunk 3".into(),
-        );
-        let started = std::time::Instant::now();
-        while saver.healthy().is_ok() {
-            assert!(started.elapsed().as_secs() < 60, "no failure seen");
-            std::thread::sleep(std::time::Duration::from_millis(1));
-        }
-        let e = format!("{:#}", saver.finish().unwrap_err());
-        assert!(
-            e.contains("basin, chunk 3") && e.contains("000003.json"),
-            "{e}"
-        );
-        claim(dir.path(), 3);
-    }
 }

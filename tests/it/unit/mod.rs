@@ -55,6 +55,7 @@ mod session {
         mod finite;
         mod lock;
         mod manifest;
+        mod saver;
     }
 }
 mod solver {
