@@ -406,13 +406,9 @@ impl Rk4 {
         let drive = self.table.step_start(k);
         let drive_ends = self.table.step_ends(k);
         let phi_end = self.table.at(2 * k + 2);
-        let end_of = |end: [f64; 2]| {
-            let (a, mode) = f.accel(end[0], end[1], phi_end.0, phi_end.1);
-            (end, a, mode)
-        };
         let first = self.first_switch(drive, drive_ends, (start, a0), unsplit, 0.0, h, mode0);
         let Some(switch) = first else {
-            return end_of(self.split_from(drive, start, 0.0, h, mode0));
+            return self.end_of(self.split_from(drive, start, 0.0, h, mode0), phi_end);
         };
         let s = switch.at;
         let phi_s = drive.phi_sq(s);
@@ -420,28 +416,30 @@ impl Rk4 {
         let mode1 = mode0.flipped(switch.membrane);
         let a_switch = f.accel_in_mode(at_switch[0], at_switch[1], phi_s.0, phi_s.1, mode1);
         let phi_mid = drive.phi_sq(0.5 * (s + h));
-        let end = end_of(self.step_in_mode((at_switch, a_switch), h - s, phi_mid, phi_end, mode1));
+        let end = self.step_in_mode((at_switch, a_switch), h - s, phi_mid, phi_end, mode1);
+        let end = self.end_of(end, phi_end);
         if end.2 == mode1 {
             end
         } else {
-            end_of(self.split_from(drive, at_switch, s, h, mode1))
+            self.end_of(self.split_from(drive, at_switch, s, h, mode1), phi_end)
         }
     }
 
+    /// A split step's end: its state, with the acceleration and mode there under the
+    /// step's end drive `phi_end`.
+    #[inline(always)]
+    fn end_of(&self, end: [f64; 2], (pi, pii): (f64, f64)) -> StepEnd3 {
+        let (a, mode) = self.field.accel(end[0], end[1], pi, pii);
+        (end, a, mode)
+    }
+
     /// The careful split: from time `t` of a step of length `h`, take trial steps on the
-    /// current piece, locate the first switch on each, and go on from it.
+    /// current piece, locate the first switch on each, and go on from it. (No closures here
+    /// or in what it calls: a closure is compiled on its own, without the instruction set of
+    /// the step it serves, where it is not inlined.)
     #[inline(always)]
     fn split_from(&self, drive: &LocalDrive, y: [f64; 2], t: f64, h: f64, mode: Mode) -> [f64; 2] {
-        let f = &self.field;
         let (mut y, mut t, mut mode) = (y, t, mode);
-        let accel = |y: [f64; 2], (pi, pii): (f64, f64), mode: Mode| {
-            f.accel_in_mode(y[0], y[1], pi, pii, mode)
-        };
-        // RK4 from time t over hs on the piece `mode`, from y with acceleration a
-        let step = |(y, a): ([f64; 2], f64), t: f64, hs: f64, mode: Mode| {
-            let (mid, end) = (drive.phi_sq(t + 0.5 * hs), drive.phi_sq(t + hs));
-            self.step_in_mode((y, a), hs, mid, end, mode)
-        };
         for _ in 0..MAX_SWITCHES_PER_STEP {
             let hs = h - t;
             if hs <= 0.0 {
@@ -449,13 +447,13 @@ impl Rk4 {
             }
             // the drive at both ends, with its rates for locating a switch
             let drive_ends = [drive.phi_sq_with_rate(t), drive.phi_sq_with_rate(t + hs)];
-            let start = (y, accel(y, drive_ends[0].0, mode));
-            let y1 = step(start, t, hs, mode);
-            let end = (y1, accel(y1, drive_ends[1].0, mode));
+            let start = (y, self.accel_on(y, drive_ends[0].0, mode));
+            let y1 = self.sub_step(drive, start, t, hs, mode);
+            let end = (y1, self.accel_on(y1, drive_ends[1].0, mode));
             match self.first_switch(drive, drive_ends, start, end, t, hs, mode) {
                 None => return y1,
                 Some(switch) => {
-                    y = step(start, t, switch.at, mode);
+                    y = self.sub_step(drive, start, t, switch.at, mode);
                     t += switch.at;
                     mode = mode.flipped(switch.membrane);
                 }
@@ -463,9 +461,31 @@ impl Rk4 {
         }
         let hs = h - t;
         if hs > 0.0 {
-            y = step((y, accel(y, drive.phi_sq(t), mode)), t, hs, mode);
+            let start = (y, self.accel_on(y, drive.phi_sq(t), mode));
+            y = self.sub_step(drive, start, t, hs, mode);
         }
         y
+    }
+
+    /// The acceleration at `y` under drive (φ_I², φ_II²) on the piece `mode`.
+    #[inline(always)]
+    fn accel_on(&self, y: [f64; 2], (pi, pii): (f64, f64), mode: Mode) -> f64 {
+        self.field.accel_in_mode(y[0], y[1], pi, pii, mode)
+    }
+
+    /// RK4 on the piece `mode` over `hs` from `t` within a step (the drive anchored at the
+    /// step's start), from `y` with acceleration `a`.
+    #[inline(always)]
+    fn sub_step(
+        &self,
+        drive: &LocalDrive,
+        (y, a): ([f64; 2], f64),
+        t: f64,
+        hs: f64,
+        mode: Mode,
+    ) -> [f64; 2] {
+        let (mid, end) = (drive.phi_sq(t + 0.5 * hs), drive.phi_sq(t + hs));
+        self.step_in_mode((y, a), hs, mid, end, mode)
     }
 
     /// Both membranes' switching functions at a state, positive while `mode` holds (each
@@ -529,12 +549,10 @@ impl Rk4 {
         h: f64,
         mode: Mode,
     ) -> Option<Switch> {
-        let ([x0, v0], [x1, v1]) = (y0, y1);
-        // the switching functions along the interpolant
-        let along = |s: f64| {
-            let x = hermite::value(x0, v0, x1, v1, h, s);
-            let v = hermite::value(v0, a0, v1, a1, h, s);
-            self.switching([x, v], drive.phi_sq(t0 + s * h), mode)
+        let step = Interpolant {
+            ends: [(y0, a0), (y1, a1)],
+            t0,
+            h,
         };
         let negative = |g: [f64; 2]| g[0] < 0.0 || g[1] < 0.0;
         // usually the end of the step already shows the switch
@@ -554,7 +572,7 @@ impl Rk4 {
             let mut found = None;
             for j in 1..SWITCH_SCAN_POINTS {
                 let s = j as f64 / SWITCH_SCAN_POINTS as f64;
-                let g = along(s);
+                let g = self.switching_along(drive, &step, mode, s);
                 if negative(g) {
                     found = Some((s_prev, s, g_prev, g));
                     break;
@@ -562,10 +580,14 @@ impl Rk4 {
                 (s_prev, g_prev) = (s, g);
             }
             let (lo, hi, g_lo, g_hi) = found?;
-            let root = |m: usize| {
-                (g_hi[m] < 0.0).then(|| crossing(|s| along(s)[m], (lo, g_lo[m]), (hi, g_hi[m])))
-            };
-            (root(0), root(1))
+            let mut roots = [None; 2];
+            for (m, root) in roots.iter_mut().enumerate() {
+                if g_hi[m] < 0.0 {
+                    let (lo, hi) = ((lo, g_lo[m]), (hi, g_hi[m]));
+                    *root = Some(self.crossing(drive, &step, mode, m, lo, hi));
+                }
+            }
+            (roots[0], roots[1])
         };
         let (s_root, membrane) = match (s_root_i, s_root_ii) {
             (Some(a), Some(b)) if b < a => (b, Membrane::Ii),
@@ -578,6 +600,76 @@ impl Rk4 {
             membrane,
         })
     }
+
+    /// Both switching functions (as [`Self::switching`]) at the fraction `s` of `step`, on
+    /// the state's cubic Hermite interpolant.
+    #[inline(always)]
+    fn switching_along(
+        &self,
+        drive: &LocalDrive,
+        step: &Interpolant,
+        mode: Mode,
+        s: f64,
+    ) -> [f64; 2] {
+        let [([x0, v0], a0), ([x1, v1], a1)] = step.ends;
+        let x = hermite::value(x0, v0, x1, v1, step.h, s);
+        let v = hermite::value(v0, a0, v1, a1, step.h, s);
+        self.switching([x, v], drive.phi_sq(step.t0 + s * step.h), mode)
+    }
+
+    /// The point where membrane `m`'s switching function along `step` turns negative in
+    /// (lo, hi], from its values there, g(hi) < 0 (if g(lo) < 0 too, lo itself): regula falsi
+    /// with the Anderson–Björck correction, stopped when successive estimates agree to
+    /// [`SWITCH_TOLERANCE`] of the step. A switch misplaced by δ costs only O(δ²), and the
+    /// interpolant itself is good to O(h³), so more digits would buy nothing.
+    #[inline(always)]
+    fn crossing(
+        &self,
+        drive: &LocalDrive,
+        step: &Interpolant,
+        mode: Mode,
+        m: usize,
+        (lo, g_lo): (f64, f64),
+        (hi, g_hi): (f64, f64),
+    ) -> f64 {
+        let (mut a, mut b) = (lo, hi);
+        let (mut ga, mut gb) = (g_lo, g_hi);
+        if ga < 0.0 {
+            return a;
+        }
+        let mut last = f64::NAN;
+        for _ in 0..60 {
+            let c = (a * gb - b * ga) / (gb - ga);
+            let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+            if (c - last).abs() < SWITCH_TOLERANCE || b - a < SWITCH_TOLERANCE {
+                return c;
+            }
+            last = c;
+            let gc = self.switching_along(drive, step, mode, c)[m];
+            if gc < 0.0 {
+                // the root is in (a, c): keep a, scale its value if it was kept before
+                let k = 1.0 - gc / gb;
+                b = c;
+                gb = gc;
+                ga *= if k > 0.0 { k } else { 0.5 };
+            } else {
+                let k = 1.0 - gc / ga;
+                a = c;
+                ga = gc;
+                gb *= if k > 0.0 { k } else { 0.5 };
+            }
+        }
+        b
+    }
+}
+
+/// A (sub-)step's ends as (state, acceleration), from τ₀ + `t0` over `h`: its state's cubic
+/// Hermite interpolant.
+#[derive(Debug, Clone, Copy)]
+struct Interpolant {
+    ends: [([f64; 2], f64); 2],
+    t0: f64,
+    h: f64,
 }
 
 /// One end of a step for [`Rk4::end_switch`]: state, acceleration, the drive's (φ_I², φ_II²)
@@ -611,39 +703,3 @@ pub struct StepEnds<const L: usize> {
 /// integrator is compiled once per lane count, not once per caller).
 pub type Observer<'a, const L: usize> =
     Option<&'a mut dyn FnMut(usize, &StepEnds<L>, &StepEnds<L>)>;
-
-/// The point where `g` turns negative in (lo, hi], from g(lo) and g(hi) < 0 (if g(lo) < 0
-/// too, lo itself): regula falsi with the Anderson–Björck correction, stopped when successive
-/// estimates agree to [`SWITCH_TOLERANCE`] of the step. A switch misplaced by δ costs only
-/// O(δ²), and the interpolant itself is good to O(h³), so more digits would buy nothing.
-#[inline(always)]
-fn crossing(g: impl Fn(f64) -> f64, (lo, g_lo): (f64, f64), (hi, g_hi): (f64, f64)) -> f64 {
-    let (mut a, mut b) = (lo, hi);
-    let (mut ga, mut gb) = (g_lo, g_hi);
-    if ga < 0.0 {
-        return a;
-    }
-    let mut last = f64::NAN;
-    for _ in 0..60 {
-        let c = (a * gb - b * ga) / (gb - ga);
-        let c = if c > a && c < b { c } else { 0.5 * (a + b) };
-        if (c - last).abs() < SWITCH_TOLERANCE || b - a < SWITCH_TOLERANCE {
-            return c;
-        }
-        last = c;
-        let gc = g(c);
-        if gc < 0.0 {
-            // the root is in (a, c): keep a, scale its value if it was kept before
-            let m = 1.0 - gc / gb;
-            b = c;
-            gb = gc;
-            ga *= if m > 0.0 { m } else { 0.5 };
-        } else {
-            let m = 1.0 - gc / ga;
-            a = c;
-            ga = gc;
-            gb *= if m > 0.0 { m } else { 0.5 };
-        }
-    }
-    b
-}

@@ -19,6 +19,7 @@ use crate::model::Params;
 use crate::model::system::StateVec;
 use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::field::{Field, Membrane, Mode};
+use crate::solver::illinois::Illinois;
 use crate::solver::isa::{self, Isa};
 use crate::solver::{Collision, Tolerance};
 
@@ -220,9 +221,10 @@ impl VariationalFlow {
         ]
     }
 
-    /// Step length σ in (lo, hi] at which the quantity `g` of the stepped state first turns
-    /// negative (g(lo) ≥ 0 > g(hi)), by Illinois false position on real steps; returns the
-    /// negative side.
+    /// Step length σ in (lo, hi] at which the quantity `what` of the stepped state first
+    /// turns negative (g(lo) ≥ 0 > g(hi)), by Illinois false position on real steps; returns
+    /// the negative side. (No closure: one called in several places is compiled on its own,
+    /// without the instruction set of the orbit.)
     #[inline(always)]
     fn locate(
         &self,
@@ -231,16 +233,39 @@ impl VariationalFlow {
         k1: &Aug,
         mode: Mode,
         (mut lo, hi): (f64, f64),
-        g: impl Fn(f64, &Aug) -> f64,
+        what: Located,
     ) -> f64 {
-        let value = |s: f64| g(t + s, &self.step(t, y, k1, s, mode).0);
-        let (mut g_lo, g_hi) = (if lo > 0.0 { value(lo) } else { g(t, y) }, value(hi));
+        let mut g_lo = if lo > 0.0 {
+            self.value_after(what, t, y, k1, lo, mode)
+        } else {
+            self.located_value(what, t, y, mode)
+        };
+        let g_hi = self.value_after(what, t, y, k1, hi, mode);
         if g_lo < 0.0 {
             // the scan's interpolant was optimistic: search from the start of the step
             lo = 0.0;
-            g_lo = g(t, y).max(0.0);
+            g_lo = self.located_value(what, t, y, mode).max(0.0);
         }
-        crate::solver::illinois::illinois(t, (lo, hi), (g_lo, g_hi), value)
+        let mut search = Illinois::new(t, (lo, hi), (g_lo, g_hi));
+        while let Some(s) = search.probe() {
+            search.record(s, self.value_after(what, t, y, k1, s, mode));
+        }
+        search.root()
+    }
+
+    /// The quantity `what` at state `y` at τ = `t`.
+    #[inline(always)]
+    fn located_value(&self, what: Located, t: f64, y: &Aug, mode: Mode) -> f64 {
+        match what {
+            Located::Event(e) => self.event_values(t, y[0], y[1], mode)[e],
+            Located::Rate(sign) => sign * y[1],
+        }
+    }
+
+    /// The quantity `what` after a real step of length `s` from (`t`, `y`).
+    #[inline(always)]
+    fn value_after(&self, what: Located, t: f64, y: &Aug, k1: &Aug, s: f64, mode: Mode) -> f64 {
+        self.located_value(what, t + s, &self.step(t, y, k1, s, mode).0, mode)
     }
 
     /// Follows [λ_I, v] = `x0` from τ = 0 over `k` forcing periods with Φ(0) = I, in the
@@ -341,9 +366,9 @@ impl VariationalFlow {
                     let mut best = f64::INFINITY;
                     let mut which = event;
                     for e in 0..3 {
-                        let g = |tt: f64, yy: &Aug| self.event_values(tt, yy[0], yy[1], mode)[e];
-                        if g(t + b.1, &self.step(t, &y, &k1, b.1, mode).0) < 0.0 || e == event {
-                            let s = self.locate(t, &y, &k1, mode, b, g);
+                        let what = Located::Event(e);
+                        if self.value_after(what, t, &y, &k1, b.1, mode) < 0.0 || e == event {
+                            let s = self.locate(t, &y, &k1, mode, b, what);
                             if s < best {
                                 best = s;
                                 which = e;
@@ -357,7 +382,7 @@ impl VariationalFlow {
             // a turning point of λ_I inside the step: refine it on real steps
             if y[1] * y_new[1] < 0.0 {
                 let sign = y[1].signum();
-                let s = self.locate(t, &y, &k1, mode, (0.0, h_taken), |_, yy| sign * yy[1]);
+                let s = self.locate(t, &y, &k1, mode, (0.0, h_taken), Located::Rate(sign));
                 let xe = self.step(t, &y, &k1, s, mode).0[0];
                 out.lambda_min = out.lambda_min.min(xe);
                 out.lambda_max = out.lambda_max.max(xe);
@@ -409,6 +434,15 @@ impl VariationalFlow {
     pub fn map(&self, x0: [f64; 2], k: usize) -> Result<[f64; 2], Collision> {
         self.orbit(x0, k).map(|o| o.end.pair())
     }
+}
+
+/// What [`VariationalFlow::locate`] finds the first zero of along a step.
+#[derive(Debug, Clone, Copy)]
+enum Located {
+    /// Switching function `e` of [`VariationalFlow::event_values`].
+    Event(usize),
+    /// The velocity times this sign (a turning point of λ_I).
+    Rate(f64),
 }
 
 /// How Newton's method on the k-fold map is run.
