@@ -6,6 +6,11 @@
 //! every version (in hardware, or correctly rounded in software on a CPU without FMA), and
 //! nothing else differs, so every version computes the same bits.
 //!
+//! Only what is inlined into a version takes its instructions. A closure is a function of
+//! its own: one written in an `#[inline(always)]` body and not inlined (a large one, called
+//! in several places) is compiled for the baseline, and each `mul_add` in it is a call. Hot
+//! code reached from these versions is written as `#[inline(always)]` methods instead.
+//!
 //! `ISOLA_ISA` (`baseline`, `x86-64-v3` or `x86-64-v4`) chooses a narrower one, to compare
 //! them; one the CPU lacks is refused at start.
 
