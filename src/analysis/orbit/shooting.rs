@@ -338,17 +338,17 @@ impl VariationalFlow {
             let mut bracket = None;
             let mut event = 0;
             let mut s_prev = 0.0;
+            // the end first, while the drive there is the one the step's last stage computed
+            let g_end = self.event_values(t + hs, y1[0], y1[1], mode);
             for i in 1..=SCAN_POINTS {
                 let s = i as f64 / SCAN_POINTS as f64;
-                let (x, v) = if i == SCAN_POINTS {
-                    (y1[0], y1[1])
+                let g = if i == SCAN_POINTS {
+                    g_end
                 } else {
-                    (
-                        crate::solver::hermite::value(y[0], y[1], y1[0], y1[1], hs, s),
-                        crate::solver::hermite::value(y[1], k1[1], y1[1], k7[1], hs, s),
-                    )
+                    let x = crate::solver::hermite::value(y[0], y[1], y1[0], y1[1], hs, s);
+                    let v = crate::solver::hermite::value(y[1], k1[1], y1[1], k7[1], hs, s);
+                    self.event_values(t + s * hs, x, v, mode)
                 };
-                let g = self.event_values(t + s * hs, x, v, mode);
                 if let Some(idx) = (0..3)
                     .filter(|&e| g[e] < 0.0)
                     .min_by(|&a, &b| g[a].partial_cmp(&g[b]).unwrap_or(std::cmp::Ordering::Equal))
