@@ -50,7 +50,8 @@ impl Illinois {
         }
     }
 
-    /// Where to evaluate g next; `None` once the bracket is narrow enough.
+    /// Where to evaluate g next; `None` once the bracket is a few ulps wide or after
+    /// [`MAX_PROBES`] probes.
     #[inline(always)]
     pub fn probe(&self) -> Option<f64> {
         let (lo, hi) = (self.lo, self.hi);
