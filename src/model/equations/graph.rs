@@ -162,6 +162,8 @@ pub const MAX_SWITCHES: usize = 64;
 #[derive(Debug, Clone, Default)]
 pub struct Graph {
     nodes: Vec<Node>,
+    /// Whether each node depends on the time or a state (else the parameters fix it).
+    varies: Vec<bool>,
     index: HashMap<Key, NodeId>,
     pub switches: Vec<Switch>,
     derivatives: HashMap<(NodeId, Wrt), NodeId>,
@@ -195,7 +197,19 @@ impl Graph {
             return id;
         }
         let id = self.nodes.len() as NodeId;
+        let varies = match node {
+            Node::Const(_) | Node::Param(_) => false,
+            Node::Time | Node::State(_) => true,
+            Node::Un(_, a) | Node::Powi(a, _) => self.varies[a as usize],
+            Node::Bin(_, a, b) => self.varies[a as usize] || self.varies[b as usize],
+            Node::Select(k, a, b) => {
+                self.varies[a as usize]
+                    || self.varies[b as usize]
+                    || self.varies[self.switches[k as usize].value as usize]
+            }
+        };
         self.nodes.push(node);
+        self.varies.push(varies);
         self.index.insert(key, id);
         id
     }
@@ -256,6 +270,13 @@ impl Graph {
             (Op2::Mul | Op2::Div, _, Some(-1.0)) => self.neg(a),
             (Op2::Div, Some(0.0), _) => self.num(0.0),
             (Op2::Pow, _, Some(n)) if n == n.round() && n.abs() <= 16.0 => self.powi(a, n as i32),
+            // a varying quotient of a divisor the parameters fix: a product with the
+            // reciprocal, computed once per parameter set (a division off the field's chain)
+            (Op2::Div, _, _) if self.varies[a as usize] && !self.varies[b as usize] => {
+                let one = self.num(1.0);
+                let reciprocal = self.div(one, b);
+                self.mul(a, reciprocal)
+            }
             _ => self.intern(Node::Bin(op, a, b)),
         }
     }
@@ -476,22 +497,7 @@ impl Graph {
 
     /// Whether a node depends on the time or a state (else it is fixed by the parameters).
     pub fn varying(&self) -> Vec<bool> {
-        let mut out = Vec::with_capacity(self.nodes.len());
-        for node in &self.nodes {
-            let v = match *node {
-                Node::Const(_) | Node::Param(_) => false,
-                Node::Time | Node::State(_) => true,
-                Node::Un(_, a) | Node::Powi(a, _) => out[a as usize],
-                Node::Bin(_, a, b) => out[a as usize] || out[b as usize],
-                Node::Select(k, a, b) => {
-                    out[a as usize]
-                        || out[b as usize]
-                        || out[self.switches[k as usize].value as usize]
-                }
-            };
-            out.push(v);
-        }
-        out
+        self.varies.clone()
     }
 
     /// Whether every node repeats with the forcing period 2π/ω, ω being parameter `omega`:
