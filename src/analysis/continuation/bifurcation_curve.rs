@@ -322,7 +322,7 @@ impl<'a, M: Continuable> Curve<'a, M> {
         let mut along_second = DVector::zeros(n + 2);
         along_second[n + 1] = 1.0;
         let start = problem
-            .correct(guess, &along_second)
+            .correct(guess, &along_second, None)
             .map_err(|f| ContinuationError::Seed(f.into_shooting()))?;
         let t0 = problem
             .tangent(&start, &along_second)
@@ -413,14 +413,31 @@ impl<M: Continuable> Curve<'_, M> {
     /// Newton's method on [residual; t·(y − pred)] = 0 from the predictor, as a chord method:
     /// the Jacobian (nine orbits) is kept from one iterate to the next, so that an iteration
     /// integrates one orbit, while its steps at least halve; where one does not, the Jacobian
-    /// is evaluated afresh at that iterate. The Jacobian at the solution is evaluated in full,
-    /// for the tangent there. `iterations` counts the steps taken.
-    fn correct(&self, pred: DVector<f64>, t: &DVector<f64>) -> Result<Solved, Failure> {
+    /// is evaluated afresh at that iterate. The first Jacobian is `near`'s, a solved point's
+    /// close by (the one the predictor steps from), else the predictor's own. The Jacobian
+    /// at the solution is evaluated in full, for the tangent there. `iterations` counts the
+    /// steps taken.
+    fn correct(
+        &self,
+        pred: DVector<f64>,
+        t: &DVector<f64>,
+        near: Option<&Solved>,
+    ) -> Result<Solved, Failure> {
         let n = self.n;
         let tol = self.spec.shooting.newton_tol;
-        let mut s = self.evaluate(&pred, None)?;
+        let (mut s, mut fresh) = match near {
+            Some(near) => (
+                Solved {
+                    flow: self.flow(&pred)?,
+                    y: pred.clone(),
+                    jac: near.jac.clone(),
+                    iterations: 0,
+                },
+                false,
+            ),
+            None => (self.evaluate(&pred, None)?, true),
+        };
         let mut lu = bordered(&s.jac, t).lu();
-        let mut fresh = true;
         let mut last_step = f64::INFINITY;
         for it in 0..self.spec.shooting.max_iterations {
             let r = self.residual(&s.y, &s.flow);
@@ -529,7 +546,7 @@ impl<M: Continuable> Curve<'_, M> {
             if points.len() >= spec.max_points {
                 return Ok((points, extrema, BranchEnd::MaxPoints));
             }
-            let next = match self.correct(&prev.y + &t * h, &t) {
+            let next = match self.correct(&prev.y + &t * h, &t, Some(&prev)) {
                 Ok(s) => Some(s),
                 Err(Failure::Collision(c)) if h <= spec.step_min => {
                     return Ok((
@@ -604,7 +621,7 @@ impl<M: Continuable> Curve<'_, M> {
     /// tangent's component `c` driven to zero by false position on corrected points.
     fn extremum(&self, from: &Solved, t: &DVector<f64>, h: f64, of: Turning, c: usize) -> Extremum {
         let component = |sigma: f64| -> Option<(f64, Solved)> {
-            let s = self.correct(&from.y + t * sigma, t).ok()?;
+            let s = self.correct(&from.y + t * sigma, t, Some(from)).ok()?;
             let tn = self.tangent(&s, t)?;
             Some((tn[c], s))
         };
