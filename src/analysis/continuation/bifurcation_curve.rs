@@ -451,13 +451,18 @@ impl<M: Continuable> Curve<'_, M> {
             }
             let along = -dot(t, &(&s.y - &pred));
             let rhs = DVector::from_fn(n + 2, |i, _| if i <= n { -r[i] } else { along });
-            let mut dy = lu.solve(&rhs).ok_or(Failure::Diverged)?;
-            let finite = dy.iter().all(|v| v.is_finite());
-            if !fresh && (!finite || dy.amax() > 0.5 * last_step) {
+            let mut dy = lu.solve(&rhs);
+            // a kept Jacobian's step must at least halve the last (the first, from a
+            // neighbour's, must be one Newton would take): else the Jacobian here
+            let halving = |dy: &DVector<f64>| {
+                dy.iter().all(|v| v.is_finite()) && dy.amax() <= 0.5 * last_step.min(1.0)
+            };
+            if !fresh && !dy.as_ref().is_some_and(halving) {
                 s = self.evaluate(&s.y, Some(s.flow.clone()))?;
                 lu = bordered(&s.jac, t).lu();
-                dy = lu.solve(&rhs).ok_or(Failure::Diverged)?;
+                dy = lu.solve(&rhs);
             }
+            let dy = dy.ok_or(Failure::Diverged)?;
             if !dy.iter().all(|v| v.is_finite()) || dy.amax() > 0.5 {
                 return Err(Failure::Diverged);
             }
