@@ -222,9 +222,11 @@ impl VariationalFlow {
     }
 
     /// Step length σ in (lo, hi] at which the quantity `what` of the stepped state first
-    /// turns negative (g(lo) ≥ 0 > g(hi)), by Illinois false position on real steps; returns
-    /// the negative side. (No closure: one called in several places is compiled on its own,
-    /// without the instruction set of the orbit.)
+    /// turns negative (`g_lo` ≥ 0 > `g_hi`, the state after a step of `hi` being `y_hi`),
+    /// by Illinois false position on real steps; returns the negative side and the state
+    /// there. (No closure: one called in several places is compiled on its own, without the
+    /// instruction set of the orbit.)
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn locate(
         &self,
@@ -232,25 +234,26 @@ impl VariationalFlow {
         y: &Aug,
         k1: &Aug,
         mode: Mode,
-        (mut lo, hi): (f64, f64),
+        (mut lo, mut g_lo): (f64, f64),
+        (hi, g_hi, y_hi): (f64, f64, Aug),
         what: Located,
-    ) -> f64 {
-        let mut g_lo = if lo > 0.0 {
-            self.value_after(what, t, y, k1, lo, mode)
-        } else {
-            self.located_value(what, t, y, mode)
-        };
-        let g_hi = self.value_after(what, t, y, k1, hi, mode);
+    ) -> (f64, Aug) {
         if g_lo < 0.0 {
             // the scan's interpolant was optimistic: search from the start of the step
             lo = 0.0;
             g_lo = self.located_value(what, t, y, mode).max(0.0);
         }
         let mut search = Illinois::new(t, (lo, hi), (g_lo, g_hi));
+        let mut at_root = y_hi;
         while let Some(s) = search.probe() {
-            search.record(s, self.value_after(what, t, y, k1, s, mode));
+            let at = self.step(t, y, k1, s, mode).0;
+            let g = self.located_value(what, t + s, &at, mode);
+            if g < 0.0 {
+                at_root = at;
+            }
+            search.record(s, g);
         }
-        search.root()
+        (search.root(), at_root)
     }
 
     /// The quantity `what` at state `y` at τ = `t`.
@@ -260,12 +263,6 @@ impl VariationalFlow {
             Located::Event(e) => self.event_values(t, y[0], y[1], mode)[e],
             Located::Rate(sign) => sign * y[1],
         }
-    }
-
-    /// The quantity `what` after a real step of length `s` from (`t`, `y`).
-    #[inline(always)]
-    fn value_after(&self, what: Located, t: f64, y: &Aug, k1: &Aug, s: f64, mode: Mode) -> f64 {
-        self.located_value(what, t + s, &self.step(t, y, k1, s, mode).0, mode)
     }
 
     /// Follows [λ_I, v] = `x0` from τ = 0 over `k` forcing periods with Φ(0) = I, in the
@@ -361,29 +358,38 @@ impl VariationalFlow {
             }
             let (h_taken, y_new, crossed) = match bracket {
                 None => (hs, y1, false),
-                Some(b) => {
+                Some((lo, hi)) => {
+                    // the events at both ends of the bracket, on real steps, once for all
+                    let g_lo = if lo > 0.0 {
+                        let at = self.step(t, &y, &k1, lo, mode).0;
+                        self.event_values(t + lo, at[0], at[1], mode)
+                    } else {
+                        self.event_values(t, y[0], y[1], mode)
+                    };
+                    let y_hi = self.step(t, &y, &k1, hi, mode).0;
+                    let g_hi = self.event_values(t + hi, y_hi[0], y_hi[1], mode);
                     // locate the earliest of the events that fired within the bracket
-                    let mut best = f64::INFINITY;
+                    let mut best = (f64::INFINITY, y_hi);
                     let mut which = event;
                     for e in 0..3 {
-                        let what = Located::Event(e);
-                        if self.value_after(what, t, &y, &k1, b.1, mode) < 0.0 || e == event {
-                            let s = self.locate(t, &y, &k1, mode, b, what);
-                            if s < best {
-                                best = s;
+                        if g_hi[e] < 0.0 || e == event {
+                            let (lo, hi) = ((lo, g_lo[e]), (hi, g_hi[e], y_hi));
+                            let found = self.locate(t, &y, &k1, mode, lo, hi, Located::Event(e));
+                            if found.0 < best.0 {
+                                best = found;
                                 which = e;
                             }
                         }
                     }
                     event = which;
-                    (best, self.step(t, &y, &k1, best, mode).0, true)
+                    (best.0, best.1, true)
                 }
             };
             // a turning point of λ_I inside the step: refine it on real steps
             if y[1] * y_new[1] < 0.0 {
                 let sign = y[1].signum();
-                let s = self.locate(t, &y, &k1, mode, (0.0, h_taken), Located::Rate(sign));
-                let xe = self.step(t, &y, &k1, s, mode).0[0];
+                let (lo, hi) = ((0.0, sign * y[1]), (h_taken, sign * y_new[1], y_new));
+                let xe = self.locate(t, &y, &k1, mode, lo, hi, Located::Rate(sign)).1[0];
                 out.lambda_min = out.lambda_min.min(xe);
                 out.lambda_max = out.lambda_max.max(xe);
             }

@@ -496,8 +496,8 @@ impl Graph {
     }
 
     /// Whether a node depends on the time or a state (else it is fixed by the parameters).
-    pub fn varying(&self) -> Vec<bool> {
-        self.varies.clone()
+    pub fn varying(&self) -> &[bool] {
+        &self.varies
     }
 
     /// Whether every node repeats with the forcing period 2π/ω, ω being parameter `omega`:
