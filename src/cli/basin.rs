@@ -82,7 +82,7 @@ pub fn run(args: &BasinArgs, out: Output) -> anyhow::Result<()> {
     spec.validate()?;
     super::check_memory("basin", isola::analysis::cost::basin(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let result = ctx.run(|| basin(&params, &spec, &progress, &|_| {}))??;
     let mut done = Done {

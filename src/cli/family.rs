@@ -97,7 +97,7 @@ pub fn run(args: &FamilyArgs, out: Output) -> anyhow::Result<()> {
     spec.validate(&params)?;
     super::check_memory("family", isola::analysis::cost::family(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let name = args.vary.name();
     let members = ctx.run(|| {

@@ -116,7 +116,7 @@ fn view_of(
             eprintln!("{}: no current result, computing it", entry.name);
         }
         let progress = Arc::new(Progress::new(0));
-        let (ctx, _rx) = JobContext::<()>::new(threads, progress.clone())?;
+        let ctx = JobContext::new(threads, progress.clone())?;
         ctx.run(|| run_analysis(session, entry, isola::session::run::Shard::ALL, &progress))??;
     }
     current_view(session, entry)

@@ -204,7 +204,7 @@ pub fn run(args: &HuntArgs, out: Output) -> anyhow::Result<()> {
     super::parse::set_resolution(&mut spec, args.resolution)?;
     super::check_memory("hunt", isola::analysis::cost::hunt(&spec))?;
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     if let Some(parameter) = args.vary {
         let family = HuntFamilySpec {

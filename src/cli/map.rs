@@ -136,7 +136,7 @@ pub fn run(args: &MapArgs, out: Output) -> anyhow::Result<()> {
     spec.validate(&params)?;
     super::check_memory("map", isola::analysis::cost::map(&spec, params.omega()))?;
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let (rows, found) = ctx.run(|| map(&params, &spec, &progress))??;
     let curves = &found.curves;

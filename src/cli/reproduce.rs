@@ -36,7 +36,7 @@ struct ReproduceSummary {
 pub fn run(args: &ReproduceArgs, out: Output) -> anyhow::Result<()> {
     let mode = if args.quick { Mode::Quick } else { Mode::Full };
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let claims = ctx.run(|| {
         reproduce(mode, &progress, |c| {

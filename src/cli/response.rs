@@ -109,7 +109,7 @@ pub fn run(args: &ResponseArgs, out: Output) -> anyhow::Result<()> {
     spec.validate()?;
     super::check_memory("response", isola::analysis::cost::response(&spec, None))?;
     let progress = std::sync::Arc::new(Progress::new(0));
-    let (ctx, _partial) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     let started = Instant::now();
     let fr = ctx.run(|| frequency_response(&params, &spec, &progress))??;
     let mut done = Done {

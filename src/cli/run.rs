@@ -257,7 +257,7 @@ fn run_one(
 ) -> anyhow::Result<AnalysisRun> {
     let shard = args.shard.unwrap_or(Shard::ALL);
     let progress = Arc::new(Progress::new(0));
-    let (ctx, _rx) = JobContext::<()>::new(args.threads, progress.clone())?;
+    let ctx = JobContext::new(args.threads, progress.clone())?;
     // the reporter ends as soon as this sender is dropped, not at its next tick
     let (finished, run_ended) = mpsc::channel::<()>();
     let reporter = out

@@ -1,9 +1,9 @@
-//! Background jobs: each analysis runs on its own rayon pool, publishes progress and partial
-//! results, honours a cancel flag, and turns a worker's panic into an error of the job.
+//! Background jobs: each analysis runs on its own rayon pool, publishes its progress, honours
+//! a cancel flag, and turns a worker's panic into an error of the job. (Partial results reach
+//! a viewer through the results store's chunks, not through the job.)
 
 use std::panic::AssertUnwindSafe;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 
 pub use crate::analysis::Progress;
@@ -37,11 +37,10 @@ pub fn worker_count(threads: usize) -> Result<usize, JobError> {
     }
 }
 
-/// What a running analysis sees: its pool, its progress, and where to send partial results.
-pub struct JobContext<P> {
+/// What a running analysis sees: its pool and its progress.
+pub struct JobContext {
     pub pool: rayon::ThreadPool,
     pub progress: Arc<Progress>,
-    partial: Sender<P>,
 }
 
 /// How the workers share the machine with whoever else runs.
@@ -63,9 +62,9 @@ fn lower_this_thread() {
     }
 }
 
-impl<P> JobContext<P> {
+impl JobContext {
     /// A context with its own pool of `threads` workers (0: one per core).
-    pub fn new(threads: usize, progress: Arc<Progress>) -> Result<(Self, Receiver<P>), JobError> {
+    pub fn new(threads: usize, progress: Arc<Progress>) -> Result<Self, JobError> {
         Self::with_priority(threads, Priority::Normal, progress)
     }
 
@@ -74,7 +73,7 @@ impl<P> JobContext<P> {
         threads: usize,
         priority: Priority,
         progress: Arc<Progress>,
-    ) -> Result<(Self, Receiver<P>), JobError> {
+    ) -> Result<Self, JobError> {
         let mut builder = rayon::ThreadPoolBuilder::new()
             .num_threads(worker_count(threads)?)
             .thread_name(|i| format!("isola-worker-{i}"));
@@ -84,20 +83,7 @@ impl<P> JobContext<P> {
         let pool = builder
             .build()
             .map_err(|e| JobError::Failed(e.to_string()))?;
-        let (partial, rx) = channel();
-        Ok((
-            JobContext {
-                pool,
-                progress,
-                partial,
-            },
-            rx,
-        ))
-    }
-
-    /// Sends a partial result to the viewer (ignored if nobody listens).
-    pub fn publish(&self, p: P) {
-        let _ = self.partial.send(p);
+        Ok(JobContext { pool, progress })
     }
 
     /// Runs `f` on the pool; a panic anywhere in it becomes [`JobError::Panicked`].
@@ -123,17 +109,16 @@ impl<P> JobContext<P> {
 }
 
 /// A job running on a background thread.
-pub struct Job<T, P> {
+pub struct Job<T> {
     pub progress: Arc<Progress>,
-    pub partial: Receiver<P>,
     handle: JoinHandle<Result<T, JobError>>,
 }
 
-impl<T: Send + 'static, P: Send + 'static> Job<T, P> {
+impl<T: Send + 'static> Job<T> {
     /// Starts `work` on a new thread with a pool of `threads` workers.
     pub fn spawn(
         threads: usize,
-        work: impl FnOnce(&JobContext<P>) -> Result<T, JobError> + Send + 'static,
+        work: impl FnOnce(&JobContext) -> Result<T, JobError> + Send + 'static,
     ) -> Result<Self, JobError> {
         Self::spawn_with(threads, Priority::Normal, work)
     }
@@ -142,19 +127,15 @@ impl<T: Send + 'static, P: Send + 'static> Job<T, P> {
     pub fn spawn_with(
         threads: usize,
         priority: Priority,
-        work: impl FnOnce(&JobContext<P>) -> Result<T, JobError> + Send + 'static,
+        work: impl FnOnce(&JobContext) -> Result<T, JobError> + Send + 'static,
     ) -> Result<Self, JobError> {
         let progress = Arc::new(Progress::new(0));
-        let (ctx, partial) = JobContext::with_priority(threads, priority, progress.clone())?;
+        let ctx = JobContext::with_priority(threads, priority, progress.clone())?;
         let handle = std::thread::Builder::new()
             .name("isola-job".into())
             .spawn(move || ctx.run(|| work(&ctx)).and_then(|r| r))
             .map_err(|e| JobError::Failed(e.to_string()))?;
-        Ok(Job {
-            progress,
-            partial,
-            handle,
-        })
+        Ok(Job { progress, handle })
     }
 
     pub fn is_finished(&self) -> bool {

@@ -74,7 +74,7 @@ pub struct JobEntry {
     aside: bool,
     started: Option<Instant>,
     work: Option<Work>,
-    job: Option<Job<Output, ()>>,
+    job: Option<Job<Output>>,
     /// (time, done, open steps) samples of the last few seconds, for the rates.
     samples: Vec<(Instant, usize, usize)>,
 }
@@ -280,7 +280,7 @@ impl JobList {
 
 /// Workers run in the background, so that the UI thread gets a core the moment a key
 /// arrives; a preview (a few tens of milliseconds) runs ahead of them at normal priority.
-fn start(threads: usize, work: Work) -> Result<Job<Output, ()>, JobError> {
+fn start(threads: usize, work: Work) -> Result<Job<Output>, JobError> {
     let priority = match work {
         Work::Preview { .. } => Priority::Normal,
         _ => Priority::Background,

@@ -399,7 +399,7 @@ fn the_cycle_found_ahead_is_the_one_a_trajectory_converges_to() {
 #[test]
 fn basin_job_cancels_quickly_and_counts_to_total() {
     let p = Params::paper(0.6, 3.7).unwrap();
-    let job = Job::<Basin, ()>::spawn(2, move |ctx| {
+    let job = Job::<Basin>::spawn(2, move |ctx| {
         basin(&p, &BasinSpec::default(), &ctx.progress, &|_| {})
             .map_err(|e| JobError::Failed(e.to_string()))
     })

@@ -274,16 +274,6 @@ impl EquationModel {
     pub fn defaults(&self) -> Vec<f64> {
         self.inner.parameters.iter().map(|p| p.default).collect()
     }
-
-    /// Instructions per evaluation of the vector field (a measure of its cost).
-    pub fn field_cost(&self) -> usize {
-        self.inner.field_tape.len()
-    }
-
-    /// Number of switching functions the engine watches.
-    pub fn switch_count(&self) -> usize {
-        self.inner.field_tape.switch_mask.count_ones() as usize
-    }
 }
 
 /// An expression's key and text, for errors.

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 #[test]
 fn a_worker_panic_is_an_error_of_the_job() {
-    let job = Job::<usize, ()>::spawn(2, |ctx| {
+    let job = Job::<usize>::spawn(2, |ctx| {
         ctx.progress.grow_total(100);
         Ok((0..100usize)
             .into_par_iter()
@@ -26,7 +26,7 @@ fn a_worker_panic_is_an_error_of_the_job() {
 
 #[test]
 fn cancel_is_seen_by_the_work() {
-    let job = Job::<(), ()>::spawn(1, |ctx| {
+    let job = Job::<()>::spawn(1, |ctx| {
         loop {
             ctx.check_cancel()?;
             std::thread::sleep(std::time::Duration::from_millis(1));
