@@ -410,6 +410,17 @@ impl<M: Continuable> Curve<'_, M> {
         })
     }
 
+    /// The point `y` with its orbit integrated and the Jacobian `jac` kept from elsewhere (a
+    /// chord method's iterate).
+    fn with_jacobian(&self, y: DVector<f64>, jac: DMatrix<f64>) -> Result<Solved, Failure> {
+        Ok(Solved {
+            flow: self.flow(&y)?,
+            y,
+            jac,
+            iterations: 0,
+        })
+    }
+
     /// Newton's method on [residual; t·(y − pred)] = 0 from the predictor, as a chord method:
     /// the Jacobian (nine orbits) is kept from one iterate to the next, so that an iteration
     /// integrates one orbit, while its steps at least halve; where one does not, the Jacobian
@@ -426,19 +437,13 @@ impl<M: Continuable> Curve<'_, M> {
         let n = self.n;
         let tol = self.spec.shooting.newton_tol;
         let (mut s, mut fresh) = match near {
-            Some(near) => (
-                Solved {
-                    flow: self.flow(&pred)?,
-                    y: pred.clone(),
-                    jac: near.jac.clone(),
-                    iterations: 0,
-                },
-                false,
-            ),
+            Some(near) => (self.with_jacobian(pred.clone(), near.jac.clone())?, false),
             None => (self.evaluate(&pred, None)?, true),
         };
         let mut lu = bordered(&s.jac, t).lu();
-        let mut last_step = f64::INFINITY;
+        // the first step, from a neighbour's Jacobian, must be one Newton would take (at most
+        // 0.5, as below); each later kept Jacobian's must at least halve the one before
+        let mut last_step = 1.0f64;
         for it in 0..self.spec.shooting.max_iterations {
             let r = self.residual(&s.y, &s.flow);
             let state_residual = (0..n).fold(0.0f64, |m, i| m.max(r[i].abs()));
@@ -452,10 +457,9 @@ impl<M: Continuable> Curve<'_, M> {
             let along = -dot(t, &(&s.y - &pred));
             let rhs = DVector::from_fn(n + 2, |i, _| if i <= n { -r[i] } else { along });
             let mut dy = lu.solve(&rhs);
-            // a kept Jacobian's step must at least halve the last (the first, from a
-            // neighbour's, must be one Newton would take): else the Jacobian here
+            // a kept Jacobian's step that does not halve the last: the Jacobian here instead
             let halving = |dy: &DVector<f64>| {
-                dy.iter().all(|v| v.is_finite()) && dy.amax() <= 0.5 * last_step.min(1.0)
+                dy.iter().all(|v| v.is_finite()) && dy.amax() <= 0.5 * last_step
             };
             if !fresh && !dy.as_ref().is_some_and(halving) {
                 s = self.evaluate(&s.y, Some(s.flow.clone()))?;
@@ -467,13 +471,7 @@ impl<M: Continuable> Curve<'_, M> {
                 return Err(Failure::Diverged);
             }
             last_step = dy.amax();
-            let y = &s.y + dy;
-            s = Solved {
-                flow: self.flow(&y)?,
-                y,
-                jac: s.jac,
-                iterations: 0,
-            };
+            s = self.with_jacobian(&s.y + dy, s.jac)?;
             fresh = false;
         }
         Err(Failure::Diverged)

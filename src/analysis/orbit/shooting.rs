@@ -387,9 +387,11 @@ impl VariationalFlow {
             };
             // a turning point of λ_I inside the step: refine it on real steps
             if y[1] * y_new[1] < 0.0 {
-                let sign = y[1].signum();
-                let (lo, hi) = ((0.0, sign * y[1]), (h_taken, sign * y_new[1], y_new));
-                let xe = self.locate(t, &y, &k1, mode, lo, hi, Located::Rate(sign)).1[0];
+                let what = Located::Rate(y[1].signum());
+                let g_lo = self.located_value(what, t, &y, mode);
+                let g_hi = self.located_value(what, t + h_taken, &y_new, mode);
+                let (lo, hi) = ((0.0, g_lo), (h_taken, g_hi, y_new));
+                let xe = self.locate(t, &y, &k1, mode, lo, hi, what).1[0];
                 out.lambda_min = out.lambda_min.min(xe);
                 out.lambda_max = out.lambda_max.max(xe);
             }
