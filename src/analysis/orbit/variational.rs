@@ -46,6 +46,7 @@ pub fn period_flow<S: System>(
         mask: sys.switch_mask(),
         tol,
         jac: [[0.0; MAX_DIM]; MAX_DIM],
+        stages: vec![[0.0; AUG]; 7],
     };
     flow.orbit(&x0[..n], k)
 }
@@ -76,6 +77,8 @@ struct Flow<S: System> {
     tol: Tolerance,
     /// Scratch for the Jacobian.
     jac: [Vector; MAX_DIM],
+    /// Scratch for a step's seven stages.
+    stages: Vec<Aug>,
 }
 
 /// The state part of an augmented state, padded.
@@ -102,8 +105,10 @@ impl<S: System> Flow<S> {
                     .all(|r| r[..n].iter().all(|v| v.is_finite())))
     }
 
+    /// The augmented state's derivative at (t, y) on `mode` into `dy` (its entries in use;
+    /// the rest are left as they are).
     #[inline(always)]
-    fn deriv(&mut self, t: f64, y: &Aug, mode: Mode) -> Aug {
+    fn deriv(&mut self, t: f64, y: &Aug, mode: Mode, dy: &mut Aug) {
         let n = self.n;
         let x = state(y, n);
         let mut f = [0.0; MAX_DIM];
@@ -119,7 +124,6 @@ impl<S: System> Flow<S> {
                     .field_and_jacobian(t, &x, mode, &mut f, &mut self.jac);
             }
         }
-        let mut dy = [0.0; AUG];
         dy[..n].copy_from_slice(&f[..n]);
         for i in 0..n {
             for j in 0..n {
@@ -131,7 +135,6 @@ impl<S: System> Flow<S> {
             }
         }
         dy[n + n * n] = (0..n).map(|i| self.jac[i][i]).sum();
-        dy
     }
 
     /// The state part of [`Self::step`] alone (the state does not depend on Φ, so its bits
@@ -166,23 +169,32 @@ impl<S: System> Flow<S> {
     /// One Dormand–Prince step on `mode`: the new state, its derivative and the scaled error
     /// (of the state and Φ; infinite where a value is not finite).
     #[inline(always)]
-    fn step(&mut self, t: f64, y: &Aug, k1: &Aug, h: f64, mode: Mode) -> (Aug, Aug, f64) {
+    fn step(
+        &mut self,
+        t: f64,
+        [y, k1]: [&Aug; 2],
+        h: f64,
+        mode: Mode,
+        [end, end_rate]: [&mut Aug; 2],
+    ) -> f64 {
         let m = self.used();
-        let mut k = [[0.0; AUG]; 7];
-        k[0] = *k1;
-        let mut y1 = *y;
+        // only the entries in use are read or written: the stages are kept between steps
+        // (no 4 kB cleared at every step), and the rest of every state stays zero
+        let mut k = std::mem::take(&mut self.stages);
+        k[0][..m].copy_from_slice(&k1[..m]);
+        let mut ys = [0.0; AUG];
         for s in 1..7 {
-            let mut ys = *y;
+            ys[..m].copy_from_slice(&y[..m]);
             for (kj, &aj) in k.iter().zip(A[s - 1]) {
                 for c in 0..m {
                     ys[c] += h * aj * kj[c];
                 }
             }
-            if s == 6 {
-                y1 = ys;
-            }
-            k[s] = self.deriv(t + C[s] * h, &ys, mode);
+            self.deriv(t + C[s] * h, &ys, mode, &mut k[s]);
         }
+        // the sixth stage's state is the step's end
+        end[..m].copy_from_slice(&ys[..m]);
+        let y1 = &*end;
         let controlled = m - 1;
         let mut err_sq = 0.0;
         for c in 0..controlled {
@@ -192,7 +204,9 @@ impl<S: System> Flow<S> {
         }
         let err = (err_sq / controlled as f64).sqrt();
         let finite = y1[..m].iter().chain(&k[6][..m]).all(|v| v.is_finite());
-        (y1, k[6], if finite { err } else { f64::INFINITY })
+        end_rate[..m].copy_from_slice(&k[6][..m]);
+        self.stages = k;
+        if finite { err } else { f64::INFINITY }
     }
 
     /// The switching functions at (t, x) on `mode`, each signed to be positive on `mode`'s
@@ -201,7 +215,9 @@ impl<S: System> Flow<S> {
     fn crossed(&mut self, t: f64, x: &Vector, mode: Mode) -> (Mode, [f64; MAX_SWITCHES]) {
         let mut s = [0.0; MAX_SWITCHES];
         let seen = self.sys.switching(t, x, mode, &mut s);
-        for (k, v) in s.iter_mut().enumerate() {
+        // only the switches the mask holds are ever read
+        let used = MAX_SWITCHES - self.mask.leading_zeros() as usize;
+        for (k, v) in s.iter_mut().enumerate().take(used) {
             if mode & (1 << k) == 0 {
                 *v = -*v;
             }
@@ -366,14 +382,19 @@ impl<S: System> Flow<S> {
             switches: 0,
         };
         let mut salted = 0.0;
-        let mut k1 = self.deriv(t, &y, mode);
+        let mut k1 = [0.0; AUG];
+        self.deriv(t, &y, mode, &mut k1);
+        // a step's end and its derivative there, and a sub-step's to a switch (the states
+        // are zero beyond the entries in use, m)
+        let m = self.used();
+        let (mut y1, mut k7, mut sub_rate) = ([0.0; AUG], [0.0; AUG], [0.0; AUG]);
         let mut j_period = 1;
         for _ in 0..MAX_STEPS {
             let t_end = j_period as f64 * period;
             let remaining = t_end - t;
             let last = h >= remaining;
             let hs = if last { remaining } else { h };
-            let (y1, k7, err) = self.step(t, &y, &k1, hs, mode);
+            let err = self.step(t, [&y, &k1], hs, mode, [&mut y1, &mut k7]);
             // rejected, or not finite (err is infinite then, never NaN)
             if err > 1.0 || err.is_nan() {
                 let fac = if err.is_finite() {
@@ -438,15 +459,18 @@ impl<S: System> Flow<S> {
                     None
                 }
             });
-            let (h_taken, mut y_new, flipped) = match event {
-                None => (hs, y1, 0),
+            // the state the step ends on, in y1: the whole step's, or the sub-step's to the
+            // switch (its end's derivative unused: the next step starts on another piece)
+            let (h_taken, flipped) = match event {
+                None => (hs, 0),
                 Some(b) => {
                     let (sigma, flipped) = self.locate_switch(t, &y, &k1, mode, b);
-                    (sigma, self.step(t, &y, &k1, sigma, mode).0, flipped)
+                    self.step(t, [&y, &k1], sigma, mode, [&mut y1, &mut sub_rate]);
+                    (sigma, flipped)
                 }
             };
             // a turning point of the output inside the step: refine it on real steps
-            let x_new = state(&y_new, n);
+            let x_new = state(&y1, n);
             let (out_new, rate_new) = self.sys.output(t + h_taken, &x_new, mode);
             if rate * rate_new < 0.0 {
                 let sign = rate.signum();
@@ -468,13 +492,13 @@ impl<S: System> Flow<S> {
             if crossed {
                 let new = mode ^ flipped;
                 let bit = flipped.trailing_zeros() as usize;
-                salted += self.saltation(t, &mut y_new, mode, new, bit);
+                salted += self.saltation(t, &mut y1, mode, new, bit);
                 mode = new;
                 out.switches += 1;
             } else if !last {
                 h = (hs * fac).min(h_max);
             }
-            y = y_new;
+            y[..m].copy_from_slice(&y1[..m]);
             let x = state(&y, n);
             if self.sys.collided(t, &x) {
                 return Err(ShootingError::Collision(Collision {
@@ -482,11 +506,13 @@ impl<S: System> Flow<S> {
                     lambda_i: x[0],
                 }));
             }
-            (k1, rate) = if fsal {
-                (k7, rate_new)
+            if fsal {
+                k1[..m].copy_from_slice(&k7[..m]);
+                rate = rate_new;
             } else {
-                (self.deriv(t, &y, mode), self.sys.output(t, &x, mode).1)
-            };
+                self.deriv(t, &y, mode, &mut k1);
+                rate = self.sys.output(t, &x, mode).1;
+            }
             if reached_end {
                 let end = StateVec::from_slice(&y[..n]);
                 if j_period == k {
