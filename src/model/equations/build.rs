@@ -11,7 +11,7 @@ use super::EquationError;
 use super::definition::{ModelDefinition, expression_start, line_column};
 use super::graph::{Func, Graph, MAX_SWITCHES, NodeId, Op2, Wrt};
 use super::parse::{Ast, BinOp, CmpOp, Span, parse};
-use super::tape::{FieldIo, NATIVE_LANES, Tape};
+use super::tape::{FieldIo, Tape};
 use crate::model::system::MAX_DIM;
 
 /// A condition: true where a switching-like value is positive (or zero when not strict).
@@ -159,10 +159,11 @@ pub struct Compiled {
     /// Bits of the switching functions across which the field is continuous
     /// ([`super::graph::Switch::continuous`]).
     pub continuous_switches: u64,
-    /// The plain RK4 step as machine code, for one lane and for [`NATIVE_LANES`], compiled
-    /// at its first use ([`Compiled::step_entry`]).
+    /// The plain RK4 step as machine code, per lane count compiled for (one,
+    /// [`super::tape::FEW_LANES`] and [`super::tape::NATIVE_LANES`]), compiled at its first
+    /// use ([`Compiled::step_entry`]).
     #[cfg(target_arch = "x86_64")]
-    step_code: [std::sync::OnceLock<Option<super::native::Native>>; 2],
+    step_code: [std::sync::OnceLock<Option<super::native::Native>>; 3],
 }
 
 impl Compiled {
@@ -181,16 +182,12 @@ impl Compiled {
         tapes
     }
 
-    /// The plain RK4 step compiled for `lanes` (1 or [`NATIVE_LANES`]) lanes, compiled now
-    /// if it is the first call; `None` where tapes are interpreted.
+    /// The plain RK4 step compiled for `lanes` (1, [`super::tape::FEW_LANES`] or
+    /// [`super::tape::NATIVE_LANES`]) lanes, compiled now if it is the first call; `None`
+    /// where tapes are interpreted.
     #[cfg(target_arch = "x86_64")]
     pub fn step_entry(&self, lanes: usize) -> Option<super::native_step::StepEntry> {
-        let slot = match lanes {
-            1 => 0,
-            NATIVE_LANES => 1,
-            _ => return None,
-        };
-        self.step_code[slot]
+        self.step_code[super::tape::lane_slot(lanes)?]
             .get_or_init(|| {
                 Tape::native_enabled()
                     .then(|| super::native_step::compile_step(self, lanes))

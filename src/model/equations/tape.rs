@@ -58,15 +58,29 @@ pub struct Tape {
 }
 
 /// Lanes a tape is compiled for besides one (the written model's batches); other lane
-/// counts are interpreted.
+/// counts than these three are interpreted.
 pub const NATIVE_LANES: usize = 16;
+/// Lanes of the written model's small batches (a response's seeds and sweeps: up to this
+/// many starts), compiled too.
+pub const FEW_LANES: usize = 4;
 
-/// A tape's machine code, per use: one lane or [`NATIVE_LANES`], held or free, and held
+/// Where `lanes`' machine code is kept among the lane counts compiled for: one,
+/// [`FEW_LANES`] and [`NATIVE_LANES`].
+pub(super) fn lane_slot(lanes: usize) -> Option<usize> {
+    match lanes {
+        1 => Some(0),
+        FEW_LANES => Some(1),
+        NATIVE_LANES => Some(2),
+        _ => None,
+    }
+}
+
+/// A tape's machine code, per lane count ([`lane_slot`]) and use: held or free, and held
 /// with the field's states and derivatives read and written by the code itself.
 #[derive(Debug, Default)]
 struct Natives {
     #[cfg(target_arch = "x86_64")]
-    compiled: [std::sync::OnceLock<Option<super::native::Native>>; 6],
+    compiled: [[std::sync::OnceLock<Option<super::native::Native>>; 3]; 3],
 }
 
 /// Where a field tape's states go and its derivatives come from: (state, register) pairs,
@@ -192,40 +206,30 @@ impl Tape {
         })
     }
 
-    /// The compiled tape for `lanes` (1 or [`NATIVE_LANES`]) lanes, held or `free`,
-    /// compiled now if it is the first call.
+    /// The compiled tape for `lanes` (1, [`FEW_LANES`] or [`NATIVE_LANES`]) lanes, held or
+    /// `free`, compiled now if it is the first call.
     #[cfg(target_arch = "x86_64")]
     pub fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
-        let slot = match lanes {
-            1 => 0,
-            NATIVE_LANES => 2,
-            _ => return None,
-        } + free as usize;
-        self.compiled(slot, lanes, free, None)
+        self.compiled([lane_slot(lanes)?, free as usize], lanes, free, None)
     }
 
     /// The compiled tape for `lanes` lanes, held, reading the states and writing the
     /// derivatives `io` names (always the same `io` for one tape).
     #[cfg(target_arch = "x86_64")]
     pub fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
-        let slot = match lanes {
-            1 => 4,
-            NATIVE_LANES => 5,
-            _ => return None,
-        };
-        self.compiled(slot, lanes, false, Some(io))
+        self.compiled([lane_slot(lanes)?, 2], lanes, false, Some(io))
     }
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn compiled(
         &self,
-        slot: usize,
+        [slot, usage]: [usize; 2],
         lanes: usize,
         free: bool,
         io: Option<&FieldIo>,
     ) -> Option<super::native::Entry> {
-        self.native.compiled[slot]
+        self.native.compiled[slot][usage]
             .get_or_init(|| {
                 let (ins, roots) = (&self.ins, &self.roots);
                 Tape::native_enabled()

@@ -18,6 +18,7 @@ use crate::analysis::parameter::ContinuationParameter;
 use crate::model::ParamError;
 use crate::model::equations::EquationSystem;
 use crate::model::equations::lanes::EquationLanes;
+use crate::model::equations::tape::FEW_LANES;
 use crate::model::system::{MAX_DIM, StateVec, System, Vector};
 use crate::solver::Collision;
 use crate::solver::general::{GeneralRk4, Stop, Trajectory};
@@ -237,7 +238,7 @@ impl Oscillator for EquationSystem {
         on_done: &mut dyn FnMut(usize),
     ) -> Result<Vec<SteadyState>, AnalysisError> {
         match starts.len() {
-            0..=4 => in_lanes::<4>(self, starts, spec, known, cancel, on_done),
+            0..=FEW_LANES => in_lanes::<FEW_LANES>(self, starts, spec, known, cancel, on_done),
             _ => in_lanes::<LANES>(self, starts, spec, known, cancel, on_done),
         }
     }
