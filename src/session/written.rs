@@ -21,18 +21,9 @@ pub enum ModelPoint {
     Written(EquationSystem),
 }
 
-/// The kinds a written model can run (all but those of the built-in DEA's own: its force
-/// curves and chirp sweeps).
-pub const WRITTEN_KINDS: [&str; 8] = [
-    "time_history",
-    "stepped_sweep",
-    "frequency_response",
-    "basin",
-    "family",
-    "continuation",
-    "hunt",
-    "map",
-];
+/// The kinds only the built-in DEA runs (its force curves and chirp sweeps); a written model
+/// runs every other kind.
+pub const DEA_ONLY_KINDS: [&str; 2] = ["force_curve", "chirp_sweep"];
 
 /// Whether `text`'s `[model]` writes equations (has `states`).
 pub fn writes_equations(table: &toml::Table) -> bool {

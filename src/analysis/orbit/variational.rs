@@ -384,10 +384,10 @@ impl<S: System> Flow<S> {
         let mut salted = 0.0;
         let mut k1 = [0.0; AUG];
         self.deriv(t, &y, mode, &mut k1);
-        // a step's end and its derivative there, and a sub-step's to a switch (the states
-        // are zero beyond the entries in use, m)
+        // the state a step ends on and its derivative there (zero beyond the entries in
+        // use, m)
         let m = self.used();
-        let (mut y1, mut k7, mut sub_rate) = ([0.0; AUG], [0.0; AUG], [0.0; AUG]);
+        let (mut y1, mut k7) = ([0.0; AUG], [0.0; AUG]);
         let mut j_period = 1;
         for _ in 0..MAX_STEPS {
             let t_end = j_period as f64 * period;
@@ -459,13 +459,12 @@ impl<S: System> Flow<S> {
                     None
                 }
             });
-            // the state the step ends on, in y1: the whole step's, or the sub-step's to the
-            // switch (its end's derivative unused: the next step starts on another piece)
+            // the step taken: the whole step, or the sub-step to the switch in its place
             let (h_taken, flipped) = match event {
                 None => (hs, 0),
                 Some(b) => {
                     let (sigma, flipped) = self.locate_switch(t, &y, &k1, mode, b);
-                    self.step(t, [&y, &k1], sigma, mode, [&mut y1, &mut sub_rate]);
+                    self.step(t, [&y, &k1], sigma, mode, [&mut y1, &mut k7]);
                     (sigma, flipped)
                 }
             };

@@ -66,6 +66,7 @@ pub const FEW_LANES: usize = 4;
 
 /// Where `lanes`' machine code is kept among the lane counts compiled for: one,
 /// [`FEW_LANES`] and [`NATIVE_LANES`].
+#[cfg(target_arch = "x86_64")]
 pub(super) fn lane_slot(lanes: usize) -> Option<usize> {
     match lanes {
         1 => Some(0),
@@ -75,13 +76,23 @@ pub(super) fn lane_slot(lanes: usize) -> Option<usize> {
     }
 }
 
-/// A tape's machine code, per lane count ([`lane_slot`]) and use: held or free, and held
-/// with the field's states and derivatives read and written by the code itself.
+/// A tape's machine code, per lane count ([`lane_slot`]) and use ([`HELD_USE`],
+/// [`FREE_USE`], [`FIELD_USE`]).
 #[derive(Debug, Default)]
 struct Natives {
     #[cfg(target_arch = "x86_64")]
     compiled: [[std::sync::OnceLock<Option<super::native::Native>>; 3]; 3],
 }
+
+/// The uses a tape is compiled for: each kink held on the lane's mode, or free (on its
+/// switching value's sign), or held with the field's states and derivatives read and
+/// written by the code itself.
+#[cfg(target_arch = "x86_64")]
+const HELD_USE: usize = 0;
+#[cfg(target_arch = "x86_64")]
+const FREE_USE: usize = 1;
+#[cfg(target_arch = "x86_64")]
+const FIELD_USE: usize = 2;
 
 /// Where a field tape's states go and its derivatives come from: (state, register) pairs,
 /// and the register of each state's derivative in state order.
@@ -210,14 +221,15 @@ impl Tape {
     /// `free`, compiled now if it is the first call.
     #[cfg(target_arch = "x86_64")]
     pub fn native(&self, lanes: usize, free: bool) -> Option<super::native::Entry> {
-        self.compiled([lane_slot(lanes)?, free as usize], lanes, free, None)
+        let usage = if free { FREE_USE } else { HELD_USE };
+        self.compiled([lane_slot(lanes)?, usage], lanes, free, None)
     }
 
     /// The compiled tape for `lanes` lanes, held, reading the states and writing the
     /// derivatives `io` names (always the same `io` for one tape).
     #[cfg(target_arch = "x86_64")]
     pub fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
-        self.compiled([lane_slot(lanes)?, 2], lanes, false, Some(io))
+        self.compiled([lane_slot(lanes)?, FIELD_USE], lanes, false, Some(io))
     }
 
     #[cfg(target_arch = "x86_64")]

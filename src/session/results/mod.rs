@@ -692,6 +692,15 @@ fn response_points(
     Ok(points)
 }
 
+/// Item `id` of `items`, numbered from 0 as a file's rows name them (the list grown to hold
+/// it).
+fn numbered<T: Default + Clone>(items: &mut Vec<T>, id: usize) -> &mut T {
+    if items.len() <= id {
+        items.resize(id + 1, T::default());
+    }
+    &mut items[id]
+}
+
 /// Reads a continued-branch file (see [`super::export::continued_csv`]).
 fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
     let (c, rows) = rows(path)?;
@@ -703,11 +712,7 @@ fn read_continued(path: &Path) -> anyhow::Result<ContinuationView> {
         .unwrap_or_else(|| first.clone());
     let mut branches: Vec<ContinuedView> = Vec::new();
     for r in &rows {
-        let id = c.f64(r, "branch")? as usize;
-        if branches.len() <= id {
-            branches.resize(id + 1, ContinuedView::default());
-        }
-        let b = &mut branches[id];
+        let b = numbered(&mut branches, c.f64(r, "branch")? as usize);
         b.period = c.f64(r, "period")? as usize;
         b.verdict = c.str(r, "verdict")?.to_string();
         let (value, omega, amplitude) = (
@@ -743,11 +748,7 @@ fn read_curves(path: &Path) -> anyhow::Result<Vec<CurveView>> {
     let (first, second) = (c.name_at(5)?, c.name_at(6)?);
     let mut curves: Vec<CurveView> = Vec::new();
     for r in &rows {
-        let id = c.f64(r, "curve")? as usize;
-        if curves.len() <= id {
-            curves.resize(id + 1, CurveView::default());
-        }
-        let curve = &mut curves[id];
+        let curve = numbered(&mut curves, c.f64(r, "curve")? as usize);
         curve.kind = c.str(r, "kind")?.to_string();
         curve.period = c.f64(r, "period")? as usize;
         let at = [c.f64(r, &first)?, c.f64(r, &second)?];

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use super::locate::{Table, locate};
 use super::model_section::ModelSection;
 use super::written::{
-    ModelPoint, WRITTEN_KINDS, WrittenModel, take_written_parts, writes_equations,
+    DEA_ONLY_KINDS, ModelPoint, WrittenModel, take_written_parts, writes_equations,
 };
 use crate::analysis::SteadyStateSpec;
 use crate::analysis::continuation::branch_from_state::BranchFromState;
@@ -530,13 +530,17 @@ impl Session {
             })?;
             let values = overrides.get_mut(i).map(std::mem::take).unwrap_or_default();
             if let Some(w) = &written {
-                if !WRITTEN_KINDS.contains(&raw.kind.as_str()) {
+                if DEA_ONLY_KINDS.contains(&raw.kind.as_str()) {
+                    let runs: Vec<&str> = KINDS
+                        .into_iter()
+                        .filter(|kind| !DEA_ONLY_KINDS.contains(kind))
+                        .collect();
                     return Err(syntax(format!(
                         "analysis '{}' ({}): a written model runs {} (force curves and chirp \
                          sweeps are the built-in DEA's own)",
                         raw.name,
                         raw.kind,
-                        WRITTEN_KINDS.join(", ")
+                        runs.join(", ")
                     )));
                 }
                 if let Some(e) = w.unknown_override(&values) {
