@@ -166,8 +166,9 @@ impl<S: System> Flow<S> {
         x1
     }
 
-    /// One Dormand–Prince step on `mode`: the new state, its derivative and the scaled error
-    /// (of the state and Φ; infinite where a value is not finite).
+    /// One Dormand–Prince step of length `h` on `mode` from `y` (derivative `k1`): the new
+    /// state into `end` and its derivative into `end_rate` (the entries in use); returns the
+    /// scaled error (of the state and Φ; infinite where a value is not finite).
     #[inline(always)]
     fn step(
         &mut self,
