@@ -20,9 +20,13 @@
 //! v = "f_II - f_I"
 //! ```
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 pub mod build;
 pub mod definition;
 pub mod graph;
+#[cfg(target_arch = "x86_64")]
+mod lane_code;
 pub mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod native;

@@ -16,8 +16,8 @@ use cranelift_codegen::{Context, isa::TargetIsa};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use std::sync::OnceLock;
 
-use super::graph::Func;
-use super::tape::{FieldIo, Ins, Op};
+use super::lane_code::{Arg, Arith, Compare, LaneCode, tape};
+use super::tape::{FieldIo, Ins};
 
 /// Runs a tape on registers: `(registers, modes, observed, states, derivatives)`, one
 /// `Mode` of each per lane; lane l's register r is at `registers[r·L + l]`, its state i at
@@ -96,6 +96,13 @@ pub struct Native {
 }
 
 impl Native {
+    /// `bytes` of machine code in pages of their own.
+    pub(super) fn new(bytes: &[u8]) -> Option<Native> {
+        Some(Native {
+            code: Code::new(bytes)?,
+        })
+    }
+
     /// Where the code starts.
     pub(super) fn address(&self) -> *const libc::c_void {
         self.code.ptr
@@ -122,50 +129,49 @@ pub fn compile(
     if ins.len() > MAX_INSTRUCTIONS || registers * lanes * 8 >= i32::MAX as usize {
         return None;
     }
-    lane_loop(5, lanes, |e, lane, params| {
-        let [regs, modes, observed_out, states, derivatives] =
-            params.try_into().expect("five pointers");
+    // the entry's pointers
+    const REGS: Arg = 0;
+    const MODES: Arg = 1;
+    const OBSERVED: Arg = 2;
+    const STATES: Arg = 3;
+    const DERIVATIVES: Arg = 4;
+    lane_loop(5, lanes, |e| {
         let stride = (lanes * 8) as i32;
-        let (float, flags) = (e.float, e.flags);
-        let base = e.b.ins().iadd(regs, lane);
-        let mode = e.load_lanes(e.int, modes, lane, 0);
-        let mut known: Vec<Option<Value>> = vec![None; registers];
+        let mode = e.load_int(MODES, 0);
+        let mut known = vec![None; registers];
         if let Some(io) = io {
             // the states from the caller's vectors (not stored in the registers: every other
             // use loads them itself)
             for &(i, slot) in &io.states {
-                known[slot as usize] =
-                    Some(e.load_lanes(float, states, lane, i32::from(i) * stride));
+                known[slot as usize] = Some(e.load(STATES, i32::from(i) * stride));
             }
         }
-        let observed = e.tape(ins, free, mode, &mut known, &mut |b, r| {
-            b.ins().load(float, flags, base, r as i32 * stride)
+        let observed = tape(e, ins, free, mode, &mut known, &mut |e, r| {
+            e.load(REGS, r as i32 * stride)
         });
         // what the caller reads; the rest stays in the machine's registers
         for &r in roots {
             let value = known[r as usize].expect("a root the tape computes");
-            e.b.ins().store(flags, value, base, r as i32 * stride);
+            e.store(REGS, r as i32 * stride, value);
         }
         if let Some(io) = io {
-            let at = e.b.ins().iadd(derivatives, lane);
             for (i, &r) in io.derivatives.iter().enumerate() {
-                let value = known[r as usize]
-                    .unwrap_or_else(|| e.b.ins().load(float, flags, base, r as i32 * stride));
-                e.b.ins().store(flags, value, at, i as i32 * stride);
+                let value = known[r as usize].unwrap_or_else(|| e.load(REGS, r as i32 * stride));
+                e.store(DERIVATIVES, i as i32 * stride, value);
             }
         }
-        e.store_lanes(observed, observed_out, lane, 0);
+        e.store_int(OBSERVED, 0, observed);
     })
 }
 
-/// Compiles a function of `params` pointers that runs `body(emitter, lane, params)` over
-/// `lanes` lanes, `emitter.width` at a time, `lane` being the group's byte offset into a
-/// lane-major array (lane l of row r at byte (r·lanes + l)·8). `None` if the host has no
+/// Compiles a function of `params` pointers that runs `body(emitter)` over `lanes` lanes,
+/// `emitter.width` at a time (the emitter's loads and stores address the group's lanes of
+/// lane-major arrays: lane l of row r at byte (r·lanes + l)·8). `None` if the host has no
 /// code generator or the code cannot be compiled.
 pub(super) fn lane_loop(
     params: usize,
     lanes: usize,
-    body: impl FnOnce(&mut Emitter, Value, &[Value]),
+    body: impl FnOnce(&mut Emitter),
 ) -> Option<Native> {
     let isa = host()?;
     let pointer = isa.pointer_type();
@@ -188,8 +194,8 @@ pub(super) fn lane_loop(
 
     b.switch_to_block(block);
     let lane = b.block_params(block)[0];
-    let mut e = Emitter::new(&mut b, isa, lanes);
-    body(&mut e, lane, &args);
+    let mut e = Emitter::new(&mut b, isa, lanes, args, lane);
+    body(&mut e);
     let width = e.width;
     let next = b.ins().iadd_imm_u(lane, 8 * width as i64);
     let more = b
@@ -213,32 +219,38 @@ pub(super) fn lane_loop(
     if !compiled.buffer.relocs().is_empty() {
         return None;
     }
-    Some(Native {
-        code: Code::new(compiled.code_buffer())?,
-    })
+    Native::new(compiled.code_buffer())
 }
 
-/// Emits tapes into one lane group of a [`lane_loop`]: `width` lanes at a time (two in one
-/// SSE register where there are pairs).
+/// Emits a [`lane_loop`]'s body for one lane group with Cranelift: `width` lanes at a time
+/// (two in one SSE register where there are pairs).
 pub(super) struct Emitter<'a, 'f> {
-    pub b: &'a mut FunctionBuilder<'f>,
-    pub width: usize,
+    b: &'a mut FunctionBuilder<'f>,
+    width: usize,
     /// A group's float and integer (mode) values.
-    pub float: Type,
-    pub int: Type,
+    float: Type,
+    int: Type,
     /// Loads and stores (registers of lanes are f64-aligned, pairs of them not always
     /// 16-byte aligned).
-    pub flags: MemFlagsData,
+    flags: MemFlagsData,
     lanes_of: MemFlagsData,
     unary: SigRef,
     binary: SigRef,
-    int_zero: Value,
-    float_zero: Value,
-    pub float_one: Value,
+    /// The function's pointers, and each offset to the group's lanes (made at first use).
+    pointers: Vec<Value>,
+    at_lane: Vec<Option<Value>>,
+    /// The group's byte offset into a lane-major array.
+    lane: Value,
 }
 
 impl<'a, 'f> Emitter<'a, 'f> {
-    fn new(b: &'a mut FunctionBuilder<'f>, isa: &dyn TargetIsa, lanes: usize) -> Self {
+    fn new(
+        b: &'a mut FunctionBuilder<'f>,
+        isa: &dyn TargetIsa,
+        lanes: usize,
+        pointers: Vec<Value>,
+        lane: Value,
+    ) -> Self {
         let mut unary = Signature::new(isa.default_call_conv());
         unary.params.push(AbiParam::new(types::F64));
         unary.returns.push(AbiParam::new(types::F64));
@@ -251,16 +263,6 @@ impl<'a, 'f> Emitter<'a, 'f> {
             2 => (types::F64X2, types::I64X2),
             _ => (types::F64, types::I64),
         };
-        let splat = |b: &mut FunctionBuilder, ty: Type, v: Value| match width {
-            2 => b.ins().splat(ty, v),
-            _ => v,
-        };
-        let zero = b.ins().iconst(types::I64, 0);
-        let int_zero = splat(b, int, zero);
-        let zero = b.ins().f64const(0.0);
-        let float_zero = splat(b, float, zero);
-        let one = b.ins().f64const(1.0);
-        let float_one = splat(b, float, one);
         Emitter {
             b,
             width,
@@ -270,40 +272,52 @@ impl<'a, 'f> Emitter<'a, 'f> {
             lanes_of: MemFlagsData::new().with_endianness(Endianness::Little),
             unary,
             binary,
-            int_zero,
-            float_zero,
-            float_one,
+            at_lane: vec![None; pointers.len()],
+            pointers,
+            lane,
         }
     }
 
+    /// Takes the function's pointers from the `count` stored at its pointer `arg` (a
+    /// `#[repr(C)]` struct of pointers).
+    pub fn pointers_at(&mut self, arg: Arg, count: usize) {
+        let base = self.pointers[arg];
+        self.pointers = (0..count)
+            .map(|k| {
+                self.b
+                    .ins()
+                    .load(types::I64, self.flags, base, 8 * k as i32)
+            })
+            .collect();
+        self.at_lane = vec![None; count];
+    }
+
     /// `v` in every lane of the group.
-    pub fn splat(&mut self, ty: Type, v: Value) -> Value {
+    fn splat(&mut self, ty: Type, v: Value) -> Value {
         match self.width {
             2 => self.b.ins().splat(ty, v),
             _ => v,
         }
     }
 
-    pub fn int_const(&mut self, v: u64) -> Value {
-        let v = self.b.ins().iconst(types::I64, v as i64);
-        self.splat(self.int, v)
+    /// Pointer `arg` moved to the group's lanes.
+    fn lanes_of(&mut self, arg: Arg) -> Value {
+        match self.at_lane[arg] {
+            Some(at) => at,
+            None => {
+                let at = self.b.ins().iadd(self.pointers[arg], self.lane);
+                *self.at_lane[arg].insert(at)
+            }
+        }
     }
 
-    pub fn float_const(&mut self, v: f64) -> Value {
-        let v = self.b.ins().f64const(v);
-        self.splat(self.float, v)
-    }
-
-    /// The group's lanes of the lane-major array at `array`, row at byte `offset`.
-    pub fn load_lanes(&mut self, ty: Type, array: Value, lane: Value, offset: i32) -> Value {
-        let at = self.b.ins().iadd(array, lane);
-        self.b.ins().load(ty, self.flags, at, offset)
-    }
-
-    /// Stores the group's lanes of `value` into the lane-major array at `array`.
-    pub fn store_lanes(&mut self, value: Value, array: Value, lane: Value, offset: i32) {
-        let at = self.b.ins().iadd(array, lane);
-        self.b.ins().store(self.flags, value, at, offset);
+    /// A width-one comparison's truth as a mask (two lanes' are masks already).
+    fn mask(&mut self, truth: Value) -> Value {
+        if self.width == 1 {
+            self.b.ins().bmask(types::I64, truth)
+        } else {
+            truth
+        }
     }
 
     /// A library call per lane.
@@ -325,69 +339,118 @@ impl<'a, 'f> Emitter<'a, 'f> {
         }
         out.expect("two lanes")
     }
+}
 
-    /// Emits `ins` with each kink held on `mode`'s branch (or, `free`, on its switching
-    /// value's sign), and returns the mode the switching values' signs select. `known`
-    /// holds the registers' values so far (given or computed); a register not in it is
-    /// `read` once.
-    pub fn tape(
-        &mut self,
-        ins: &[Ins],
-        free: bool,
-        mode: Value,
-        known: &mut [Option<Value>],
-        read: &mut dyn FnMut(&mut FunctionBuilder, u32) -> Value,
-    ) -> Value {
-        let (int_zero, float_zero, float_one) = (self.int_zero, self.float_zero, self.float_one);
-        let mut observed = int_zero;
-        for i in ins {
-            let x = *known[i.a as usize].get_or_insert_with(|| read(self.b, i.a));
-            let y = *known[i.b as usize].get_or_insert_with(|| read(self.b, i.b));
-            let value = match i.op {
-                Op::Add => self.b.ins().fadd(x, y),
-                Op::Sub => self.b.ins().fsub(x, y),
-                Op::Mul => self.b.ins().fmul(x, y),
-                Op::Div => self.b.ins().fdiv(x, y),
-                Op::Pow => self.call_each(self.binary, powf as *const () as usize, &[x, y]),
-                Op::Powi => powi(self.b, x, i.n, float_one),
-                Op::Un(Func::Neg) => self.b.ins().fneg(x),
-                Op::Un(Func::Sqrt) => self.b.ins().sqrt(x),
-                Op::Un(Func::Undefined) => self.b.ins().fsub(x, x),
-                Op::Un(f) => self.call_each(self.unary, library(f), &[x]),
-                Op::Select => {
-                    let m = if free { observed } else { mode };
-                    let bit = self.int_const(1u64 << i.k);
-                    let bit = self.b.ins().band(m, bit);
-                    let on = self.b.ins().icmp(IntCC::NotEqual, bit, int_zero);
-                    if self.width == 1 {
-                        self.b.ins().select(on, x, y)
-                    } else {
-                        let on = self.b.ins().bitcast(self.float, self.lanes_of, on);
-                        self.b.ins().bitselect(on, x, y)
-                    }
-                }
-                Op::Sign | Op::SignStrict => {
-                    let cc = if i.op == Op::Sign {
-                        FloatCC::GreaterThanOrEqual
-                    } else {
-                        FloatCC::GreaterThan
-                    };
-                    let on = self.b.ins().fcmp(cc, x, float_zero);
-                    let bits = if self.width == 1 {
-                        let on = self.b.ins().uextend(types::I64, on);
-                        self.b.ins().ishl_imm_u(on, i64::from(i.k))
-                    } else {
-                        // a lane's comparison is all ones where it holds
-                        let bit = self.int_const(1u64 << i.k);
-                        self.b.ins().band(on, bit)
-                    };
-                    observed = self.b.ins().bor(observed, bits);
-                    continue;
-                }
-            };
-            known[i.d as usize] = Some(value);
+impl LaneCode for Emitter<'_, '_> {
+    type F = Value;
+    type M = Value;
+
+    fn float_const(&mut self, v: f64) -> Value {
+        let v = self.b.ins().f64const(v);
+        self.splat(self.float, v)
+    }
+
+    fn int_const(&mut self, v: u64) -> Value {
+        let v = self.b.ins().iconst(types::I64, v as i64);
+        self.splat(self.int, v)
+    }
+
+    fn arith(&mut self, op: Arith, x: Value, y: Value) -> Value {
+        let ins = self.b.ins();
+        match op {
+            Arith::Add => ins.fadd(x, y),
+            Arith::Sub => ins.fsub(x, y),
+            Arith::Mul => ins.fmul(x, y),
+            Arith::Div => ins.fdiv(x, y),
         }
-        observed
+    }
+
+    fn sqrt(&mut self, x: Value) -> Value {
+        self.b.ins().sqrt(x)
+    }
+
+    fn neg(&mut self, x: Value) -> Value {
+        self.b.ins().fneg(x)
+    }
+
+    fn call(&mut self, address: usize, args: &[Value]) -> Value {
+        let sig = if args.len() == 1 {
+            self.unary
+        } else {
+            self.binary
+        };
+        self.call_each(sig, address, args)
+    }
+
+    fn compare(&mut self, cc: Compare, x: Value, y: Value) -> Value {
+        let cc = match cc {
+            Compare::Ge => FloatCC::GreaterThanOrEqual,
+            Compare::Gt => FloatCC::GreaterThan,
+            Compare::UnorderedOrGe => FloatCC::UnorderedOrGreaterThanOrEqual,
+            Compare::UnorderedOrGt => FloatCC::UnorderedOrGreaterThan,
+        };
+        let truth = self.b.ins().fcmp(cc, x, y);
+        self.mask(truth)
+    }
+
+    fn and(&mut self, a: Value, b: Value) -> Value {
+        self.b.ins().band(a, b)
+    }
+
+    fn or(&mut self, a: Value, b: Value) -> Value {
+        self.b.ins().bor(a, b)
+    }
+
+    fn xor(&mut self, a: Value, b: Value) -> Value {
+        self.b.ins().bxor(a, b)
+    }
+
+    fn not(&mut self, a: Value) -> Value {
+        self.b.ins().bnot(a)
+    }
+
+    fn has_bit(&mut self, m: Value, k: u8) -> Value {
+        let bit = self.int_const(1u64 << k);
+        let zero = self.int_const(0);
+        let bit = self.b.ins().band(m, bit);
+        let truth = self.b.ins().icmp(IntCC::NotEqual, bit, zero);
+        self.mask(truth)
+    }
+
+    fn select(&mut self, on: Value, x: Value, y: Value) -> Value {
+        if self.width == 1 {
+            self.b.ins().select(on, x, y)
+        } else {
+            let on = self.b.ins().bitcast(self.float, self.lanes_of, on);
+            self.b.ins().bitselect(on, x, y)
+        }
+    }
+
+    fn load(&mut self, arg: Arg, offset: i32) -> Value {
+        let at = self.lanes_of(arg);
+        self.b.ins().load(self.float, self.flags, at, offset)
+    }
+
+    fn load_int(&mut self, arg: Arg, offset: i32) -> Value {
+        let at = self.lanes_of(arg);
+        self.b.ins().load(self.int, self.flags, at, offset)
+    }
+
+    fn load_splat(&mut self, arg: Arg, offset: i32) -> Value {
+        let v = self
+            .b
+            .ins()
+            .load(types::F64, self.flags, self.pointers[arg], offset);
+        self.splat(self.float, v)
+    }
+
+    fn store(&mut self, arg: Arg, offset: i32, v: Value) {
+        let at = self.lanes_of(arg);
+        self.b.ins().store(self.flags, v, at, offset);
+    }
+
+    fn store_int(&mut self, arg: Arg, offset: i32, v: Value) {
+        self.store(arg, offset, v);
     }
 }
 
@@ -401,55 +464,4 @@ fn call(
     let callee = b.ins().iconst(types::I64, address as i64);
     let call = b.ins().call_indirect(sig, callee, args);
     b.inst_results(call)[0]
-}
-
-/// x^n by the multiplications of the runtime's `__powidf2`, which the interpreter's
-/// `f64::powi` calls: bit for bit its value (`one` is 1 in x's type).
-fn powi(b: &mut FunctionBuilder, x: Value, n: i32, one: Value) -> Value {
-    let mut a = x;
-    let mut left = n.unsigned_abs();
-    let mut product: Option<Value> = None;
-    loop {
-        if left & 1 != 0 {
-            // 1 · a is a exactly
-            product = Some(match product {
-                None => a,
-                Some(p) => b.ins().fmul(p, a),
-            });
-        }
-        left >>= 1;
-        if left == 0 {
-            break;
-        }
-        a = b.ins().fmul(a, a);
-    }
-    let product = product.unwrap_or(one);
-    if n < 0 {
-        b.ins().fdiv(one, product)
-    } else {
-        product
-    }
-}
-
-extern "C" fn powf(x: f64, y: f64) -> f64 {
-    x.powf(y)
-}
-
-/// The address of the function computing `f` as [`Func::apply`] does.
-fn library(f: Func) -> usize {
-    macro_rules! via {
-        ($($name:ident),*) => {
-            match f {
-                $(Func::$name => {
-                    extern "C" fn apply(x: f64) -> f64 {
-                        Func::$name.apply(x)
-                    }
-                    apply as *const () as usize
-                })*
-            }
-        };
-    }
-    via!(
-        Neg, Sin, Cos, Tan, Exp, Ln, Sqrt, Sinh, Cosh, Tanh, Asin, Acos, Atan, Undefined
-    )
 }

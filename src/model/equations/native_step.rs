@@ -6,15 +6,11 @@
 //! the stage-by-stage path bit for bit (tests hold this). A step in which a switch is seen
 //! is still split by the engine, stage by stage.
 
-use cranelift_codegen::ir::condcodes::FloatCC;
-use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Type, Value, types};
-use cranelift_frontend::FunctionBuilder;
-
 use super::build::{Compiled, Cond};
 use super::graph::{Node, NodeId};
+use super::lane_code::{Arg, Arith, Compare, LaneCode, tape};
 use super::lanes::LaneTimes;
-use super::native::{Emitter, MAX_INSTRUCTIONS, Native, lane_loop};
-use super::tape::Ins;
+use super::native::{MAX_INSTRUCTIONS, Native, lane_loop};
 use super::time_table::{GridTime, TimeTable};
 use crate::model::system::{MAX_DIM, Mode};
 
@@ -113,16 +109,50 @@ pub(super) fn entry(code: &Native) -> StepEntry {
     unsafe { std::mem::transmute::<*const libc::c_void, StepEntry>(code.address()) }
 }
 
-/// Compiles `c`'s plain RK4 step for `lanes` lanes; `None` if the host has no code
-/// generator or the model is too large.
+/// The pointers of [`StepArgs`], in its order.
+const REGISTERS: Arg = 0;
+const MODES: Arg = 1;
+const X: Arg = 2;
+const K1: Arg = 3;
+const H: Arg = 4;
+const T_HALF: Arg = 5;
+const T_END: Arg = 6;
+const ROW_HALF: Arg = 7;
+const ROW_END: Arg = 8;
+const END: Arg = 9;
+const DX: Arg = 10;
+const SEEN: Arg = 11;
+const HIT: Arg = 12;
+/// How many.
+pub(super) const STEP_POINTERS: usize = 13;
+
+/// Whether `c`'s step can be compiled for `lanes` lanes: a model not too large.
+pub(super) fn compilable(c: &Compiled, lanes: usize) -> bool {
+    4 * c.field_tape.len() + c.collision_tape.len() <= MAX_INSTRUCTIONS
+        && c.graph.len() * lanes * 8 < i32::MAX as usize
+}
+
+/// Compiles `c`'s plain RK4 step for `lanes` lanes: with our AVX2 emitter where the lanes
+/// come in fours and the processor has AVX2, else with Cranelift; `None` if neither can, or
+/// the model is too large.
 pub fn compile_step(c: &Compiled, lanes: usize) -> Option<Native> {
-    let (field, collision) = (&c.field_tape, &c.collision_tape);
-    let registers = c.graph.len();
-    if 4 * field.len() + collision.len() > MAX_INSTRUCTIONS
-        || registers * lanes * 8 >= i32::MAX as usize
-    {
+    if !compilable(c, lanes) {
         return None;
     }
+    if lanes.is_multiple_of(super::avx2::WIDTH) && super::avx2::available() {
+        return super::avx2::compile(lanes, |e| emit_step(e, c, lanes));
+    }
+    lane_loop(1, lanes, |e| {
+        e.pointers_at(0, STEP_POINTERS);
+        emit_step(e, c, lanes);
+    })
+}
+
+/// `c`'s plain RK4 step over one lane group of `lanes`, reading and writing through the
+/// pointers of [`StepArgs`].
+fn emit_step<E: LaneCode>(e: &mut E, c: &Compiled, lanes: usize) {
+    let (field, collision) = (&c.field_tape, &c.collision_tape);
+    let registers = c.graph.len();
     let dim = c.states.len();
     let time_slot = (0..registers as NodeId).find(|&id| matches!(c.graph.node(id), Node::Time));
     // each time-only value's column in a row of the table
@@ -131,265 +161,197 @@ pub fn compile_step(c: &Compiled, lanes: usize) -> Option<Native> {
         column[slot as usize] = Some(j as i32);
     }
     let io = &c.field_io;
-    lane_loop(1, lanes, |e, lane, params| {
-        let (float, int, flags) = (e.float, e.int, e.flags);
-        let stride = (lanes * 8) as i32;
-        let args: [Value; 13] =
-            std::array::from_fn(|k| e.b.ins().load(types::I64, flags, params[0], 8 * k as i32));
-        let [
-            regs,
-            modes,
-            x,
-            k1,
-            h,
-            t_half,
-            t_end,
-            row_half,
-            row_end,
-            end_out,
-            dx_out,
-            seen_out,
-            hit_out,
-        ] = args;
-        let mode = e.load_lanes(int, modes, lane, 0);
-        let h = e.load_lanes(float, h, lane, 0);
-        let row = |e: &mut Emitter, array: Value| -> Vec<Value> {
-            (0..dim)
-                .map(|i| e.load_lanes(float, array, lane, i as i32 * stride))
-                .collect()
-        };
-        let (x, k1) = (row(e, x), row(e, k1));
-        let mut reads = Reads {
-            float,
-            flags,
-            base: e.b.ins().iadd(regs, lane),
-            stride,
-            time_slot,
-            column: &column,
-            loaded: vec![None; registers],
-        };
-        let mut half = Time {
-            t: e.load_lanes(float, t_half, lane, 0),
-            row: row_half,
-            cache: vec![None; c.time_tape.roots.len()],
-        };
-        let mut at_end = Time {
-            t: e.load_lanes(float, t_end, lane, 0),
-            row: row_end,
-            cache: vec![None; c.time_tape.roots.len()],
-        };
-        // the field at one stage: its derivatives and the mode bits it saw differ
-        let mut stage = |e: &mut Emitter, y: &[Value], time: &mut Time, seen: Value| {
-            let mut known = vec![None; registers];
-            for &(i, slot) in &io.states {
-                known[slot as usize] = Some(y[i as usize]);
-            }
-            let observed = evaluate(
-                e,
-                field.instructions(),
-                false,
-                mode,
-                &mut known,
-                time,
-                &mut reads,
-            );
-            let k: Vec<Value> = io
-                .derivatives
-                .iter()
-                .map(|&r| value(e, &mut known, time, &mut reads, r))
-                .collect();
-            let differs = e.b.ins().bxor(observed, mode);
-            (k, e.b.ins().bor(seen, differs))
-        };
-        // y = x + c·k, as the engine's `x[i] + c * k[i]`
-        let ahead = |e: &mut Emitter, c: Value, k: &[Value]| -> Vec<Value> {
-            (0..dim)
-                .map(|i| {
-                    let step = e.b.ins().fmul(c, k[i]);
-                    e.b.ins().fadd(x[i], step)
-                })
-                .collect()
-        };
-        let half_h = {
-            let c = e.float_const(0.5);
-            e.b.ins().fmul(c, h)
-        };
-        let seen = e.int_const(0);
-        let y = ahead(e, half_h, &k1);
-        let (k2, seen) = stage(e, &y, &mut half, seen);
-        let y = ahead(e, half_h, &k2);
-        let (k3, seen) = stage(e, &y, &mut half, seen);
-        let y = ahead(e, h, &k3);
-        let (k4, seen) = stage(e, &y, &mut at_end, seen);
-        // x + h/6·(k1 + 2·(k2 + k3) + k4)
-        let (two, six) = (e.float_const(2.0), e.float_const(6.0));
-        let sixth = e.b.ins().fdiv(h, six);
-        let end: Vec<Value> = (0..dim)
-            .map(|i| {
-                let inner = e.b.ins().fadd(k2[i], k3[i]);
-                let inner = e.b.ins().fmul(two, inner);
-                let sum = e.b.ins().fadd(k1[i], inner);
-                let sum = e.b.ins().fadd(sum, k4[i]);
-                let step = e.b.ins().fmul(sixth, sum);
-                e.b.ins().fadd(x[i], step)
-            })
-            .collect();
-        let (dx, seen) = stage(e, &end, &mut at_end, seen);
-        for i in 0..dim {
-            e.store_lanes(end[i], end_out, lane, i as i32 * stride);
-            e.store_lanes(dx[i], dx_out, lane, i as i32 * stride);
+    let stride = (lanes * 8) as i32;
+    let mode = e.load_int(MODES, 0);
+    let h = e.load(H, 0);
+    let x: Vec<E::F> = (0..dim).map(|i| e.load(X, i as i32 * stride)).collect();
+    let k1: Vec<E::F> = (0..dim).map(|i| e.load(K1, i as i32 * stride)).collect();
+    let mut reads = Reads {
+        stride,
+        time_slot,
+        column: &column,
+        loaded: vec![None; registers],
+    };
+    let mut half = Time {
+        t: e.load(T_HALF, 0),
+        row: ROW_HALF,
+        cache: vec![None; c.time_tape.roots.len()],
+    };
+    let mut at_end = Time {
+        t: e.load(T_END, 0),
+        row: ROW_END,
+        cache: vec![None; c.time_tape.roots.len()],
+    };
+    // the field at one stage: its derivatives and the mode bits it saw differ
+    let mut stage = |e: &mut E, y: &[E::F], time: &mut Time<E::F>, seen: E::M| {
+        let mut known = vec![None; registers];
+        for &(i, slot) in &io.states {
+            known[slot as usize] = Some(y[i as usize]);
         }
-        e.store_lanes(seen, seen_out, lane, 0);
-        let hit = if c.collisions.is_empty() {
-            e.int_const(0)
-        } else {
-            let mut known = vec![None; registers];
-            for &(i, slot) in &io.states {
-                known[slot as usize] = Some(end[i as usize]);
-            }
-            evaluate(
-                e,
-                collision.instructions(),
-                true,
-                mode,
-                &mut known,
-                &mut at_end,
-                &mut reads,
-            );
-            let mut hit = None;
-            for cond in &c.collisions {
-                let (_, stops) = decide(e, cond, &mut known, &mut at_end, &mut reads);
-                hit = Some(match hit {
-                    None => stops,
-                    Some(h) => e.b.ins().bor(h, stops),
-                });
-            }
-            let hit = hit.expect("a collision condition");
-            if e.width == 1 {
-                e.b.ins().uextend(types::I64, hit)
-            } else {
-                hit
-            }
-        };
-        e.store_lanes(hit, hit_out, lane, 0);
-    })
+        let observed = tape(
+            e,
+            field.instructions(),
+            false,
+            mode,
+            &mut known,
+            &mut |e, r| reads.read(e, time, r),
+        );
+        let k: Vec<E::F> = io
+            .derivatives
+            .iter()
+            .map(|&r| value(e, &mut known, time, &mut reads, r))
+            .collect();
+        let differs = e.xor(observed, mode);
+        (k, e.or(seen, differs))
+    };
+    // y = x + c·k, as the engine's `x[i] + c * k[i]`
+    let ahead = |e: &mut E, c: E::F, k: &[E::F]| -> Vec<E::F> {
+        (0..dim)
+            .map(|i| {
+                let step = e.arith(Arith::Mul, c, k[i]);
+                e.arith(Arith::Add, x[i], step)
+            })
+            .collect()
+    };
+    let half_h = {
+        let c = e.float_const(0.5);
+        e.arith(Arith::Mul, c, h)
+    };
+    let seen = e.int_const(0);
+    let y = ahead(e, half_h, &k1);
+    let (k2, seen) = stage(e, &y, &mut half, seen);
+    let y = ahead(e, half_h, &k2);
+    let (k3, seen) = stage(e, &y, &mut half, seen);
+    let y = ahead(e, h, &k3);
+    let (k4, seen) = stage(e, &y, &mut at_end, seen);
+    // x + h/6·(k1 + 2·(k2 + k3) + k4)
+    let (two, six) = (e.float_const(2.0), e.float_const(6.0));
+    let sixth = e.arith(Arith::Div, h, six);
+    let end: Vec<E::F> = (0..dim)
+        .map(|i| {
+            let inner = e.arith(Arith::Add, k2[i], k3[i]);
+            let inner = e.arith(Arith::Mul, two, inner);
+            let sum = e.arith(Arith::Add, k1[i], inner);
+            let sum = e.arith(Arith::Add, sum, k4[i]);
+            let step = e.arith(Arith::Mul, sixth, sum);
+            e.arith(Arith::Add, x[i], step)
+        })
+        .collect();
+    let (dx, seen) = stage(e, &end, &mut at_end, seen);
+    for i in 0..dim {
+        e.store(END, i as i32 * stride, end[i]);
+        e.store(DX, i as i32 * stride, dx[i]);
+    }
+    e.store_int(SEEN, 0, seen);
+    let hit = if c.collisions.is_empty() {
+        e.int_const(0)
+    } else {
+        let mut known = vec![None; registers];
+        for &(i, slot) in &io.states {
+            known[slot as usize] = Some(end[i as usize]);
+        }
+        tape(
+            e,
+            collision.instructions(),
+            true,
+            mode,
+            &mut known,
+            &mut |e, r| reads.read(e, &mut at_end, r),
+        );
+        let mut hit = None;
+        for cond in &c.collisions {
+            let (_, stops) = decide(e, cond, &mut known, &mut at_end, &mut reads);
+            hit = Some(match hit {
+                None => stops,
+                Some(h) => e.or(h, stops),
+            });
+        }
+        hit.expect("a collision condition")
+    };
+    e.store_int(HIT, 0, hit);
 }
 
 /// Where a register that an evaluation has not computed comes from.
-struct Reads<'c> {
-    float: Type,
-    flags: MemFlagsData,
-    /// The lane group's registers.
-    base: Value,
+struct Reads<'c, F> {
     stride: i32,
     time_slot: Option<NodeId>,
     /// Each register's column in a row of the forcing's table, if it is time-only.
     column: &'c [Option<i32>],
     /// Registers loaded so far (parameters and what they fix: the same at every stage).
-    loaded: Vec<Option<Value>>,
+    loaded: Vec<Option<F>>,
 }
 
 /// One of the step's times: τ in each lane, and its row of time-only values (loaded once).
-struct Time {
-    t: Value,
-    row: Value,
-    cache: Vec<Option<Value>>,
+struct Time<F> {
+    t: F,
+    row: Arg,
+    cache: Vec<Option<F>>,
 }
 
-impl Reads<'_> {
-    fn read(&mut self, b: &mut FunctionBuilder, time: &mut Time, r: NodeId) -> Value {
-        let (float, flags) = (self.float, self.flags);
+impl<F: Copy> Reads<'_, F> {
+    fn read<E: LaneCode<F = F>>(&mut self, e: &mut E, time: &mut Time<F>, r: NodeId) -> F {
         if self.time_slot == Some(r) {
             return time.t;
         }
         if let Some(j) = self.column[r as usize] {
-            return *time.cache[j as usize].get_or_insert_with(|| {
-                let v = b.ins().load(types::F64, flags, time.row, 8 * j);
-                if float.is_vector() {
-                    b.ins().splat(float, v)
-                } else {
-                    v
-                }
-            });
+            return match time.cache[j as usize] {
+                Some(v) => v,
+                None => *time.cache[j as usize].insert(e.load_splat(time.row, 8 * j)),
+            };
         }
-        let (base, stride) = (self.base, self.stride);
-        *self.loaded[r as usize]
-            .get_or_insert_with(|| b.ins().load(float, flags, base, r as i32 * stride))
+        match self.loaded[r as usize] {
+            Some(v) => v,
+            None => *self.loaded[r as usize].insert(e.load(REGISTERS, r as i32 * self.stride)),
+        }
     }
 }
 
-/// Emits `ins` at `time` over `known` (the states given).
-fn evaluate(
-    e: &mut Emitter,
-    ins: &[Ins],
-    free: bool,
-    mode: Value,
-    known: &mut [Option<Value>],
-    time: &mut Time,
-    reads: &mut Reads,
-) -> Value {
-    e.tape(ins, free, mode, known, &mut |b, r| reads.read(b, time, r))
-}
-
 /// Register `r`'s value: computed, given, or read.
-fn value(
-    e: &mut Emitter,
-    known: &mut [Option<Value>],
-    time: &mut Time,
-    reads: &mut Reads,
+fn value<E: LaneCode>(
+    e: &mut E,
+    known: &mut [Option<E::F>],
+    time: &mut Time<E::F>,
+    reads: &mut Reads<E::F>,
     r: NodeId,
-) -> Value {
-    *known[r as usize].get_or_insert_with(|| reads.read(e.b, time, r))
+) -> E::F {
+    match known[r as usize] {
+        Some(v) => v,
+        None => *known[r as usize].insert(reads.read(e, time, r)),
+    }
 }
 
 /// Whether `cond` holds in each lane, and whether it holds or has no truth value (it then
 /// stops the trajectory too), as [`Cond::stops`] decides it: masks, all ones where true.
-fn decide(
-    e: &mut Emitter,
+fn decide<E: LaneCode>(
+    e: &mut E,
     cond: &Cond,
-    known: &mut [Option<Value>],
-    time: &mut Time,
-    reads: &mut Reads,
-) -> (Value, Value) {
+    known: &mut [Option<E::F>],
+    time: &mut Time<E::F>,
+    reads: &mut Reads<E::F>,
+) -> (E::M, E::M) {
     match cond {
         Cond::Positive { value: id, strict } => {
             let s = value(e, known, time, reads, *id);
             let zero = e.float_const(0.0);
             let (holds, stops) = if *strict {
-                (FloatCC::GreaterThan, FloatCC::UnorderedOrGreaterThan)
+                (Compare::Gt, Compare::UnorderedOrGt)
             } else {
-                (
-                    FloatCC::GreaterThanOrEqual,
-                    FloatCC::UnorderedOrGreaterThanOrEqual,
-                )
+                (Compare::Ge, Compare::UnorderedOrGe)
             };
-            (
-                e.b.ins().fcmp(holds, s, zero),
-                e.b.ins().fcmp(stops, s, zero),
-            )
+            (e.compare(holds, s, zero), e.compare(stops, s, zero))
         }
         Cond::And(a, b) => {
             let (a_holds, a_stops) = decide(e, a, known, time, reads);
             let (b_holds, b_stops) = decide(e, b, known, time, reads);
             // a without a value stops; a true leaves it to b; a false does not stop
-            let a_fails = if e.width == 1 {
-                e.b.ins().bxor_imm_u(a_holds, 1)
-            } else {
-                e.b.ins().bnot(a_holds)
-            };
-            let b_decides = e.b.ins().bor(a_fails, b_stops);
-            (
-                e.b.ins().band(a_holds, b_holds),
-                e.b.ins().band(a_stops, b_decides),
-            )
+            let a_fails = e.not(a_holds);
+            let b_decides = e.or(a_fails, b_stops);
+            (e.and(a_holds, b_holds), e.and(a_stops, b_decides))
         }
         Cond::Or(a, b) => {
             let (a_holds, a_stops) = decide(e, a, known, time, reads);
             let (b_holds, b_stops) = decide(e, b, known, time, reads);
-            (
-                e.b.ins().bor(a_holds, b_holds),
-                e.b.ins().bor(a_stops, b_stops),
-            )
+            (e.or(a_holds, b_holds), e.or(a_stops, b_stops))
         }
     }
 }

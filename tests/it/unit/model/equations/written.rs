@@ -957,3 +957,128 @@ fn an_amplitude_with_kinks_of_its_own_follows_the_state() {
         }
     }
 }
+
+/// Each lane of a compiled step of `L` lanes (AVX2 code where the processor has it, four
+/// lanes to a register) against that lane's own compiled step (Cranelift's), bit for bit:
+/// ends, derivatives, mode bits seen and collisions, from pseudo-random states (some far
+/// out: NaN, ∞, collisions), modes and steps of the period.
+#[cfg(target_arch = "x86_64")]
+fn lanes_step_as_each_lane<const L: usize>(
+    sys: &mut EquationSystem,
+    uniform: &mut impl FnMut() -> f64,
+) {
+    use isola::model::equations::lanes::{EquationLanes, LaneTimes};
+    use isola::model::system::GridStep;
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    let rk = GeneralRk4::new(sys, &Resolution::default());
+    let n = rk.steps_per_period();
+    sys.tabulate(n);
+    let dim = sys.dim();
+    let mut eval = EquationLanes::<L>::new(sys);
+    for round in 0..100 {
+        let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
+        let phase = (uniform() * n as f64) as usize % n;
+        let steps = phase as u64 + n as u64 * (uniform() * 50.0) as u64;
+        let (t, t_end) = (rk.tau(steps), rk.tau(steps + 1));
+        let h = t_end - t;
+        let step = GridStep {
+            phase,
+            steps_per_period: n,
+            h,
+            t_half: t + 0.5 * h,
+            t_end,
+        };
+        let times = LaneTimes {
+            h: [h; L],
+            t_half: [step.t_half; L],
+            t_end: [t_end; L],
+        };
+        let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
+        let mut modes = [0; L];
+        for l in 0..L {
+            let mut xl = *sys.origin();
+            for v in &mut xl[..dim] {
+                *v += scale * (2.0 * uniform() - 1.0);
+            }
+            modes[l] = if l % 2 == 0 {
+                sys.mode_at(t, &xl) & sys.switch_mask()
+            } else {
+                (uniform() * u32::MAX as f64) as u64
+            };
+            let mut k = [0.0; MAX_DIM];
+            sys.field(t, &xl, modes[l], &mut k);
+            for i in 0..dim {
+                (x[i][l], k1[i][l]) = (xl[i], k[i]);
+            }
+        }
+        let (mut end, mut dx) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
+        let (seen, hit) = eval
+            .compiled_step(phase, n, &times, &x, &k1, &modes, &mut end, &mut dx)
+            .expect("a compiled step in lanes");
+        for l in 0..L {
+            let lane = |v: &[[f64; L]; MAX_DIM]| -> Vector { std::array::from_fn(|i| v[i][l]) };
+            let (mut end_l, mut dx_l) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
+            let (seen_l, hit_l) = sys
+                .compiled_step(
+                    &step,
+                    &lane(&x),
+                    &lane(&k1),
+                    modes[l],
+                    &mut end_l,
+                    &mut dx_l,
+                )
+                .expect("a compiled step");
+            assert_eq!(
+                (seen[l], hit[l]),
+                (seen_l, hit_l),
+                "lane {l} of {L}: seen, hit"
+            );
+            for i in 0..dim {
+                assert!(
+                    same(end[i][l], end_l[i]) && same(dx[i][l], dx_l[i]),
+                    "lane {l} of {L}, state {i}: {:e} {:e} in lanes, {:e} {:e} alone",
+                    end[i][l],
+                    dx[i][l],
+                    end_l[i],
+                    dx_l[i]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[cfg(target_arch = "x86_64")]
+fn a_step_in_lanes_is_each_lanes_own_step_bit_for_bit() {
+    use isola::model::equations::tape::{FEW_LANES, NATIVE_LANES, Tape};
+    if !Tape::native_enabled() {
+        eprintln!("tapes are interpreted on this host: nothing to compare");
+        return;
+    }
+    let every = {
+        let def = ModelDefinition::from_text(EVERY_OPERATION).unwrap();
+        EquationModel::new(&def, EVERY_OPERATION).unwrap()
+    };
+    let mut systems = vec![
+        paper_system(0.6, 3.7),
+        every.system(&every.defaults()).unwrap(),
+    ];
+    for file in [
+        "user_model_viscoelastic.toml",
+        "user_model_dead_load.toml",
+        "user_model_duffing_isola.toml",
+    ] {
+        systems.push(catalogue(file, &[]));
+    }
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for sys in &mut systems {
+        lanes_step_as_each_lane::<NATIVE_LANES>(sys, &mut uniform);
+        lanes_step_as_each_lane::<FEW_LANES>(sys, &mut uniform);
+    }
+}
