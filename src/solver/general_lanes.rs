@@ -228,26 +228,19 @@ impl GeneralRk4 {
         };
         let Stages { end, dx, .. } = &*stages;
         let t_end = times.t_end;
+        // row by row, as the step wrote them: which lanes' ends are finite
+        let mut finite = [true; L];
+        for i in 0..dim {
+            for l in 0..L {
+                finite[l] &= end[i][l].is_finite() & dx[i][l].is_finite();
+            }
+        }
+        let running: [bool; L] = std::array::from_fn(|l| lanes.running(l));
+        // the lanes that take their step as it is
+        let plain: [bool; L] =
+            std::array::from_fn(|l| running[l] && seen_diff[l] & mask == 0 && finite[l]);
         for l in 0..L {
-            if !lanes.running(l) {
-                continue;
-            }
-            let finite = (0..dim).all(|i| end[i][l].is_finite() && dx[i][l].is_finite());
-            if seen_diff[l] & mask != 0 || !finite {
-                // a switch in this step (or a value to explain): the scalar integrator, from
-                // this trial
-                let mut traj = lanes.lane(l);
-                let trial = Trial {
-                    x: std::array::from_fn(|i| end[i][l]),
-                    dx: std::array::from_fn(|i| dx[i][l]),
-                    seen: lanes.mode[l] ^ seen_diff[l],
-                    finite,
-                };
-                self.advance_step_after(sys, &mut traj, Some(trial));
-                lanes.set_lane(l, traj);
-                continue;
-            }
-            if hit[l] {
+            if plain[l] && hit[l] {
                 // located within the step, from its start
                 let lane = |v: &[[f64; L]; MAX_DIM]| -> Vector { std::array::from_fn(|i| v[i][l]) };
                 let t0 = self.tau(lanes.steps[l]);
@@ -258,12 +251,32 @@ impl GeneralRk4 {
                     [&lane(end), &lane(dx)],
                 ));
             }
-            for i in 0..dim {
-                lanes.x[i][l] = end[i][l];
-                lanes.dx[i][l] = dx[i][l];
+        }
+        for i in 0..dim {
+            for l in 0..L {
+                if plain[l] {
+                    lanes.x[i][l] = end[i][l];
+                    lanes.dx[i][l] = dx[i][l];
+                }
             }
-            lanes.steps[l] += 1;
-            lanes.phase[l] = self.next_phase(lanes.phase[l]);
+        }
+        for l in 0..L {
+            if plain[l] {
+                lanes.steps[l] += 1;
+                lanes.phase[l] = self.next_phase(lanes.phase[l]);
+            } else if running[l] {
+                // a switch in this step (or a value to explain): the scalar integrator, from
+                // this trial
+                let mut traj = lanes.lane(l);
+                let trial = Trial {
+                    x: std::array::from_fn(|i| end[i][l]),
+                    dx: std::array::from_fn(|i| dx[i][l]),
+                    seen: lanes.mode[l] ^ seen_diff[l],
+                    finite: finite[l],
+                };
+                self.advance_step_after(sys, &mut traj, Some(trial));
+                lanes.set_lane(l, traj);
+            }
         }
         lanes.stages = Some(stages);
     }
