@@ -2,14 +2,17 @@
 //! of x and v) → parsed, compiled and run: any input must end in a value or an error, never
 //! a panic, an abort or a hang, and wherever the host compiles to machine code, that code
 //! must give the interpreter's values bit for bit (every tape, one lane and `NATIVE_LANES`,
-//! each kink held or free).
+//! each kink held or free), and the plain step compiled for `NATIVE_LANES` lanes (AVX2 code
+//! where the processor has it) each lane's own compiled step.
 
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
+use isola::model::equations::lanes::{EquationLanes, LaneTimes};
 use isola::model::equations::tape::{NATIVE_LANES, Tape};
-use isola::model::equations::{EquationModel, ModelDefinition};
+use isola::model::equations::{EquationModel, EquationSystem, ModelDefinition};
+use isola::model::system::{GridStep, MAX_DIM, System};
 use isola::solver::general::GeneralRk4;
 
 /// The model around the three expressions.
@@ -118,6 +121,9 @@ fuzz_target!(|data: &[u8]| {
             }
         }
     }
+    if Tape::native_enabled() {
+        step_in_lanes(&mut sys, data);
+    }
     // a few periods from a few starts: a value or a stop, never a panic or a hang
     let rk = GeneralRk4::with_steps(&sys, 16);
     for x0 in [[0.5, 0.0], [-2.0, 1.0], [30.0, -7.0]] {
@@ -127,3 +133,73 @@ fuzz_target!(|data: &[u8]| {
         }
     }
 });
+
+/// The plain step of `NATIVE_LANES` lanes from states and modes drawn from `data`, against
+/// each lane's own compiled step, bit for bit.
+fn step_in_lanes(sys: &mut EquationSystem, data: &[u8]) {
+    const L: usize = NATIVE_LANES;
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    let mut seed = data.iter().fold(0x2545_f491_4f6c_dd1du64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    });
+    let mut uniform = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let rk = GeneralRk4::with_steps(sys, 16);
+    let n = rk.steps_per_period();
+    sys.tabulate(n);
+    let mut eval = EquationLanes::<L>::new(sys);
+    for round in 0..2 {
+        let scale = if round == 1 { 1e3 } else { 3.0 };
+        let phase = (uniform() * n as f64) as usize % n;
+        let (t, t_end) = (rk.tau(phase as u64), rk.tau(phase as u64 + 1));
+        let h = t_end - t;
+        let step = GridStep {
+            phase,
+            steps_per_period: n,
+            h,
+            t_half: t + 0.5 * h,
+            t_end,
+        };
+        let times = LaneTimes {
+            h: [h; L],
+            t_half: [step.t_half; L],
+            t_end: [t_end; L],
+        };
+        let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
+        let mut modes = [0; L];
+        for l in 0..L {
+            let mut xl = [0.0; MAX_DIM];
+            xl[..2].copy_from_slice(&state(&mut uniform, scale));
+            modes[l] = (uniform() * u32::MAX as f64) as u64;
+            let mut k = [0.0; MAX_DIM];
+            sys.field(t, &xl, modes[l], &mut k);
+            for i in 0..2 {
+                (x[i][l], k1[i][l]) = (xl[i], k[i]);
+            }
+        }
+        let (mut end, mut dx) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
+        let Some((seen, hit)) =
+            eval.compiled_step(phase, n, &times, &x, &k1, &modes, &mut end, &mut dx)
+        else {
+            return;
+        };
+        for l in 0..L {
+            let (xl, kl) = (
+                std::array::from_fn(|i| x[i][l]),
+                std::array::from_fn(|i| k1[i][l]),
+            );
+            let (mut end_l, mut dx_l) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
+            let (seen_l, hit_l) = sys
+                .compiled_step(&step, &xl, &kl, modes[l], &mut end_l, &mut dx_l)
+                .expect("a compiled step");
+            assert_eq!((seen[l], hit[l]), (seen_l, hit_l), "lane {l}");
+            for i in 0..2 {
+                assert!(same(end[i][l], end_l[i]) && same(dx[i][l], dx_l[i]), "lane {l}");
+            }
+        }
+    }
+}

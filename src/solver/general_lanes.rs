@@ -209,7 +209,8 @@ impl GeneralRk4 {
             t_half: std::array::from_fn(|l| t[l] + 0.5 * h[l]),
             t_end: std::array::from_fn(|l| t[l] + h[l]),
         };
-        let shared = Self::shared_phase(lanes);
+        let running: [bool; L] = std::array::from_fn(|l| lanes.running(l));
+        let shared = Self::shared_phase(lanes, &running);
         #[cfg(target_arch = "x86_64")]
         let compiled = shared.and_then(|phase| {
             let n = self.steps_per_period();
@@ -235,7 +236,6 @@ impl GeneralRk4 {
                 finite[l] &= end[i][l].is_finite() & dx[i][l].is_finite();
             }
         }
-        let running: [bool; L] = std::array::from_fn(|l| lanes.running(l));
         // the lanes that take their step as it is
         let plain: [bool; L] =
             std::array::from_fn(|l| running[l] && seen_diff[l] & mask == 0 && finite[l]);
@@ -281,12 +281,12 @@ impl GeneralRk4 {
         lanes.stages = Some(stages);
     }
 
-    /// The step of its period every running lane is at, if they agree (their clocks then
+    /// The step of its period every `running` lane is at, if they agree (their clocks then
     /// differ by whole periods: one row of a time table serves them all) and their step
     /// counts are within what a time table looks up.
-    fn shared_phase<const L: usize>(lanes: &Lanes<L>) -> Option<usize> {
+    fn shared_phase<const L: usize>(lanes: &Lanes<L>, running: &[bool; L]) -> Option<usize> {
         let mut shared = None;
-        for l in (0..L).filter(|&l| lanes.running(l)) {
+        for l in (0..L).filter(|&l| running[l]) {
             let phase = lanes.phase[l];
             if lanes.steps[l] >= MAX_COUNTED_STEPS || shared.is_some_and(|p| p != phase) {
                 return None;

@@ -218,6 +218,10 @@ pub(super) fn compile(lanes: usize, body: impl FnOnce(&mut Recorder)) -> Option<
         .assemble(lanes)
         .ok()?
         .slots;
+    if slots * SLOT > MAX_FRAME {
+        // a model this large keeps Cranelift's code (whose frame is its own)
+        return None;
+    }
     let bytes = Lowering::new(&recorder.insts, slots).assemble(lanes);
     match bytes {
         Ok(done) => Native::new(&done.bytes?),
@@ -234,6 +238,8 @@ const YMM: [AsmRegisterYmm; 16] = [
 ];
 /// Bytes of a register (and a stack slot).
 const SLOT: i32 = 32;
+/// Most bytes of stack slots: far below a worker thread's stack (2 MiB).
+const MAX_FRAME: i32 = 1 << 18;
 /// The pointer [`Arg`] kept in `r14` (the register file, read most).
 const KEPT_ARG: Arg = 0;
 

@@ -124,23 +124,27 @@ const DX: Arg = 10;
 const SEEN: Arg = 11;
 const HIT: Arg = 12;
 /// How many.
-pub(super) const STEP_POINTERS: usize = 13;
+const STEP_POINTERS: usize = 13;
+const _: () = assert!(std::mem::size_of::<StepArgs>() == 8 * STEP_POINTERS);
 
 /// Whether `c`'s step can be compiled for `lanes` lanes: a model not too large.
-pub(super) fn compilable(c: &Compiled, lanes: usize) -> bool {
+fn compilable(c: &Compiled, lanes: usize) -> bool {
     4 * c.field_tape.len() + c.collision_tape.len() <= MAX_INSTRUCTIONS
         && c.graph.len() * lanes * 8 < i32::MAX as usize
 }
 
 /// Compiles `c`'s plain RK4 step for `lanes` lanes: with our AVX2 emitter where the lanes
-/// come in fours and the processor has AVX2, else with Cranelift; `None` if neither can, or
-/// the model is too large.
+/// come in fours and the processor has AVX2 (and the step's frame is not too large), else
+/// with Cranelift; `None` if neither can, or the model is too large.
 pub fn compile_step(c: &Compiled, lanes: usize) -> Option<Native> {
     if !compilable(c, lanes) {
         return None;
     }
-    if lanes.is_multiple_of(super::avx2::WIDTH) && super::avx2::available() {
-        return super::avx2::compile(lanes, |e| emit_step(e, c, lanes));
+    if lanes.is_multiple_of(super::avx2::WIDTH)
+        && super::avx2::available()
+        && let Some(code) = super::avx2::compile(lanes, |e| emit_step(e, c, lanes))
+    {
+        return Some(code);
     }
     lane_loop(1, lanes, |e| {
         e.pointers_at(0, STEP_POINTERS);
