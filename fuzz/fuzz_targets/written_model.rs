@@ -12,7 +12,7 @@ use libfuzzer_sys::fuzz_target;
 use isola::model::equations::lanes::{EquationLanes, LaneTimes};
 use isola::model::equations::tape::{NATIVE_LANES, Tape};
 use isola::model::equations::{EquationModel, EquationSystem, ModelDefinition};
-use isola::model::system::{GridStep, MAX_DIM, System};
+use isola::model::system::{MAX_DIM, System};
 use isola::solver::general::GeneralRk4;
 
 /// The model around the three expressions.
@@ -34,6 +34,19 @@ x = {dx:?}
 v = {dv:?}
 "#
     )
+}
+
+/// A pseudo-random sequence in [0, 1) from the input's bytes and `seed`.
+fn uniform_from(data: &[u8], seed: u64) -> impl FnMut() -> f64 {
+    let mut seed = data.iter().fold(seed, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    });
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
 }
 
 /// A state within `scale` of the origin, drawn from `uniform`.
@@ -65,15 +78,7 @@ fuzz_target!(|data: &[u8]| {
     if Tape::native_enabled() {
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         // states and times from the input's bytes
-        let mut seed = data.iter().fold(0x9e37_79b9_7f4a_7c15u64, |h, &b| {
-            (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-        });
-        let mut uniform = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = uniform_from(data, 0x9e37_79b9_7f4a_7c15);
         for tape in c.tapes() {
             for round in 0..4 {
                 let scale = if round == 3 { 1e3 } else { 3.0 };
@@ -139,36 +144,16 @@ fuzz_target!(|data: &[u8]| {
 fn step_in_lanes(sys: &mut EquationSystem, data: &[u8]) {
     const L: usize = NATIVE_LANES;
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
-    let mut seed = data.iter().fold(0x2545_f491_4f6c_dd1du64, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-    });
-    let mut uniform = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = uniform_from(data, 0x2545_f491_4f6c_dd1d);
     let rk = GeneralRk4::with_steps(sys, 16);
     let n = rk.steps_per_period();
     sys.tabulate(n);
     let mut eval = EquationLanes::<L>::new(sys);
     for round in 0..2 {
         let scale = if round == 1 { 1e3 } else { 3.0 };
-        let phase = (uniform() * n as f64) as usize % n;
-        let (t, t_end) = (rk.tau(phase as u64), rk.tau(phase as u64 + 1));
-        let h = t_end - t;
-        let step = GridStep {
-            phase,
-            steps_per_period: n,
-            h,
-            t_half: t + 0.5 * h,
-            t_end,
-        };
-        let times = LaneTimes {
-            h: [h; L],
-            t_half: [step.t_half; L],
-            t_end: [t_end; L],
-        };
+        let steps = (uniform() * n as f64) as u64;
+        let (step, t) = (rk.grid_step(steps), rk.tau(steps));
+        let (phase, times) = (step.phase, LaneTimes::<L>::of(&step));
         let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
         let mut modes = [0; L];
         for l in 0..L {

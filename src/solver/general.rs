@@ -117,6 +117,19 @@ impl GeneralRk4 {
         steps as f64 * self.h
     }
 
+    /// The step after `steps` steps: its place in the period and its times.
+    pub fn grid_step(&self, steps: u64) -> GridStep {
+        let (t, t_end) = (self.tau(steps), self.tau(steps + 1));
+        let h = t_end - t;
+        GridStep {
+            phase: (steps % self.n as u64) as usize,
+            steps_per_period: self.n,
+            h,
+            t_half: t + 0.5 * h,
+            t_end,
+        }
+    }
+
     /// A trajectory from `x0` at τ = 0 (stopped at once if `x0` is outside the model).
     pub fn start<S: System>(&self, sys: &mut S, x0: &[f64]) -> Trajectory {
         self.start_at(sys, x0, 0)
@@ -189,16 +202,12 @@ impl GeneralRk4 {
         }
         if first.is_none() && traj.steps < MAX_COUNTED_STEPS {
             let mask = sys.switch_mask();
-            let (t, t_end) = (self.tau(traj.steps), self.tau(traj.steps + 1));
             // the model's compiled step, taken as it is where it stays on its piece
-            let h = t_end - t;
             let step = GridStep {
                 phase: traj.phase,
-                steps_per_period: self.n,
-                h,
-                t_half: t + 0.5 * h,
-                t_end,
+                ..self.grid_step(traj.steps)
             };
+            let (t, t_end) = (self.tau(traj.steps), step.t_end);
             let (mut end, mut dx) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
             if let Some((seen_diff, collided)) =
                 sys.compiled_step(&step, &traj.x, &traj.dx, traj.mode, &mut end, &mut dx)

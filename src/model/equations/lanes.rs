@@ -9,7 +9,7 @@ use super::build::Compiled;
 use super::native_step;
 use super::tape::Registers;
 use super::time_table::{GridTime, TimeTable};
-use crate::model::system::{MAX_DIM, Mode};
+use crate::model::system::{GridStep, MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
 pub type LaneVectors<const L: usize> = [[f64; L]; MAX_DIM];
@@ -20,6 +20,17 @@ pub struct LaneTimes<const L: usize> {
     pub h: [f64; L],
     pub t_half: [f64; L],
     pub t_end: [f64; L],
+}
+
+impl<const L: usize> LaneTimes<L> {
+    /// `step`'s times in every lane.
+    pub fn of(step: &GridStep) -> Self {
+        LaneTimes {
+            h: [step.h; L],
+            t_half: [step.t_half; L],
+            t_end: [step.t_end; L],
+        }
+    }
 }
 
 /// A written model's registers for `L` lanes, at one set of parameter values.

@@ -275,11 +275,7 @@ impl System for EquationSystem {
         end: &mut Vector,
         dx: &mut Vector,
     ) -> Option<(Mode, bool)> {
-        let times = LaneTimes {
-            h: [step.h],
-            t_half: [step.t_half],
-            t_end: [step.t_end],
-        };
+        let times = LaneTimes::of(step);
         let ([seen_diff], [collided]) = native_step::run(
             &self.model.inner,
             &self.regs.values,

@@ -429,6 +429,22 @@ y = "q / (1 + x^2) - pi"
 z = "-x + max(s - h, 0) + abs(y - z)^-2"
 "#;
 
+/// The model of [`EVERY_OPERATION`].
+fn every_operation() -> EquationModel {
+    let def = ModelDefinition::from_text(EVERY_OPERATION).unwrap();
+    EquationModel::new(&def, EVERY_OPERATION).unwrap()
+}
+
+/// A fixed pseudo-random sequence in [0, 1) from `seed`.
+fn uniform_from(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 #[test]
 fn machine_code_gives_the_interpreters_values_bit_for_bit() {
     use isola::model::equations::tape::{NATIVE_LANES, Tape};
@@ -436,10 +452,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
         eprintln!("tapes are interpreted on this host: nothing to compare");
         return;
     }
-    let every = {
-        let def = ModelDefinition::from_text(EVERY_OPERATION).unwrap();
-        EquationModel::new(&def, EVERY_OPERATION).unwrap()
-    };
+    let every = every_operation();
     let mut models = vec![paper_model(), every];
     for file in [
         "user_model_viscoelastic.toml",
@@ -449,13 +462,7 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
     }
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
     // a fixed pseudo-random sequence of states, times and modes, some far out (NaN, ∞)
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut uniform = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = uniform_from(0x9e37_79b9_7f4a_7c15);
     for model in &models {
         let sys = model.system(&model.defaults()).unwrap();
         let c = &*model.inner;
@@ -968,7 +975,6 @@ fn lanes_step_as_each_lane<const L: usize>(
     uniform: &mut impl FnMut() -> f64,
 ) {
     use isola::model::equations::lanes::{EquationLanes, LaneTimes};
-    use isola::model::system::GridStep;
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
     let rk = GeneralRk4::new(sys, &Resolution::default());
     let n = rk.steps_per_period();
@@ -977,22 +983,9 @@ fn lanes_step_as_each_lane<const L: usize>(
     let mut eval = EquationLanes::<L>::new(sys);
     for round in 0..100 {
         let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
-        let phase = (uniform() * n as f64) as usize % n;
-        let steps = phase as u64 + n as u64 * (uniform() * 50.0) as u64;
-        let (t, t_end) = (rk.tau(steps), rk.tau(steps + 1));
-        let h = t_end - t;
-        let step = GridStep {
-            phase,
-            steps_per_period: n,
-            h,
-            t_half: t + 0.5 * h,
-            t_end,
-        };
-        let times = LaneTimes {
-            h: [h; L],
-            t_half: [step.t_half; L],
-            t_end: [t_end; L],
-        };
+        let steps = (uniform() * 50.0 * n as f64) as u64;
+        let (step, t) = (rk.grid_step(steps), rk.tau(steps));
+        let (phase, times) = (step.phase, LaneTimes::<L>::of(&step));
         let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
         let mut modes = [0; L];
         for l in 0..L {
@@ -1055,10 +1048,7 @@ fn a_step_in_lanes_is_each_lanes_own_step_bit_for_bit() {
         eprintln!("tapes are interpreted on this host: nothing to compare");
         return;
     }
-    let every = {
-        let def = ModelDefinition::from_text(EVERY_OPERATION).unwrap();
-        EquationModel::new(&def, EVERY_OPERATION).unwrap()
-    };
+    let every = every_operation();
     let mut systems = vec![
         paper_system(0.6, 3.7),
         every.system(&every.defaults()).unwrap(),
@@ -1070,13 +1060,7 @@ fn a_step_in_lanes_is_each_lanes_own_step_bit_for_bit() {
     ] {
         systems.push(catalogue(file, &[]));
     }
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut uniform = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = uniform_from(0x2545_f491_4f6c_dd1d);
     for sys in &mut systems {
         lanes_step_as_each_lane::<NATIVE_LANES>(sys, &mut uniform);
         lanes_step_as_each_lane::<FEW_LANES>(sys, &mut uniform);
