@@ -151,6 +151,11 @@ impl LaneCode for Recorder {
         self.push(Inst::Compare(cc, x, y))
     }
 
+    fn sign_bit(&mut self, truth: V, k: u8) -> V {
+        let bit = self.int_const(1 << k);
+        self.push(Inst::Bits(Bits::And, truth, bit))
+    }
+
     fn and(&mut self, a: V, b: V) -> V {
         self.push(Inst::Bits(Bits::And, a, b))
     }
@@ -168,13 +173,10 @@ impl LaneCode for Recorder {
         self.push(Inst::Bits(Bits::Xor, a, ones))
     }
 
-    fn has_bit(&mut self, m: V, k: u8) -> V {
+    fn select_on_bit(&mut self, m: V, k: u8, x: V, y: V) -> V {
         let bit = self.int_const(1 << k);
         let set = self.push(Inst::Bits(Bits::And, m, bit));
-        self.push(Inst::Equal(set, bit))
-    }
-
-    fn select(&mut self, on: V, x: V, y: V) -> V {
+        let on = self.push(Inst::Equal(set, bit));
         self.push(Inst::Select { on, x, y })
     }
 

@@ -29,7 +29,8 @@ pub(super) enum Compare {
 }
 
 /// Emits code over a group of lanes. `F` holds a double per lane; `M` a 64-bit word per lane
-/// (a mode, or a mask: all ones where a comparison holds).
+/// (a mode), or a comparison's truth per lane (all ones where it holds, or in code of one
+/// lane, a boolean), which `and`, `or` and `not` combine and `sign_bit` turns into a word.
 pub(super) trait LaneCode {
     type F: Copy;
     type M: Copy;
@@ -40,22 +41,23 @@ pub(super) trait LaneCode {
     fn neg(&mut self, x: Self::F) -> Self::F;
     /// The library function at `address` (of one or two doubles) in each lane.
     fn call(&mut self, address: usize, args: &[Self::F]) -> Self::F;
-    /// `x cc y` in each lane, as a mask.
+    /// Whether `x cc y` in each lane.
     fn compare(&mut self, cc: Compare, x: Self::F, y: Self::F) -> Self::M;
+    /// The word with bit `k` set in the lanes where `truth` holds, else 0.
+    fn sign_bit(&mut self, truth: Self::M, k: u8) -> Self::M;
     fn and(&mut self, a: Self::M, b: Self::M) -> Self::M;
     fn or(&mut self, a: Self::M, b: Self::M) -> Self::M;
     fn xor(&mut self, a: Self::M, b: Self::M) -> Self::M;
     fn not(&mut self, a: Self::M) -> Self::M;
-    /// A mask of the lanes whose word `m` has bit `k` set.
-    fn has_bit(&mut self, m: Self::M, k: u8) -> Self::M;
-    /// `x` where `on`, else `y`.
-    fn select(&mut self, on: Self::M, x: Self::F, y: Self::F) -> Self::F;
+    /// `x` in the lanes whose word `m` has bit `k` set, else `y`.
+    fn select_on_bit(&mut self, m: Self::M, k: u8, x: Self::F, y: Self::F) -> Self::F;
     /// The group's lanes of the lane-major array at pointer `arg`, row at byte `offset`.
     fn load(&mut self, arg: Arg, offset: i32) -> Self::F;
     fn load_int(&mut self, arg: Arg, offset: i32) -> Self::M;
     /// The double at byte `offset` of pointer `arg`, in every lane.
     fn load_splat(&mut self, arg: Arg, offset: i32) -> Self::F;
     fn store(&mut self, arg: Arg, offset: i32, v: Self::F);
+    /// Stores a word per lane (a truth as a nonzero word where it holds).
     fn store_int(&mut self, arg: Arg, offset: i32, v: Self::M);
 }
 
@@ -94,8 +96,7 @@ pub(super) fn tape<E: LaneCode>(
             Op::Un(f) => e.call(library(f), &[x]),
             Op::Select => {
                 let m = if free { observed } else { mode };
-                let on = e.has_bit(m, i.k);
-                e.select(on, x, y)
+                e.select_on_bit(m, i.k, x, y)
             }
             Op::Sign | Op::SignStrict => {
                 let cc = if i.op == Op::Sign {
@@ -104,8 +105,7 @@ pub(super) fn tape<E: LaneCode>(
                     Compare::Gt
                 };
                 let on = e.compare(cc, x, zero);
-                let bit = e.int_const(1u64 << i.k);
-                let bits = e.and(on, bit);
+                let bits = e.sign_bit(on, i.k);
                 observed = e.or(observed, bits);
                 continue;
             }

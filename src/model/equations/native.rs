@@ -311,15 +311,6 @@ impl<'a, 'f> Emitter<'a, 'f> {
         }
     }
 
-    /// A width-one comparison's truth as a mask (two lanes' are masks already).
-    fn mask(&mut self, truth: Value) -> Value {
-        if self.width == 1 {
-            self.b.ins().bmask(types::I64, truth)
-        } else {
-            truth
-        }
-    }
-
     /// A library call per lane.
     fn call_each(&mut self, sig: SigRef, address: usize, args: &[Value]) -> Value {
         if self.width == 1 {
@@ -389,8 +380,18 @@ impl LaneCode for Emitter<'_, '_> {
             Compare::UnorderedOrGe => FloatCC::UnorderedOrGreaterThanOrEqual,
             Compare::UnorderedOrGt => FloatCC::UnorderedOrGreaterThan,
         };
-        let truth = self.b.ins().fcmp(cc, x, y);
-        self.mask(truth)
+        self.b.ins().fcmp(cc, x, y)
+    }
+
+    fn sign_bit(&mut self, truth: Value, k: u8) -> Value {
+        if self.width == 1 {
+            let on = self.b.ins().uextend(types::I64, truth);
+            self.b.ins().ishl_imm_u(on, i64::from(k))
+        } else {
+            // a lane's comparison is all ones where it holds
+            let bit = self.int_const(1u64 << k);
+            self.b.ins().band(truth, bit)
+        }
     }
 
     fn and(&mut self, a: Value, b: Value) -> Value {
@@ -406,18 +407,19 @@ impl LaneCode for Emitter<'_, '_> {
     }
 
     fn not(&mut self, a: Value) -> Value {
-        self.b.ins().bnot(a)
+        if self.width == 1 {
+            self.b.ins().bxor_imm_u(a, 1)
+        } else {
+            self.b.ins().bnot(a)
+        }
     }
 
-    fn has_bit(&mut self, m: Value, k: u8) -> Value {
+    fn select_on_bit(&mut self, m: Value, k: u8, x: Value, y: Value) -> Value {
         let bit = self.int_const(1u64 << k);
         let zero = self.int_const(0);
         let bit = self.b.ins().band(m, bit);
-        let truth = self.b.ins().icmp(IntCC::NotEqual, bit, zero);
-        self.mask(truth)
-    }
-
-    fn select(&mut self, on: Value, x: Value, y: Value) -> Value {
+        // one lane: the comparison's truth picks (no mask made of it)
+        let on = self.b.ins().icmp(IntCC::NotEqual, bit, zero);
         if self.width == 1 {
             self.b.ins().select(on, x, y)
         } else {
@@ -450,6 +452,12 @@ impl LaneCode for Emitter<'_, '_> {
     }
 
     fn store_int(&mut self, arg: Arg, offset: i32, v: Value) {
+        // one lane's truth is a byte
+        let v = if self.b.func.dfg.value_type(v) == types::I8 {
+            self.b.ins().uextend(types::I64, v)
+        } else {
+            v
+        };
         self.store(arg, offset, v);
     }
 }
