@@ -215,6 +215,18 @@ impl LaneCode for Recorder {
 pub(super) fn compile(lanes: usize, body: impl FnOnce(&mut Recorder)) -> Option<Native> {
     let mut recorder = Recorder::default();
     body(&mut recorder);
+    // loads are made again where read: only from memory the code does not write
+    let stored: Vec<Arg> = (recorder.insts.iter())
+        .filter_map(|i| match *i {
+            Inst::Store { arg, .. } => Some(arg),
+            _ => None,
+        })
+        .collect();
+    if (recorder.insts.iter())
+        .any(|i| matches!(*i, Inst::Load { arg, .. } if stored.contains(&arg)))
+    {
+        return None;
+    }
     // the first pass counts the stack slots the second reserves
     let slots = Lowering::new(&recorder.insts, 0)
         .assemble(lanes)
