@@ -211,7 +211,8 @@ impl LaneCode for Recorder {
 
 /// Compiles `body` (recorded for one group of four lanes) into a function of one pointer,
 /// to a `#[repr(C)]` struct of the pointers `body` reads and writes through, that runs it
-/// over `lanes` lanes. `None` if it cannot be assembled.
+/// over `lanes` lanes. `None` where Cranelift's code is taken instead: code that reads memory
+/// it writes, a frame too large, or an assembler error.
 pub(super) fn compile(lanes: usize, body: impl FnOnce(&mut Recorder)) -> Option<Native> {
     let mut recorder = Recorder::default();
     body(&mut recorder);
