@@ -152,7 +152,7 @@ fn step_in_lanes(sys: &mut EquationSystem, data: &[u8]) {
     for round in 0..2 {
         let scale = if round == 1 { 1e3 } else { 3.0 };
         let steps = (uniform() * n as f64) as u64;
-        let (step, t) = (rk.grid_step(steps), rk.tau(steps));
+        let (step, t) = (rk.grid_step(steps, steps as usize), rk.tau(steps));
         let (phase, times) = (step.phase, LaneTimes::<L>::of(&step));
         let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
         let mut modes = [0; L];

@@ -117,12 +117,13 @@ impl GeneralRk4 {
         steps as f64 * self.h
     }
 
-    /// The step after `steps` steps: its place in the period and its times.
-    pub fn grid_step(&self, steps: u64) -> GridStep {
+    /// The step after `steps` steps, at step `phase` of the period (`steps` modulo the
+    /// period's steps, as a trajectory keeps it): its times.
+    pub fn grid_step(&self, steps: u64, phase: usize) -> GridStep {
         let (t, t_end) = (self.tau(steps), self.tau(steps + 1));
         let h = t_end - t;
         GridStep {
-            phase: (steps % self.n as u64) as usize,
+            phase,
             steps_per_period: self.n,
             h,
             t_half: t + 0.5 * h,
@@ -203,10 +204,7 @@ impl GeneralRk4 {
         if first.is_none() && traj.steps < MAX_COUNTED_STEPS {
             let mask = sys.switch_mask();
             // the model's compiled step, taken as it is where it stays on its piece
-            let step = GridStep {
-                phase: traj.phase,
-                ..self.grid_step(traj.steps)
-            };
+            let step = self.grid_step(traj.steps, traj.phase);
             let (t, t_end) = (self.tau(traj.steps), step.t_end);
             let (mut end, mut dx) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
             if let Some((seen_diff, collided)) =

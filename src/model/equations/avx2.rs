@@ -228,18 +228,14 @@ pub(super) fn compile(lanes: usize, body: impl FnOnce(&mut Recorder)) -> Option<
     {
         return None;
     }
-    // the first pass counts the stack slots the second reserves
-    let slots = Lowering::new(&recorder.insts, 0)
-        .assemble(lanes)
-        .ok()?
-        .slots;
+    // the first pass counts the stack slots the second reserves (its own code is dropped)
+    let (_, slots) = Lowering::new(&recorder.insts, 0).assemble(lanes).ok()?;
     if slots * SLOT > MAX_FRAME {
         // a model this large keeps Cranelift's code (whose frame is its own)
         return None;
     }
-    let bytes = Lowering::new(&recorder.insts, slots).assemble(lanes);
-    match bytes {
-        Ok(done) => Native::new(&done.bytes?),
+    match Lowering::new(&recorder.insts, slots).assemble(lanes) {
+        Ok((bytes, _)) => Native::new(&bytes),
         Err(e) => {
             tracing::warn!("a written model's step is compiled by Cranelift: {e}");
             None
@@ -273,12 +269,6 @@ struct Lowering<'i> {
     frame: i32,
     /// Constants' bits, each once, at `pool` after the code.
     pool: Vec<u64>,
-}
-
-/// What a lowering made: its bytes (if it had its frame) and the stack slots it used.
-struct Lowered {
-    bytes: Option<Vec<u8>>,
-    slots: i32,
 }
 
 impl<'i> Lowering<'i> {
@@ -334,7 +324,9 @@ impl<'i> Lowering<'i> {
         }
     }
 
-    fn assemble(mut self, lanes: usize) -> Result<Lowered, IcedError> {
+    /// The machine code, and the stack slots it uses (valid code only if they are at most
+    /// the frame's).
+    fn assemble(mut self, lanes: usize) -> Result<(Vec<u8>, i32), IcedError> {
         let mut a = CodeAssembler::new(64)?;
         let mut pool = a.create_label();
         let mut top = a.create_label();
@@ -346,7 +338,7 @@ impl<'i> Lowering<'i> {
             a.push(r)?;
         }
         a.and(rsp, -SLOT)?;
-        a.sub(rsp, self.frame * SLOT + SLOT)?;
+        a.sub(rsp, self.frame * SLOT)?;
         a.mov(rbx, rdi)?;
         a.lea(r13, ptr(pool))?;
         a.mov(r14, qword_ptr(rbx + 8 * KEPT_ARG as i32))?;
@@ -371,13 +363,7 @@ impl<'i> Lowering<'i> {
             self.pool.push(0);
         }
         a.dq(&self.pool)?;
-        let bytes = (self.slots <= self.frame)
-            .then(|| a.assemble(0))
-            .transpose()?;
-        Ok(Lowered {
-            bytes,
-            slots: self.slots,
-        })
+        Ok((a.assemble(0)?, self.slots))
     }
 
     /// Pointer `arg` in a register (`rax` unless it is the one kept in `r14`).
@@ -454,24 +440,38 @@ impl<'i> Lowering<'i> {
         Ok(r)
     }
 
+    /// The register holding `v`, filled now (in a register not among `busy`) if none does.
+    fn in_register(
+        &mut self,
+        a: &mut CodeAssembler,
+        v: V,
+        busy: &[usize],
+    ) -> Result<usize, IcedError> {
+        if let Some(r) = self.reg[v.0 as usize] {
+            return Ok(r);
+        }
+        let r = self.free_register(a, busy)?;
+        self.fill(a, v.0, r)?;
+        Ok(r)
+    }
+
+    /// Marks `v`'s reads up to instruction `i` as behind.
+    fn read_by(&mut self, v: V, i: usize) {
+        let uses = &self.uses[v.0 as usize];
+        self.passed[v.0 as usize] = uses.partition_point(|&u| u <= i as u32);
+    }
+
     /// Values in registers for instruction `i`'s inputs.
     fn inputs(&mut self, a: &mut CodeAssembler, i: usize) -> Result<Vec<usize>, IcedError> {
         let inputs = self.insts[i].inputs();
         let mut regs = Vec::with_capacity(inputs.len());
-        for v in &inputs {
-            let r = match self.reg[v.0 as usize] {
-                Some(r) => r,
-                None => {
-                    let r = self.free_register(a, &regs)?;
-                    self.fill(a, v.0, r)?;
-                    r
-                }
-            };
+        for &v in &inputs {
+            let r = self.in_register(a, v, &regs)?;
             regs.push(r);
         }
         // this instruction's reads are behind; a value no longer read frees its register
-        for v in &inputs {
-            self.passed[v.0 as usize] = self.uses[v.0 as usize].partition_point(|&u| u <= i as u32);
+        for &v in &inputs {
+            self.read_by(v, i);
             if self.next_use(v.0) == u32::MAX
                 && let Some(r) = self.reg[v.0 as usize].take()
             {
@@ -482,13 +482,8 @@ impl<'i> Lowering<'i> {
     }
 
     /// A register for instruction `i`'s value (the value is then in it).
-    fn output(
-        &mut self,
-        a: &mut CodeAssembler,
-        i: usize,
-        busy: &[usize],
-    ) -> Result<usize, IcedError> {
-        let r = self.free_register(a, busy)?;
+    fn output(&mut self, a: &mut CodeAssembler, i: usize) -> Result<usize, IcedError> {
+        let r = self.free_register(a, &[])?;
         self.reg[i] = Some(r);
         self.holds[r] = Some(i as u32);
         Ok(r)
@@ -522,7 +517,7 @@ impl<'i> Lowering<'i> {
         }
         let src = self.inputs(a, i)?;
         // the inputs' registers may be reused for the value: they are read first
-        let d = self.output(a, i, &[])?;
+        let d = self.output(a, i)?;
         let (d, s) = (YMM[d], src.iter().map(|&r| YMM[r]).collect::<Vec<_>>());
         match inst {
             Inst::Arith(op, ..) => match op {
@@ -570,14 +565,7 @@ impl<'i> Lowering<'i> {
         // the arguments in slots of their own, read lane by lane
         let mut at = Vec::with_capacity(args.len());
         for &v in args {
-            let r = match self.reg[v.0 as usize] {
-                Some(r) => r,
-                None => {
-                    let r = self.free_register(a, &[])?;
-                    self.fill(a, v.0, r)?;
-                    r
-                }
-            };
+            let r = self.in_register(a, v, &[])?;
             let s = match self.slot[v.0 as usize] {
                 Some(s) => s,
                 None => {
@@ -588,8 +576,8 @@ impl<'i> Lowering<'i> {
             };
             at.push(s);
         }
-        for v in args {
-            self.passed[v.0 as usize] = self.uses[v.0 as usize].partition_point(|&u| u <= i as u32);
+        for &v in args {
+            self.read_by(v, i);
         }
         for r in 0..16 {
             self.evict(a, r)?;

@@ -238,7 +238,7 @@ pub(super) struct Emitter<'a, 'f> {
     binary: SigRef,
     /// The function's pointers, and each offset to the group's lanes (made at first use).
     pointers: Vec<Value>,
-    at_lane: Vec<Option<Value>>,
+    at_group: Vec<Option<Value>>,
     /// The group's byte offset into a lane-major array.
     lane: Value,
 }
@@ -272,7 +272,7 @@ impl<'a, 'f> Emitter<'a, 'f> {
             lanes_of: MemFlagsData::new().with_endianness(Endianness::Little),
             unary,
             binary,
-            at_lane: vec![None; pointers.len()],
+            at_group: vec![None; pointers.len()],
             pointers,
             lane,
         }
@@ -289,7 +289,7 @@ impl<'a, 'f> Emitter<'a, 'f> {
                     .load(types::I64, self.flags, base, 8 * k as i32)
             })
             .collect();
-        self.at_lane = vec![None; count];
+        self.at_group = vec![None; count];
     }
 
     /// `v` in every lane of the group.
@@ -300,13 +300,13 @@ impl<'a, 'f> Emitter<'a, 'f> {
         }
     }
 
-    /// Pointer `arg` moved to the group's lanes.
-    fn lanes_of(&mut self, arg: Arg) -> Value {
-        match self.at_lane[arg] {
+    /// Pointer `arg` moved to the lane group's first lane.
+    fn at_group(&mut self, arg: Arg) -> Value {
+        match self.at_group[arg] {
             Some(at) => at,
             None => {
                 let at = self.b.ins().iadd(self.pointers[arg], self.lane);
-                *self.at_lane[arg].insert(at)
+                *self.at_group[arg].insert(at)
             }
         }
     }
@@ -429,12 +429,12 @@ impl LaneCode for Emitter<'_, '_> {
     }
 
     fn load(&mut self, arg: Arg, offset: i32) -> Value {
-        let at = self.lanes_of(arg);
+        let at = self.at_group(arg);
         self.b.ins().load(self.float, self.flags, at, offset)
     }
 
     fn load_int(&mut self, arg: Arg, offset: i32) -> Value {
-        let at = self.lanes_of(arg);
+        let at = self.at_group(arg);
         self.b.ins().load(self.int, self.flags, at, offset)
     }
 
@@ -447,7 +447,7 @@ impl LaneCode for Emitter<'_, '_> {
     }
 
     fn store(&mut self, arg: Arg, offset: i32, v: Value) {
-        let at = self.lanes_of(arg);
+        let at = self.at_group(arg);
         self.b.ins().store(self.flags, v, at, offset);
     }
 

@@ -984,8 +984,9 @@ fn lanes_step_as_each_lane<const L: usize>(
     for round in 0..100 {
         let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
         let steps = (uniform() * 50.0 * n as f64) as u64;
-        let (step, t) = (rk.grid_step(steps), rk.tau(steps));
-        let (phase, times) = (step.phase, LaneTimes::<L>::of(&step));
+        let phase = (steps % n as u64) as usize;
+        let (step, t) = (rk.grid_step(steps, phase), rk.tau(steps));
+        let times = LaneTimes::<L>::of(&step);
         let (mut x, mut k1) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
         let mut modes = [0; L];
         for l in 0..L {
