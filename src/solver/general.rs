@@ -28,6 +28,12 @@ const NEWTON_MARGIN: f64 = 1e-9;
 /// the step's own error, so fourth order holds (for h = 0.007, δ·h = 7e-9 and
 /// (δ·h)² = 5e-17 against h⁵ = 2e-11).
 const CONTINUOUS_TOLERANCE: f64 = 1e-6;
+/// How little the last estimate of a continuous switch on the step's interpolant must move, as
+/// a fraction of the step, for it to be taken (well below the sub-step's aim past it).
+const CONVERGED: f64 = 1e-6;
+/// Probes of the step's interpolant spent estimating a continuous switch at most, before it
+/// is bracketed instead.
+const MAX_ESTIMATES: usize = 4;
 /// Bisection-safeguarded iterations spent locating one switch at most.
 const MAX_ROOT_ITERATIONS: usize = 60;
 /// Steps beyond which a trajectory's stage times are left to the forcing's table to place
@@ -374,25 +380,40 @@ impl GeneralRk4 {
             )
         };
         let end = at(sys, 1.0, trial.x);
-        let mut hi = end.clone();
-        if hi.crossed == 0 {
-            hi = SCAN
-                .iter()
-                .map(|&theta| interpolated(sys, theta))
-                .find(|p| p.crossed != 0)?;
-        }
-        let (lo, hi) = bracket(sys, &interpolated, start, hi, tolerance);
-        // a real sub-step to the interpolant's estimate (past a continuous switch's by its
-        // tolerance): past the switch by at most the interpolant's error (a state error of
-        // its square), or else one Newton step on the real switching function with the
-        // interpolant's slope
-        let k = hi.crossed.trailing_zeros() as usize;
-        let slope = (hi.s[k] - lo.s[k]) / (hi.theta - lo.theta);
-        let margin = tolerance(&hi).max(NEWTON_MARGIN);
+        // the first switch on the interpolant: its estimate (a fraction of the step), the
+        // switch, its switching function's slope there and how far past it to aim. Where one
+        // continuous switch alone was seen, its estimate once it settles (some three probes);
+        // else a bracket to the tolerance's width (some five)
+        let seen = (trial.seen ^ mode) & mask;
+        let alone = end.crossed.is_power_of_two() && seen == end.crossed;
+        let k = end.crossed.trailing_zeros() as usize;
+        let from_secants = (alone && end.finite && end.crossed & continuous != 0 && k < N)
+            .then(|| converge(sys, &interpolated, &start, &end, k, CONVERGED))
+            .flatten()
+            .map(|(theta, slope)| (theta, k, slope, loose.max(NEWTON_MARGIN)));
+        let (estimate, k, slope, margin) = match from_secants {
+            Some(estimate) => estimate,
+            None => {
+                let mut hi = end.clone();
+                if hi.crossed == 0 {
+                    hi = SCAN
+                        .iter()
+                        .map(|&theta| interpolated(sys, theta))
+                        .find(|p| p.crossed != 0)?;
+                }
+                let (lo, hi) = bracket(sys, &interpolated, start, hi, tolerance);
+                let k = hi.crossed.trailing_zeros() as usize;
+                let slope = (hi.s[k] - lo.s[k]) / (hi.theta - lo.theta);
+                (hi.theta, k, slope, tolerance(&hi).max(NEWTON_MARGIN))
+            }
+        };
+        // a real sub-step to the estimate (past a continuous switch's by its tolerance): past
+        // the switch by at most the estimate's error (a state error of its square), or else
+        // one Newton step on the real switching function with the estimate's slope
         let aim = if margin > NEWTON_MARGIN {
-            (hi.theta + margin).min(1.0)
+            (estimate + margin).min(1.0)
         } else {
-            hi.theta
+            estimate
         };
         let mut past = real(sys, aim);
         if past.crossed == 0 && slope.is_finite() && slope != 0.0 {
@@ -536,6 +557,53 @@ impl StepEnd {
             mode: traj.mode,
         }
     }
+}
+
+/// The first switch in a step where switching function `k` alone changed sign, from its
+/// values at `start` and `end` (on this piece at the one, across at the other): secant, then
+/// inverse quadratic estimates through the last three probes, kept inside the bracket, until
+/// one moves less than `tolerance`. The estimate and the switching function's slope there (by
+/// the last two probes); `None` if another switch or a value that is not finite shows first,
+/// or it does not settle within [`MAX_ESTIMATES`] probes.
+fn converge<S: System, const N: usize>(
+    sys: &mut S,
+    probe: &impl Fn(&mut S, f64) -> Probe<N>,
+    start: &Probe<N>,
+    end: &Probe<N>,
+    k: usize,
+    tolerance: f64,
+) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = ((start.theta, start.s[k]), (end.theta, end.s[k]));
+    let secant = |(a, fa): (f64, f64), (b, fb): (f64, f64)| a - fa * (b - a) / (fb - fa);
+    let mut theta = secant(lo, hi);
+    for _ in 0..MAX_ESTIMATES {
+        let p = probe(sys, theta);
+        if !p.finite || p.crossed & !(1 << k) != 0 {
+            return None;
+        }
+        let here = (theta, p.s[k]);
+        let dropped = if p.crossed != 0 {
+            std::mem::replace(&mut hi, here)
+        } else {
+            std::mem::replace(&mut lo, here)
+        };
+        let next = inverse_quadratic(lo, hi, dropped)
+            .filter(|&next| next > lo.0 && next < hi.0)
+            .unwrap_or_else(|| secant(lo, hi));
+        if (next - theta).abs() < tolerance {
+            let slope = (here.1 - dropped.1) / (here.0 - dropped.0);
+            return Some((next, slope));
+        }
+        theta = next;
+    }
+    None
+}
+
+/// The root of the quadratic in f through three points (θ, f), if their values differ.
+fn inverse_quadratic((a, fa): (f64, f64), (b, fb): (f64, f64), (c, fc): (f64, f64)) -> Option<f64> {
+    let (ab, ac, bc) = (fa - fb, fa - fc, fb - fc);
+    (ab != 0.0 && ac != 0.0 && bc != 0.0)
+        .then(|| a * fb * fc / (ab * ac) - b * fa * fc / (ab * bc) + c * fa * fb / (ac * bc))
 }
 
 /// Narrows [`lo`, `hi`] (on this piece at `lo`, across at `hi`) around the first switch:
