@@ -28,8 +28,9 @@ const NEWTON_MARGIN: f64 = 1e-9;
 /// the step's own error, so fourth order holds (for h = 0.007, δ·h = 7e-9 and
 /// (δ·h)² = 5e-17 against h⁵ = 2e-11).
 const CONTINUOUS_TOLERANCE: f64 = 1e-6;
-/// How little the last estimate of a continuous switch on the step's interpolant must move, as
-/// a fraction of the step, for it to be taken (well below the sub-step's aim past it).
+/// How little an estimate of a continuous switch on the step's interpolant must move, as a
+/// fraction of the step, for the next to be taken: that one is then good to about the move's
+/// square (the steps converge superlinearly), far less than the sub-step's aim past it.
 const CONVERGED: f64 = 1e-6;
 /// Probes of the step's interpolant spent estimating a continuous switch at most, before it
 /// is bracketed instead.
@@ -317,7 +318,8 @@ impl GeneralRk4 {
     ///
     /// The switch is located on the step's cubic Hermite interpolant (one evaluation of the
     /// switching functions per estimate; its O(h⁴) error moves the switch by far less than
-    /// the step's own error), then the state is taken by a real sub-step to just past it,
+    /// the step's own error): estimated by [`converge`] where one continuous switch alone
+    /// was seen, else bracketed. Then the state is taken by a real sub-step to just past it,
     /// located on real sub-steps where the interpolant crossed early.
     #[allow(clippy::too_many_arguments)]
     fn locate<S: System, const N: usize>(
