@@ -387,14 +387,15 @@ impl GeneralRk4 {
         // continuous switch alone was seen, its estimate once it settles (some three probes);
         // else a bracket to the tolerance's width (some five)
         let seen = (trial.seen ^ mode) & mask;
-        let alone = end.crossed.is_power_of_two() && seen == end.crossed;
         let k = end.crossed.trailing_zeros() as usize;
-        let from_secants = (alone && end.finite && end.crossed & continuous != 0 && k < N)
-            .then(|| converge(sys, &interpolated, &start, &end, k, CONVERGED))
-            .flatten()
-            .map(|(theta, slope)| (theta, k, slope, loose.max(NEWTON_MARGIN)));
+        let alone = end.crossed.is_power_of_two() && seen == end.crossed && k < N;
+        let from_secants = if alone && end.finite && end.crossed & continuous != 0 {
+            converge(sys, &interpolated, &start, &end, k, CONVERGED)
+        } else {
+            None
+        };
         let (estimate, k, slope, margin) = match from_secants {
-            Some(estimate) => estimate,
+            Some((theta, slope)) => (theta, k, slope, tolerance(&end).max(NEWTON_MARGIN)),
             None => {
                 let mut hi = end.clone();
                 if hi.crossed == 0 {

@@ -418,11 +418,12 @@ impl LaneCode for Emitter<'_, '_> {
         let bit = self.int_const(1u64 << k);
         let zero = self.int_const(0);
         let bit = self.b.ins().band(m, bit);
-        // one lane: the comparison's truth picks (no mask made of it)
         let on = self.b.ins().icmp(IntCC::NotEqual, bit, zero);
         if self.width == 1 {
+            // the comparison's truth picks (no mask made of it)
             self.b.ins().select(on, x, y)
         } else {
+            // two lanes' comparison is a mask (all ones where it holds)
             let on = self.b.ins().bitcast(self.float, self.lanes_of, on);
             self.b.ins().bitselect(on, x, y)
         }
