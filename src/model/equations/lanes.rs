@@ -148,6 +148,7 @@ impl<const L: usize> EquationLanes<L> {
     /// are each lane's. `None` where there is no such code.
     #[allow(clippy::too_many_arguments)]
     #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
     pub fn compiled_step(
         &mut self,
         phase: usize,

@@ -52,7 +52,7 @@ pub type StepEntry = unsafe extern "C" fn(*const StepArgs);
 /// whether it collided. `registers`: the lanes' register file, `table` the forcing's. `None`
 /// where the model has no compiled step or the step's forcing is not in `table`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn run<const L: usize>(
     c: &Compiled,
     registers: &[f64],

@@ -307,7 +307,7 @@ fn in_lanes<const L: usize>(
             let start = *next;
             *next += 1;
             rk.restart_lane(sys, lanes, l, &starts[start]);
-            match &lanes.stop[l] {
+            match lanes.stop(l) {
                 Some(stop) => done.push((start, stopped(sys, stop, 0, grid))),
                 None => {
                     let detector = Box::new(spec.period_detector());
@@ -377,7 +377,7 @@ fn in_lanes<const L: usize>(
                     inside,
                     sought,
                 } => {
-                    if let Some(stop) = &lanes.stop[l] {
+                    if let Some(stop) = lanes.stop(l) {
                         Some((*start, stopped(&sys, stop, detector.periods() + 1, grid)))
                     } else if let Some(k) = detector.push(point) {
                         let n = detector.periods();
@@ -419,7 +419,7 @@ fn in_lanes<const L: usize>(
                     poincare,
                     states,
                 } => {
-                    if let Some(stop) = &lanes.stop[l] {
+                    if let Some(stop) = lanes.stop(l) {
                         Some((*start, stopped(&sys, stop, *transient, grid)))
                     } else {
                         poincare.push([point[grid[0]], point[grid[1]]]);

@@ -258,7 +258,7 @@ fn a_collision_is_located_within_its_step_in_lanes_and_alone() {
     let rk = GeneralRk4::with_steps(&sys, 64);
     let starts = [[0.0, 0.0], [0.5, 0.0], [0.0, 0.7], [-1.0, 0.3]];
     let crossing = |x0: [f64; 2]| first_crossing(&exact(0.1, 0.5, 1.0, x0[0], x0[1]), 3.0);
-    let met = |stop: &Option<Stop>| match stop {
+    let met = |stop: Option<&Stop>| match stop {
         Some(Stop::Collision { tau, state }) => (*tau, state[0]),
         other => panic!("no collision: {other:?}"),
     };
@@ -274,7 +274,7 @@ fn a_collision_is_located_within_its_step_in_lanes_and_alone() {
     }
     for (l, x0) in starts.iter().enumerate() {
         let exact = crossing(*x0);
-        let (tau, x) = met(&lanes.stop[l]);
+        let (tau, x) = met(lanes.stop(l));
         assert!(
             (tau - exact).abs() < 3e-5,
             "lane {l}: {tau} against {exact}"
@@ -284,7 +284,7 @@ fn a_collision_is_located_within_its_step_in_lanes_and_alone() {
         while traj.stop.is_none() {
             rk.advance_step(&mut sys, &mut traj);
         }
-        let (alone, _) = met(&traj.stop);
+        let (alone, _) = met(traj.stop.as_ref());
         assert_eq!(alone, tau, "alone {l}");
     }
 }
