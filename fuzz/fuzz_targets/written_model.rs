@@ -12,7 +12,7 @@ use libfuzzer_sys::fuzz_target;
 use isola::model::equations::lanes::{EquationLanes, LaneTimes};
 use isola::model::equations::tape::{NATIVE_LANES, Tape};
 use isola::model::equations::{EquationModel, EquationSystem, ModelDefinition};
-use isola::model::system::{MAX_DIM, System};
+use isola::model::system::{END_SWITCHES, MAX_DIM, System};
 use isola::solver::general::GeneralRk4;
 
 /// The model around the three expressions.
@@ -167,9 +167,18 @@ fn step_in_lanes(sys: &mut EquationSystem, data: &[u8]) {
             }
         }
         let (mut end, mut dx) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
-        let Some((seen, hit)) =
-            eval.compiled_step(phase, n, &times, &x, &k1, &modes, &mut end, &mut dx)
-        else {
+        let mut switching = [[0.0; L]; END_SWITCHES];
+        let Some((seen, hit, end_seen)) = eval.compiled_step(
+            phase,
+            n,
+            &times,
+            &x,
+            &k1,
+            &modes,
+            &mut end,
+            &mut dx,
+            &mut switching,
+        ) else {
             return;
         };
         for l in 0..L {
@@ -178,12 +187,28 @@ fn step_in_lanes(sys: &mut EquationSystem, data: &[u8]) {
                 std::array::from_fn(|i| k1[i][l]),
             );
             let (mut end_l, mut dx_l) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
-            let (seen_l, hit_l) = sys
+            let (seen_l, hit_l, at_end) = sys
                 .compiled_step(&step, &xl, &kl, modes[l], &mut end_l, &mut dx_l)
                 .expect("a compiled step");
-            assert_eq!((seen[l], hit[l]), (seen_l, hit_l), "lane {l}");
+            assert_eq!(
+                (seen[l], hit[l], end_seen[l]),
+                (seen_l, hit_l, at_end.seen),
+                "lane {l}"
+            );
             for i in 0..2 {
-                assert!(same(end[i][l], end_l[i]) && same(dx[i][l], dx_l[i]), "lane {l}");
+                assert!(
+                    same(end[i][l], end_l[i]) && same(dx[i][l], dx_l[i]),
+                    "lane {l}"
+                );
+            }
+            let mut s = [0.0; END_SWITCHES];
+            let seen_there = sys.switching(step.t_end, &end_l, modes[l], &mut s);
+            assert_eq!(seen_there, at_end.seen, "lane {l}: seen at the end");
+            for k in 0..END_SWITCHES {
+                assert!(
+                    same(switching[k][l], at_end.s[k]) && same(s[k], at_end.s[k]),
+                    "lane {l}, switch {k}"
+                );
             }
         }
     }

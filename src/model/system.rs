@@ -74,8 +74,8 @@ pub trait System: Clone + Send {
     /// One plain RK4 step held on `mode` (the general engine's, the same bits) from `x` with
     /// first stage `k1`, by the model's own compiled code: its end into `end`, the
     /// derivative there into `dx`; returns the mode bits a stage or the end saw differ from
-    /// `mode`, and whether the end collided. `None` where the model has no such code (the
-    /// engine takes the step stage by stage).
+    /// `mode`, whether the end collided, and the switching functions at the end. `None`
+    /// where the model has no such code (the engine takes the step stage by stage).
     fn compiled_step(
         &mut self,
         _step: &GridStep,
@@ -84,13 +84,25 @@ pub trait System: Clone + Send {
         _mode: Mode,
         _end: &mut Vector,
         _dx: &mut Vector,
-    ) -> Option<(Mode, bool)> {
+    ) -> Option<(Mode, bool, EndSwitching)> {
         None
     }
     /// Told the integrator's grid (`n` steps per period) as a trajectory starts: a model may
     /// tabulate what depends on time alone at the grid's stage times. Results must not
     /// depend on it beyond rounding.
     fn tabulate(&mut self, _n: usize) {}
+}
+
+/// How many switching values a compiled step gives at its end: the model's first.
+pub const END_SWITCHES: usize = 8;
+
+/// The switching functions at a compiled step's end, on the step's piece, as
+/// [`System::switching`] gives them there (the same bits): the model's first
+/// [`END_SWITCHES`] values (zero past its last switch) and the mode bits they show.
+#[derive(Debug, Clone, Copy)]
+pub struct EndSwitching {
+    pub s: [f64; END_SWITCHES],
+    pub seen: Mode,
 }
 
 /// A whole step of the integrator's grid: step `phase` of a forcing period of

@@ -4,7 +4,7 @@
 //! without the model naming them: they are the arguments of its `max`, `min`, `abs`, `if`.
 
 use super::resolution::Resolution;
-use crate::model::system::{GridStep, MAX_DIM, Mode, System, Vector};
+use crate::model::system::{END_SWITCHES, EndSwitching, GridStep, MAX_DIM, Mode, System, Vector};
 
 /// Most switching functions (the bits of a mode).
 const MAX_SWITCHES: usize = 64;
@@ -214,7 +214,7 @@ impl GeneralRk4 {
             let step = self.grid_step(traj.steps, traj.phase);
             let (t, t_end) = (self.tau(traj.steps), step.t_end);
             let (mut end, mut dx) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
-            if let Some((seen_diff, collided)) =
+            if let Some((seen_diff, collided, switching)) =
                 sys.compiled_step(&step, &traj.x, &traj.dx, traj.mode, &mut end, &mut dx)
             {
                 let dim = sys.dim();
@@ -237,6 +237,7 @@ impl GeneralRk4 {
                     dx,
                     seen: traj.mode ^ seen_diff,
                     finite,
+                    end: Some(switching),
                 };
                 return self.split_step(sys, traj, Some(trial));
             }
@@ -381,7 +382,21 @@ impl GeneralRk4 {
                 hermite_state(dim, x, dx, &trial.x, &trial.dx, rem, theta),
             )
         };
-        let end = at(sys, 1.0, trial.x);
+        let end = match &trial.end {
+            // what `at` would find there: the compiled step's own values at its end
+            Some(given) if N <= END_SWITCHES => {
+                let mut s = [0.0; N];
+                s.copy_from_slice(&given.s[..N]);
+                Probe {
+                    theta: 1.0,
+                    end: trial.x,
+                    s,
+                    crossed: (given.seen ^ mode) & mask,
+                    finite: true,
+                }
+            }
+            _ => at(sys, 1.0, trial.x),
+        };
         // the first switch on the interpolant: its estimate (a fraction of the step), the
         // switch, its switching function's slope there and how far past it to aim. Where one
         // continuous switch alone was seen, its estimate once it settles (some three probes);
@@ -696,6 +711,8 @@ pub(super) struct Trial {
     /// The step's mode with every bit a stage or the end saw differ flipped.
     pub seen: Mode,
     pub finite: bool,
+    /// The switching functions at the end, where the model's compiled step gave them.
+    pub end: Option<EndSwitching>,
 }
 
 /// One stage: dx/dτ at (t, y) held on `mode`, and the mode y is on. Where y has strayed off
@@ -760,5 +777,6 @@ fn rk4<S: System>(
         dx,
         seen: mode ^ seen_diff,
         finite,
+        end: None,
     }
 }

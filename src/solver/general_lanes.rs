@@ -6,9 +6,9 @@
 use super::general::{GeneralRk4, MAX_COUNTED_STEPS, Stop, Trajectory, Trial};
 use super::isa::{self, Isa};
 use crate::model::equations::EquationSystem;
-use crate::model::equations::lanes::{EquationLanes, LaneTimes, LaneVectors};
+use crate::model::equations::lanes::{EquationLanes, LaneSwitching, LaneTimes, LaneVectors};
 use crate::model::equations::time_table::GridTime;
-use crate::model::system::{MAX_DIM, Mode, System, Vector};
+use crate::model::system::{END_SWITCHES, EndSwitching, MAX_DIM, Mode, System, Vector};
 
 /// `L` trajectories, each on its own clock (τ counts from the lane's own start).
 #[derive(Debug, Clone)]
@@ -42,6 +42,8 @@ struct Stages<const L: usize> {
     k4: LaneVectors<L>,
     end: LaneVectors<L>,
     dx: LaneVectors<L>,
+    /// The switching values at the ends, where the compiled step gave them.
+    switching: LaneSwitching<L>,
 }
 
 /// One lane's ends of a step, for recording.
@@ -70,6 +72,7 @@ impl<const L: usize> Lanes<L> {
                 k4: [[0.0; L]; MAX_DIM],
                 end: [[0.0; L]; MAX_DIM],
                 dx: [[0.0; L]; MAX_DIM],
+                switching: [[0.0; L]; END_SWITCHES],
             })),
         }
     }
@@ -150,6 +153,7 @@ impl<const L: usize> Stages<L> {
             k4,
             end,
             dx,
+            ..
         } = self;
         let LaneTimes { h, t_half, t_end } = times;
         for i in 0..dim {
@@ -265,22 +269,28 @@ impl GeneralRk4 {
             // (not a closure: one would be compiled apart, for the baseline)
             Some(phase) => {
                 let n = self.steps_per_period();
-                let Stages { end, dx, .. } = &mut *stages;
-                eval.compiled_step(phase, n, &times, x, k1, mode, end, dx)
+                let Stages {
+                    end, dx, switching, ..
+                } = &mut *stages;
+                eval.compiled_step(phase, n, &times, x, k1, mode, end, dx, switching)
             }
             None => None,
         };
         #[cfg(not(target_arch = "x86_64"))]
         let compiled = None;
-        let (seen_diff, hit) = match compiled {
-            Some(step) => step,
+        // the mode bits each lane's end saw, where the compiled step gave its switching values
+        let (seen_diff, hit, end_seen) = match compiled {
+            Some((seen_diff, hit, end_seen)) => (seen_diff, hit, Some(end_seen)),
             None => {
                 let n = self.steps_per_period();
                 let at = [1, 2].map(|s| shared.map(|p| GridTime::in_step(p, s, n)));
-                stages.step(dim, eval, &times, at, x, k1, mode)
+                let (seen_diff, hit) = stages.step(dim, eval, &times, at, x, k1, mode);
+                (seen_diff, hit, None)
             }
         };
-        let Stages { end, dx, .. } = &*stages;
+        let Stages {
+            end, dx, switching, ..
+        } = &*stages;
         // which lanes' ends are finite, row by row as the step wrote them: v·0 is 0 where v
         // is finite and NaN where it is not
         let mut stray = [0.0; L];
@@ -332,6 +342,10 @@ impl GeneralRk4 {
                     dx: std::array::from_fn(|i| dx[i][l]),
                     seen: lanes.mode[l] ^ seen_diff[l],
                     finite: finite[l],
+                    end: end_seen.map(|seen| EndSwitching {
+                        s: std::array::from_fn(|k| switching[k][l]),
+                        seen: seen[l],
+                    }),
                 };
                 self.advance_step_after(sys, &mut traj, Some(trial));
                 lanes.set_lane(l, traj);

@@ -9,10 +9,12 @@ use super::build::Compiled;
 use super::native_step;
 use super::tape::Registers;
 use super::time_table::{GridTime, TimeTable};
-use crate::model::system::{GridStep, MAX_DIM, Mode};
+use crate::model::system::{END_SWITCHES, GridStep, MAX_DIM, Mode};
 
 /// `L` lanes of state: `x[i][l]` is state i of lane l.
 pub type LaneVectors<const L: usize> = [[f64; L]; MAX_DIM];
+/// The model's first [`END_SWITCHES`] switching values in `L` lanes, a row each.
+pub type LaneSwitching<const L: usize> = [[f64; L]; END_SWITCHES];
 
 /// Each lane's step length and the times of its step's middle and end.
 #[derive(Debug, Clone, Copy)]
@@ -143,9 +145,10 @@ impl<const L: usize> EquationLanes<L> {
 
     /// Every lane's plain RK4 step by the model's compiled code (see
     /// [`crate::model::system::System::compiled_step`]): each lane's end and derivative
-    /// there into `end` and `dx`, and each lane's mode bits seen to differ and whether it
-    /// collided. Every lane is at step `phase` of a period of `steps_per_period`; `times`
-    /// are each lane's. `None` where there is no such code.
+    /// there into `end` and `dx`, its switching values there into `switching`; returns each
+    /// lane's mode bits seen to differ, whether it collided and the mode bits its end saw.
+    /// Every lane is at step `phase` of a period of `steps_per_period`; `times` are each
+    /// lane's. `None` where there is no such code.
     #[allow(clippy::too_many_arguments)]
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
@@ -159,7 +162,8 @@ impl<const L: usize> EquationLanes<L> {
         modes: &[Mode; L],
         end: &mut LaneVectors<L>,
         dx: &mut LaneVectors<L>,
-    ) -> Option<([Mode; L], [bool; L])> {
+        switching: &mut LaneSwitching<L>,
+    ) -> Option<([Mode; L], [bool; L], [Mode; L])> {
         native_step::run(
             &self.inner,
             self.values.as_flattened(),
@@ -169,6 +173,7 @@ impl<const L: usize> EquationLanes<L> {
             [x.as_flattened(), k1.as_flattened()],
             modes,
             [end.as_flattened_mut(), dx.as_flattened_mut()],
+            switching.as_flattened_mut(),
         )
     }
 

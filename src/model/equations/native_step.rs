@@ -12,7 +12,7 @@ use super::lane_code::{Arg, Arith, Compare, LaneCode, tape};
 use super::lanes::LaneTimes;
 use super::native::{MAX_INSTRUCTIONS, Native, lane_loop};
 use super::time_table::{GridTime, TimeTable};
-use crate::model::system::{MAX_DIM, Mode};
+use crate::model::system::{END_SWITCHES, MAX_DIM, Mode};
 
 /// What a compiled step reads and writes. Per-lane arrays are lane-major (row i of lane l at
 /// i·L + l, for the L lanes the step was compiled for).
@@ -40,6 +40,11 @@ pub struct StepArgs {
     pub seen: *mut u64,
     /// Nonzero where a collision condition holds at the end.
     pub hit: *mut u64,
+    /// The model's first [`END_SWITCHES`] switching values at the end (row k of lane l at
+    /// k·L + l; rows past its last switch are not written), and the mode bits the end alone
+    /// saw (not or-ed with the stages').
+    pub switching: *mut f64,
+    pub end_seen: *mut u64,
 }
 
 /// Runs a compiled step.
@@ -48,9 +53,11 @@ pub type StepEntry = unsafe extern "C" fn(*const StepArgs);
 /// `c`'s plain RK4 step of `L` lanes, every lane at step `phase` of a period of
 /// `steps_per_period` (`times` each lane's), from states `x` with first stages `k1` (lane-major,
 /// [`MAX_DIM`] rows of `L`) on `modes`, by its compiled code: the ends and their derivatives
-/// into `end` and `dx`; returns each lane's mode bits seen to differ from its mode and
-/// whether it collided. `registers`: the lanes' register file, `table` the forcing's. `None`
-/// where the model has no compiled step or the step's forcing is not in `table`.
+/// into `end` and `dx`, the switching values at the ends into `switching` ([`END_SWITCHES`]
+/// rows of `L`); returns each lane's mode bits seen to differ from its mode, whether it
+/// collided, and the mode bits its end alone saw. `registers`: the lanes' register file,
+/// `table` the forcing's. `None` where the model has no compiled step or the step's forcing
+/// is not in `table`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn run<const L: usize>(
@@ -62,7 +69,8 @@ pub fn run<const L: usize>(
     [x, k1]: [&[f64]; 2],
     modes: &[Mode; L],
     [end, dx]: [&mut [f64]; 2],
-) -> Option<([Mode; L], [bool; L])> {
+    switching: &mut [f64],
+) -> Option<([Mode; L], [bool; L], [Mode; L])> {
     let entry = c.step_entry(L)?;
     let [row_half, row_end] = match table {
         Some(table) => [1, 2].map(|s| {
@@ -76,10 +84,11 @@ pub fn run<const L: usize>(
     let vectors = MAX_DIM * L;
     assert!(
         registers.len() >= c.graph.len() * L
-            && [x.len(), k1.len(), end.len(), dx.len()] == [vectors; 4],
+            && [x.len(), k1.len(), end.len(), dx.len()] == [vectors; 4]
+            && switching.len() == END_SWITCHES * L,
         "a compiled step given arrays of another shape"
     );
-    let (mut seen, mut hit) = ([0u64; L], [0u64; L]);
+    let (mut seen, mut hit, mut end_seen) = ([0u64; L], [0u64; L], [0u64; L]);
     let args = StepArgs {
         registers: registers.as_ptr(),
         modes: modes.as_ptr(),
@@ -94,13 +103,16 @@ pub fn run<const L: usize>(
         dx: dx.as_mut_ptr(),
         seen: seen.as_mut_ptr(),
         hit: hit.as_mut_ptr(),
+        switching: switching.as_mut_ptr(),
+        end_seen: end_seen.as_mut_ptr(),
     };
     // SAFETY: the code was compiled for `L` lanes of this model: it reads registers below
     // the graph's length (L each), L values of each lane array, the model's states (fewer
-    // than MAX_DIM rows) of x, k1, end and dx (asserted above), and columns of this
-    // model's table's rows (none where there is no table and no time-only value)
+    // than MAX_DIM rows) of x, k1, end and dx, at most END_SWITCHES rows of switching
+    // (asserted above), and columns of this model's table's rows (none where there is no
+    // table and no time-only value)
     unsafe { entry(&args) };
-    Some((seen, hit.map(|h| h != 0)))
+    Some((seen, hit.map(|h| h != 0), end_seen))
 }
 
 /// The compiled step in `code`.
@@ -123,8 +135,10 @@ const END: Arg = 9;
 const DX: Arg = 10;
 const SEEN: Arg = 11;
 const HIT: Arg = 12;
+const SWITCHING: Arg = 13;
+const END_SEEN: Arg = 14;
 /// How many.
-const STEP_POINTERS: usize = 13;
+const STEP_POINTERS: usize = 15;
 const _: () = assert!(std::mem::size_of::<StepArgs>() == 8 * STEP_POINTERS);
 
 /// Whether `c`'s step can be compiled for `lanes` lanes: a model not too large.
@@ -186,7 +200,8 @@ fn emit_step<E: LaneCode>(e: &mut E, c: &Compiled, lanes: usize) {
         row: ROW_END,
         cache: vec![None; c.time_tape.roots.len()],
     };
-    // the field at one stage: its derivatives and the mode bits it saw differ
+    // the field at one stage: its derivatives, the mode bits it saw differ (or-ed into
+    // `seen`), the mode bits it saw and its registers
     let mut stage = |e: &mut E, y: &[E::F], time: &mut Time<E::F>, seen: E::M| {
         let mut known = vec![None; registers];
         for &(i, slot) in &io.states {
@@ -206,7 +221,7 @@ fn emit_step<E: LaneCode>(e: &mut E, c: &Compiled, lanes: usize) {
             .map(|&r| value(e, &mut known, time, &mut reads, r))
             .collect();
         let differs = e.xor(observed, mode);
-        (k, e.or(seen, differs))
+        (k, e.or(seen, differs), observed, known)
     };
     // y = x + c·k, as the engine's `x[i] + c * k[i]`
     let ahead = |e: &mut E, c: E::F, k: &[E::F]| -> Vec<E::F> {
@@ -223,11 +238,11 @@ fn emit_step<E: LaneCode>(e: &mut E, c: &Compiled, lanes: usize) {
     };
     let seen = e.int_const(0);
     let y = ahead(e, half_h, &k1);
-    let (k2, seen) = stage(e, &y, &mut half, seen);
+    let (k2, seen, ..) = stage(e, &y, &mut half, seen);
     let y = ahead(e, half_h, &k2);
-    let (k3, seen) = stage(e, &y, &mut half, seen);
+    let (k3, seen, ..) = stage(e, &y, &mut half, seen);
     let y = ahead(e, h, &k3);
-    let (k4, seen) = stage(e, &y, &mut at_end, seen);
+    let (k4, seen, ..) = stage(e, &y, &mut at_end, seen);
     // x + h/6·(k1 + 2·(k2 + k3) + k4)
     let (two, six) = (e.float_const(2.0), e.float_const(6.0));
     let sixth = e.arith(Arith::Div, h, six);
@@ -241,12 +256,17 @@ fn emit_step<E: LaneCode>(e: &mut E, c: &Compiled, lanes: usize) {
             e.arith(Arith::Add, x[i], step)
         })
         .collect();
-    let (dx, seen) = stage(e, &end, &mut at_end, seen);
+    let (dx, seen, end_seen, mut at) = stage(e, &end, &mut at_end, seen);
     for i in 0..dim {
         e.store(END, i as i32 * stride, end[i]);
         e.store(DX, i as i32 * stride, dx[i]);
     }
     e.store_int(SEEN, 0, seen);
+    e.store_int(END_SEEN, 0, end_seen);
+    for (k, switch) in c.graph.switches.iter().take(END_SWITCHES).enumerate() {
+        let s = value(e, &mut at, &mut at_end, &mut reads, switch.value);
+        e.store(SWITCHING, k as i32 * stride, s);
+    }
     let hit = if c.collisions.is_empty() {
         e.int_const(0)
     } else {

@@ -13,7 +13,7 @@ use super::time_table::TimeTable;
 use crate::model::ParamError;
 use crate::model::equations::tape::Registers;
 #[cfg(target_arch = "x86_64")]
-use crate::model::system::GridStep;
+use crate::model::system::{END_SWITCHES, EndSwitching, GridStep};
 use crate::model::system::{MAX_DIM, Mode, System, Vector};
 
 /// A written model ready to integrate: its parameters set and its own registers.
@@ -274,9 +274,10 @@ impl System for EquationSystem {
         mode: Mode,
         end: &mut Vector,
         dx: &mut Vector,
-    ) -> Option<(Mode, bool)> {
+    ) -> Option<(Mode, bool, EndSwitching)> {
         let times = LaneTimes::of(step);
-        let ([seen_diff], [collided]) = native_step::run(
+        let mut s = [0.0; END_SWITCHES];
+        let ([seen_diff], [collided], [seen]) = native_step::run(
             &self.model.inner,
             &self.regs.values,
             self.regs.table.as_deref(),
@@ -285,8 +286,9 @@ impl System for EquationSystem {
             [x, k1],
             &[mode],
             [end, dx],
+            &mut s,
         )?;
-        Some((seen_diff, collided))
+        Some((seen_diff, collided, EndSwitching { s, seen }))
     }
 
     fn tabulate(&mut self, n: usize) {

@@ -5,7 +5,7 @@ use isola::model::Params;
 use isola::model::equations::build::EquationModel;
 use isola::model::equations::definition::ModelDefinition;
 use isola::model::equations::system::EquationSystem;
-use isola::model::system::{MAX_DIM, Mode, System, Vector};
+use isola::model::system::{END_SWITCHES, MAX_DIM, Mode, System, Vector};
 use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
 
@@ -967,7 +967,8 @@ fn an_amplitude_with_kinks_of_its_own_follows_the_state() {
 
 /// Each lane of a compiled step of `L` lanes (AVX2 code where the processor has it, four
 /// lanes to a register) against that lane's own compiled step (Cranelift's), bit for bit:
-/// ends, derivatives, mode bits seen and collisions, from pseudo-random states (some far
+/// ends, derivatives, mode bits seen, collisions and the switching values at the end (and
+/// those against the model's own `switching` there), from pseudo-random states (some far
 /// out: NaN, ∞, collisions), modes and steps of the period.
 #[cfg(target_arch = "x86_64")]
 fn lanes_step_as_each_lane<const L: usize>(
@@ -1006,13 +1007,24 @@ fn lanes_step_as_each_lane<const L: usize>(
             }
         }
         let (mut end, mut dx) = ([[0.0; L]; MAX_DIM], [[0.0; L]; MAX_DIM]);
-        let (seen, hit) = eval
-            .compiled_step(phase, n, &times, &x, &k1, &modes, &mut end, &mut dx)
+        let mut switching = [[0.0; L]; END_SWITCHES];
+        let (seen, hit, end_seen) = eval
+            .compiled_step(
+                phase,
+                n,
+                &times,
+                &x,
+                &k1,
+                &modes,
+                &mut end,
+                &mut dx,
+                &mut switching,
+            )
             .expect("a compiled step in lanes");
         for l in 0..L {
             let lane = |v: &[[f64; L]; MAX_DIM]| -> Vector { std::array::from_fn(|i| v[i][l]) };
             let (mut end_l, mut dx_l) = ([0.0; MAX_DIM], [0.0; MAX_DIM]);
-            let (seen_l, hit_l) = sys
+            let (seen_l, hit_l, at_end) = sys
                 .compiled_step(
                     &step,
                     &lane(&x),
@@ -1023,10 +1035,23 @@ fn lanes_step_as_each_lane<const L: usize>(
                 )
                 .expect("a compiled step");
             assert_eq!(
-                (seen[l], hit[l]),
-                (seen_l, hit_l),
-                "lane {l} of {L}: seen, hit"
+                (seen[l], hit[l], end_seen[l]),
+                (seen_l, hit_l, at_end.seen),
+                "lane {l} of {L}: seen, hit, seen at the end"
             );
+            // the end's switching values: in lanes, alone, and as the model gives them there
+            let mut s = [0.0; END_SWITCHES];
+            let seen_there = sys.switching(step.t_end, &end_l, modes[l], &mut s);
+            assert_eq!(seen_there, at_end.seen, "lane {l} of {L}: seen at the end");
+            for k in 0..END_SWITCHES {
+                assert!(
+                    same(switching[k][l], at_end.s[k]) && same(s[k], at_end.s[k]),
+                    "lane {l} of {L}, switch {k}: {:e} in lanes, {:e} alone, {:e} by the model",
+                    switching[k][l],
+                    at_end.s[k],
+                    s[k]
+                );
+            }
             for i in 0..dim {
                 assert!(
                     same(end[i][l], end_l[i]) && same(dx[i][l], dx_l[i]),
