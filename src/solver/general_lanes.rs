@@ -221,7 +221,8 @@ impl GeneralRk4 {
         lanes: &mut Lanes<L>,
     ) {
         match isa::chosen() {
-            // SAFETY: the chosen instruction set is one this CPU has
+            // SAFETY: the chosen instruction set is one this CPU has (a v4 CPU has v3's
+            // instructions; the bookkeeping has no AVX-512 version of its own)
             #[cfg(target_arch = "x86_64")]
             Isa::X86_64V3 | Isa::X86_64V4 => unsafe { self.advance_lanes_v3(sys, eval, lanes) },
             _ => self.advance_lanes_body(sys, eval, lanes),
