@@ -237,7 +237,7 @@ impl GeneralRk4 {
                     dx,
                     seen: traj.mode ^ seen_diff,
                     finite,
-                    end: Some(switching),
+                    switching: Some(switching),
                 };
                 return self.split_step(sys, traj, Some(trial));
             }
@@ -382,7 +382,7 @@ impl GeneralRk4 {
                 hermite_state(dim, x, dx, &trial.x, &trial.dx, rem, theta),
             )
         };
-        let end = match &trial.end {
+        let end = match &trial.switching {
             // what `at` would find there: the compiled step's own values at its end
             Some(given) if N <= END_SWITCHES => {
                 let mut s = [0.0; N];
@@ -712,7 +712,7 @@ pub(super) struct Trial {
     pub seen: Mode,
     pub finite: bool,
     /// The switching functions at the end, where the model's compiled step gave them.
-    pub end: Option<EndSwitching>,
+    pub switching: Option<EndSwitching>,
 }
 
 /// One stage: dx/dτ at (t, y) held on `mode`, and the mode y is on. Where y has strayed off
@@ -777,6 +777,6 @@ fn rk4<S: System>(
         dx,
         seen: mode ^ seen_diff,
         finite,
-        end: None,
+        switching: None,
     }
 }

@@ -23,9 +23,7 @@ pub struct Lanes<const L: usize> {
     phase: [usize; L],
     /// Why a lane stopped; a stopped or idle lane is frozen.
     stop: [Option<Stop>; L],
-    /// Lanes without a trajectory.
-    idle: [bool; L],
-    /// Lanes integrating: neither idle nor stopped (kept with `idle` and `stop`).
+    /// Lanes integrating: with a trajectory that has not stopped.
     live: [bool; L],
     /// A step's stages, kept between steps so that a step neither clears nor copies whole
     /// arrays: only the model's states are written, the rows beyond stay zero.
@@ -63,7 +61,6 @@ impl<const L: usize> Lanes<L> {
             steps: [0.0; L],
             phase: [0; L],
             stop: std::array::from_fn(|_| None),
-            idle: [true; L],
             live: [false; L],
             stages: Some(Box::new(Stages {
                 y: [[0.0; L]; MAX_DIM],
@@ -100,7 +97,7 @@ impl<const L: usize> Lanes<L> {
         traj
     }
 
-    /// Puts a scalar trajectory into lane `l`.
+    /// Puts a scalar trajectory into lane `l`, running unless it has stopped.
     fn set_lane(&mut self, l: usize, traj: Trajectory) {
         for i in 0..MAX_DIM {
             self.x[i][l] = traj.x[i];
@@ -110,13 +107,7 @@ impl<const L: usize> Lanes<L> {
         self.steps[l] = traj.steps as f64;
         self.phase[l] = traj.phase;
         self.stop[l] = traj.stop;
-        self.live[l] = !self.idle[l] && self.stop[l].is_none();
-    }
-
-    /// Lane `l` with a trajectory (`idle`) or without.
-    fn set_idle(&mut self, l: usize, idle: bool) {
-        self.idle[l] = idle;
-        self.live[l] = !idle && self.stop[l].is_none();
+        self.live[l] = self.stop[l].is_none();
     }
 
     /// Why lane `l` stopped, if it has.
@@ -200,7 +191,6 @@ impl GeneralRk4 {
     ) {
         let traj = self.start(sys, &x0[..sys.dim()]);
         lanes.set_lane(l, traj);
-        lanes.set_idle(l, false);
     }
 
     /// Leaves lane `l` without a trajectory (parked where it is, or at `rest`).
@@ -208,7 +198,7 @@ impl GeneralRk4 {
         let mut traj = Trajectory::parked();
         traj.x = *rest;
         lanes.set_lane(l, traj);
-        lanes.set_idle(l, true);
+        lanes.live[l] = false;
     }
 
     /// One step of every running lane, in the version compiled for this process's
@@ -343,7 +333,7 @@ impl GeneralRk4 {
                     dx: std::array::from_fn(|i| dx[i][l]),
                     seen: lanes.mode[l] ^ seen_diff[l],
                     finite: finite[l],
-                    end: end_seen.map(|seen| EndSwitching {
+                    switching: end_seen.map(|seen| EndSwitching {
                         s: std::array::from_fn(|k| switching[k][l]),
                         seen: seen[l],
                     }),
@@ -376,13 +366,7 @@ impl GeneralRk4 {
 #[inline(always)]
 fn take_lanes<const L: usize>(to: &mut [f64; L], from: &[f64; L], take: &[bool; L]) {
     for l in 0..L {
-        let mask = all_ones(take[l]);
+        let mask = u64::from(take[l]).wrapping_neg(); // all ones where taken
         to[l] = f64::from_bits(from[l].to_bits() & mask | to[l].to_bits() & !mask);
     }
-}
-
-/// A mask of 64 bits: all ones if `b`, else zeros.
-#[inline(always)]
-fn all_ones(b: bool) -> u64 {
-    u64::from(b).wrapping_neg()
 }
