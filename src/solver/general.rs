@@ -238,6 +238,7 @@ impl GeneralRk4 {
                     seen: traj.mode ^ seen_diff,
                     finite,
                     switching: Some(switching),
+                    start_switching: None,
                 };
                 return self.split_step(sys, traj, Some(trial));
             }
@@ -367,7 +368,21 @@ impl GeneralRk4 {
                 INTERPOLANT_TOLERANCE
             }
         };
-        let start = at(sys, 0.0, *x);
+        let start = match &trial.start_switching {
+            // what `at` would find there: the step before's values at its end, on this piece
+            Some(given) if N <= END_SWITCHES => {
+                let mut s = [0.0; N];
+                s.copy_from_slice(&given[..N]);
+                Probe {
+                    theta: 0.0,
+                    end: *x,
+                    s,
+                    crossed: 0,
+                    finite: true,
+                }
+            }
+            _ => at(sys, 0.0, *x),
+        };
         if !trial.finite {
             // no interpolant to trust: bisect on real sub-steps to where values stop being
             // finite or the piece changes
@@ -713,6 +728,9 @@ pub(super) struct Trial {
     pub finite: bool,
     /// The switching functions at the end, where the model's compiled step gave them.
     pub switching: Option<EndSwitching>,
+    /// The switching functions at the start, where the step before gave them: the end of a
+    /// plain compiled step, on the same piece (the mode bits they show are the piece's).
+    pub start_switching: Option<[f64; END_SWITCHES]>,
 }
 
 /// One stage: dx/dτ at (t, y) held on `mode`, and the mode y is on. Where y has strayed off
@@ -778,5 +796,6 @@ fn rk4<S: System>(
         seen: mode ^ seen_diff,
         finite,
         switching: None,
+        start_switching: None,
     }
 }

@@ -25,6 +25,9 @@ pub struct Lanes<const L: usize> {
     stop: [Option<Stop>; L],
     /// Lanes integrating: with a trajectory that has not stopped.
     live: [bool; L],
+    /// Lanes whose last step was a plain compiled one: their switching values now are that
+    /// step's at its end ([`Stages::switching`]).
+    start_known: [bool; L],
     /// A step's stages, kept between steps so that a step neither clears nor copies whole
     /// arrays: only the model's states are written, the rows beyond stay zero.
     /// (Taken out of the lanes during a step.)
@@ -40,8 +43,12 @@ struct Stages<const L: usize> {
     k4: LaneVectors<L>,
     end: LaneVectors<L>,
     dx: LaneVectors<L>,
-    /// The switching values at the ends, where the compiled step gave them.
-    switching: LaneSwitching<L>,
+    /// The switching values at the ends of the last two compiled steps (the step writes
+    /// one, the other is at the lanes' starts), so that a lane split after a plain step
+    /// need not evaluate them at its start again.
+    switching: [LaneSwitching<L>; 2],
+    /// Which of `switching` is at the lanes' starts.
+    at_start: usize,
 }
 
 /// One lane's ends of a step, for recording.
@@ -62,6 +69,7 @@ impl<const L: usize> Lanes<L> {
             phase: [0; L],
             stop: std::array::from_fn(|_| None),
             live: [false; L],
+            start_known: [false; L],
             stages: Some(Box::new(Stages {
                 y: [[0.0; L]; MAX_DIM],
                 k2: [[0.0; L]; MAX_DIM],
@@ -69,7 +77,8 @@ impl<const L: usize> Lanes<L> {
                 k4: [[0.0; L]; MAX_DIM],
                 end: [[0.0; L]; MAX_DIM],
                 dx: [[0.0; L]; MAX_DIM],
-                switching: [[0.0; L]; END_SWITCHES],
+                switching: [[[0.0; L]; END_SWITCHES]; 2],
+                at_start: 0,
             })),
         }
     }
@@ -108,6 +117,7 @@ impl<const L: usize> Lanes<L> {
         self.phase[l] = traj.phase;
         self.stop[l] = traj.stop;
         self.live[l] = self.stop[l].is_none();
+        self.start_known[l] = false;
     }
 
     /// Why lane `l` stopped, if it has.
@@ -261,8 +271,13 @@ impl GeneralRk4 {
             Some(phase) => {
                 let n = self.steps_per_period();
                 let Stages {
-                    end, dx, switching, ..
+                    end,
+                    dx,
+                    switching,
+                    at_start,
+                    ..
                 } = &mut *stages;
+                let switching = &mut switching[1 - *at_start];
                 eval.compiled_step(phase, n, &times, x, k1, mode, end, dx, switching)
             }
             None => None,
@@ -280,8 +295,17 @@ impl GeneralRk4 {
             }
         };
         let Stages {
-            end, dx, switching, ..
+            end,
+            dx,
+            switching: [at_0, at_1],
+            at_start,
+            ..
         } = &*stages;
+        let (at_start, at_end) = if *at_start == 0 {
+            (at_0, at_1)
+        } else {
+            (at_1, at_0)
+        };
         // which lanes' ends are finite, row by row as the step wrote them: v·0 is 0 where v
         // is finite and NaN where it is not
         let mut stray = [0.0; L];
@@ -334,13 +358,22 @@ impl GeneralRk4 {
                     seen: lanes.mode[l] ^ seen_diff[l],
                     finite: finite[l],
                     switching: end_seen.map(|seen| EndSwitching {
-                        s: std::array::from_fn(|k| switching[k][l]),
+                        s: std::array::from_fn(|k| at_end[k][l]),
                         seen: seen[l],
                     }),
+                    start_switching: lanes.start_known[l]
+                        .then(|| std::array::from_fn(|k| at_start[k][l])),
                 };
                 self.advance_step_after(sys, &mut traj, Some(trial));
                 lanes.set_lane(l, traj);
             }
+        }
+        // the compiled step's values at its end are at the plain lanes' starts now
+        if end_seen.is_some() {
+            lanes.start_known = plain;
+            stages.at_start = 1 - stages.at_start;
+        } else {
+            lanes.start_known = [false; L];
         }
         lanes.stages = Some(stages);
     }
