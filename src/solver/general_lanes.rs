@@ -320,8 +320,8 @@ impl GeneralRk4 {
         // lane's operation is the same, and the rare lanes are visited after.
         let plain: [bool; L] =
             std::array::from_fn(|l| running[l] & (seen_diff[l] & mask == 0) & finite[l]);
-        let collided = (0..L).fold(false, |any, l| any | (plain[l] & hit[l]));
-        let redone = (0..L).fold(false, |any, l| any | (running[l] & !plain[l]));
+        let collided = any_lane::<L>(&std::array::from_fn(|l| plain[l] & hit[l]));
+        let redone = any_lane::<L>(&std::array::from_fn(|l| running[l] & !plain[l]));
         if collided {
             for l in (0..L).filter(|&l| plain[l] && hit[l]) {
                 // located within the step, from its start
@@ -393,6 +393,18 @@ impl GeneralRk4 {
         }
         agree.then_some(phase)
     }
+}
+
+/// Whether any lane is marked, eight lanes' bytes to a word.
+#[inline(always)]
+fn any_lane<const L: usize>(marked: &[bool; L]) -> bool {
+    let bytes = marked.map(u8::from);
+    let (words, rest) = bytes.as_chunks::<8>();
+    let mut any = rest.iter().fold(0, |any, &b| any | b) as u64;
+    for w in words {
+        any |= u64::from_ne_bytes(*w);
+    }
+    any != 0
 }
 
 /// `to` takes `from`'s values in the lanes `take` marks (a blend, without a branch).
