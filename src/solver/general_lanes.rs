@@ -13,6 +13,8 @@ use crate::model::system::{END_SWITCHES, EndSwitching, MAX_DIM, Mode, System, Ve
 /// `L` trajectories, each on its own clock (τ counts from the lane's own start).
 #[derive(Debug, Clone)]
 pub struct Lanes<const L: usize> {
+    /// Each lane's state and mode, to read: a lane is set by [`GeneralRk4::restart_lane`] or
+    /// [`GeneralRk4::park_lane`], which keep what the lanes know of it in step.
     pub x: LaneVectors<L>,
     dx: LaneVectors<L>,
     pub mode: [Mode; L],
