@@ -3,7 +3,8 @@
 //! a panic, an abort or a hang, and wherever the host compiles to machine code, that code
 //! must give the interpreter's values bit for bit (every tape, one lane and `NATIVE_LANES`,
 //! each kink held or free), and the plain step compiled for `NATIVE_LANES` lanes (AVX2 code
-//! where the processor has it) each lane's own compiled step.
+//! where the processor has it) each lane's own compiled step; a few periods in lanes, each
+//! lane's trajectory alone.
 
 #![no_main]
 
@@ -14,6 +15,7 @@ use isola::model::equations::tape::{NATIVE_LANES, Tape};
 use isola::model::equations::{EquationModel, EquationSystem, ModelDefinition};
 use isola::model::system::{END_SWITCHES, MAX_DIM, System};
 use isola::solver::general::GeneralRk4;
+use isola::solver::general_lanes::Lanes;
 
 /// The model around the three expressions.
 fn session(s: &str, dx: &str, dv: &str) -> String {
@@ -129,12 +131,36 @@ fuzz_target!(|data: &[u8]| {
     if Tape::native_enabled() {
         step_in_lanes(&mut sys, data);
     }
-    // a few periods from a few starts: a value or a stop, never a panic or a hang
+    // a few periods from a few starts: a value or a stop, never a panic or a hang; in lanes,
+    // each lane's the trajectory's alone, bit for bit
     let rk = GeneralRk4::with_steps(&sys, 16);
-    for x0 in [[0.5, 0.0], [-2.0, 1.0], [30.0, -7.0]] {
+    let starts = [[0.5, 0.0], [-2.0, 1.0], [30.0, -7.0], [0.05, 0.3]];
+    let mut alone = Vec::new();
+    for x0 in starts {
         let mut traj = rk.start(&mut sys, &x0);
         for _ in 0..3 {
             rk.advance_period(&mut sys, &mut traj, |_, _, _| {});
+        }
+        alone.push(traj);
+    }
+    let mut eval = EquationLanes::<NATIVE_LANES>::new(&sys);
+    let mut lanes = Lanes::<NATIVE_LANES>::idle(&[0.0; MAX_DIM]);
+    for (l, x0) in starts.iter().enumerate() {
+        let mut x = [0.0; MAX_DIM];
+        x[..2].copy_from_slice(x0);
+        rk.restart_lane(&mut sys, &mut lanes, l, &x);
+    }
+    for _ in 0..3 * rk.steps_per_period() {
+        rk.advance_lanes(&mut sys, &mut eval, &mut lanes);
+    }
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    for (l, traj) in alone.iter().enumerate() {
+        assert_eq!(lanes.stop(l).is_some(), traj.stop.is_some(), "lane {l}");
+        if traj.stop.is_none() {
+            assert_eq!(lanes.mode[l], traj.mode, "lane {l}");
+            for i in 0..2 {
+                assert!(same(lanes.x[i][l], traj.x[i]), "lane {l}, state {i}");
+            }
         }
     }
 });
