@@ -61,7 +61,8 @@ pub enum AnalysisError {
         "the recorded orbit cannot meet its tolerance (rtol = {rtol:e}, atol = {atol:e}): at \
          {steps} RK4 steps per forcing period, the most allowed, the error estimated over the \
          sample interval from τ = {tau} is still {excess:.3} times its share of it (round-off, \
-         or an orbit too sensitive to follow that closely); allowed rtol in (1e-14, 1), and a \
+         an orbit too sensitive to follow that closely, or a model whose slope is unbounded \
+         where the orbit passes, as sqrt(x) at x = 0); allowed rtol in (1e-14, 1), and a \
          larger one will do"
     )]
     ToleranceNotMet {

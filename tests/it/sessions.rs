@@ -1240,3 +1240,35 @@ fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
         }
     }
 }
+
+#[test]
+fn a_slope_without_bound_on_the_orbit_is_named_when_the_tolerance_cannot_be_met() {
+    // x'' = sqrt(x) + 0.5 cos t − 0.1 x' from rest: sqrt's slope is infinite at x = 0, where
+    // the orbit starts, so refining the steps stops gaining there at tight tolerances
+    let model = |tolerance: &str| {
+        format!(
+            "schema = 1\n[model]\nstates = [\"x\", \"v\"]\nfrequency = \"omega\"\namplitude = \"x\"\n[model.parameters]\nomega = 1.0\n[model.derivatives]\nx = \"v\"\nv = \"sqrt(x) + 0.5*cos(omega*t) - 0.1*v\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"\n{tolerance}"
+        )
+    };
+    let dir = scratch("unbounded-slope");
+    let run = |text: String| {
+        let path = dir.path().join("sqrt.toml");
+        std::fs::write(&path, &text).unwrap();
+        let s = Session::load(&path).unwrap();
+        run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0))
+            .map(|_| ())
+            .map_err(|e| format!("{e:#}"))
+    };
+    let e = run(model("")).expect_err("the default tolerance on sqrt at 0");
+    assert!(
+        e.contains("cannot meet its tolerance")
+            && e.contains("slope is unbounded")
+            && e.contains("a larger one will do"),
+        "{e}"
+    );
+    // as it says, a looser tolerance is met
+    run(model(
+        "[analysis.settings]\ntolerance = { rtol = 1e-6, atol = 1e-8 }\n",
+    ))
+    .unwrap();
+}
