@@ -368,19 +368,21 @@ impl GeneralRk4 {
                 INTERPOLANT_TOLERANCE
             }
         };
-        let start = match &trial.start_switching {
-            // what `at` would find there: the step before's values at its end, on this piece
-            Some(given) if N <= END_SWITCHES => {
-                let mut s = [0.0; N];
-                s.copy_from_slice(&given[..N]);
-                Probe {
-                    theta: 0.0,
-                    end: *x,
-                    s,
-                    crossed: 0,
-                    finite: true,
-                }
+        // what `at` would find at θ where compiled code gave the values there: the step
+        // before's end (the start), the trial's own end
+        let given = |theta: f64, end: Vector, given: &EndSwitching| -> Probe<N> {
+            let mut s = [0.0; N];
+            s.copy_from_slice(&given.s[..N]);
+            Probe {
+                theta,
+                end,
+                s,
+                crossed: (given.seen ^ mode) & mask,
+                finite: true,
             }
+        };
+        let start = match &trial.start_switching {
+            Some(values) if N <= END_SWITCHES => given(0.0, *x, values),
             _ => at(sys, 0.0, *x),
         };
         if !trial.finite {
@@ -398,18 +400,7 @@ impl GeneralRk4 {
             )
         };
         let end = match &trial.switching {
-            // what `at` would find there: the compiled step's own values at its end
-            Some(given) if N <= END_SWITCHES => {
-                let mut s = [0.0; N];
-                s.copy_from_slice(&given.s[..N]);
-                Probe {
-                    theta: 1.0,
-                    end: trial.x,
-                    s,
-                    crossed: (given.seen ^ mode) & mask,
-                    finite: true,
-                }
-            }
+            Some(values) if N <= END_SWITCHES => given(1.0, trial.x, values),
             _ => at(sys, 1.0, trial.x),
         };
         // the first switch on the interpolant: its estimate (a fraction of the step), the
@@ -730,7 +721,7 @@ pub(super) struct Trial {
     pub switching: Option<EndSwitching>,
     /// The switching functions at the start, where the step before gave them: the end of a
     /// plain compiled step, on the same piece (the mode bits they show are the piece's).
-    pub start_switching: Option<[f64; END_SWITCHES]>,
+    pub start_switching: Option<EndSwitching>,
 }
 
 /// One stage: dx/dτ at (t, y) held on `mode`, and the mode y is on. Where y has strayed off

@@ -363,8 +363,11 @@ impl GeneralRk4 {
                         s: std::array::from_fn(|k| at_end[k][l]),
                         seen: seen[l],
                     }),
-                    start_switching: lanes.start_known[l]
-                        .then(|| std::array::from_fn(|k| at_start[k][l])),
+                    // on the same piece: the mode bits they show are the lane's mode
+                    start_switching: lanes.start_known[l].then(|| EndSwitching {
+                        s: std::array::from_fn(|k| at_start[k][l]),
+                        seen: lanes.mode[l],
+                    }),
                 };
                 self.advance_step_after(sys, &mut traj, Some(trial));
                 lanes.set_lane(l, traj);

@@ -1166,6 +1166,16 @@ fn setting_a_scalogram_value_writes_the_scalogram() {
 /// on one trajectory (its compiled steps) and in a basin's lanes alike; it never picks a
 /// branch. `&&` decides as it reads: `x < 2 && ln(2 - x) > 0` is false past x = 2 without
 /// its second half, in an `if` and in a collision.
+/// The first analysis of the session `text`, written to `path` and run; its error as the
+/// user reads it.
+fn run_first_analysis(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).unwrap();
+    let s = Session::load(path).unwrap();
+    run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0))
+        .map(|_| ())
+        .map_err(|e| format!("{e:#}"))
+}
+
 #[test]
 fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
     // x'' + 0.1x' + x = cos t from rest: x passes 2 near τ = 8 (the resonance's amplitude
@@ -1181,14 +1191,7 @@ fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
         )
     };
     let dir = scratch("nan-kinks");
-    let run = |text: String| {
-        let path = dir.path().join("nan.toml");
-        std::fs::write(&path, &text).unwrap();
-        let s = Session::load(&path).unwrap();
-        run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0))
-            .map(|_| ())
-            .map_err(|e| format!("{e:#}"))
-    };
+    let run = |text: String| run_first_analysis(&dir.path().join("nan.toml"), &text);
     for kind in ["time_history", "basin"] {
         for a in [
             "max(sqrt(2 - x), 0)",
@@ -1251,14 +1254,7 @@ fn a_slope_without_bound_on_the_orbit_is_named_when_the_tolerance_cannot_be_met(
         )
     };
     let dir = scratch("unbounded-slope");
-    let run = |text: String| {
-        let path = dir.path().join("sqrt.toml");
-        std::fs::write(&path, &text).unwrap();
-        let s = Session::load(&path).unwrap();
-        run_analysis(&s, &s.analyses[0], Shard::ALL, &Progress::new(0))
-            .map(|_| ())
-            .map_err(|e| format!("{e:#}"))
-    };
+    let run = |text: String| run_first_analysis(&dir.path().join("sqrt.toml"), &text);
     let e = run(model("")).expect_err("the default tolerance on sqrt at 0");
     assert!(
         e.contains("cannot meet its tolerance")
