@@ -148,6 +148,9 @@ pub struct Compiled {
     /// The states' registers and their derivatives' (in state order), which the field's
     /// machine code reads and writes.
     pub field_io: FieldIo,
+    /// The states' registers and the switching values' (in switch order), which the field
+    /// tape's machine code for locating a switch reads and writes.
+    pub switch_io: FieldIo,
     /// The derivatives and the Jacobian together.
     pub jacobian_tape: Tape,
     pub output_tape: Tape,
@@ -629,6 +632,7 @@ impl<'d> Builder<'d> {
             field_tape: tape(&field_roots),
             jacobian_tape: tape(&[derivatives.as_slice(), &jacobian].concat()),
             field_io: FieldIo::new(g, derivatives),
+            switch_io: FieldIo::new(g, g.switches.iter().map(|s| s.value).collect()),
             output_tape: tape(&[y, rate]),
             collision_tape: tape(&collision_roots),
             named_tape: tape(&named_roots),

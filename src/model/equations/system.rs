@@ -9,6 +9,8 @@ use super::graph::NodeId;
 use super::lanes::LaneTimes;
 #[cfg(target_arch = "x86_64")]
 use super::native_step;
+#[cfg(target_arch = "x86_64")]
+use super::tape::{IoCode, IoUse};
 use super::time_table::TimeTable;
 use crate::model::ParamError;
 use crate::model::equations::tape::Registers;
@@ -24,6 +26,18 @@ pub struct EquationSystem {
     values: Vec<f64>,
     period: f64,
     origin: Vector,
+    /// The field tape's one-lane machine code, looked up at first use.
+    #[cfg(target_arch = "x86_64")]
+    code: OwnCode,
+}
+
+/// A system's machine code for one trajectory: `None` until looked up, then the code or
+/// `Some(None)` where the tape is interpreted.
+#[cfg(target_arch = "x86_64")]
+#[derive(Debug, Clone, Copy, Default)]
+struct OwnCode {
+    field: Option<Option<IoCode>>,
+    switching: Option<Option<IoCode>>,
 }
 
 impl EquationModel {
@@ -58,6 +72,8 @@ impl EquationModel {
             values: values.to_vec(),
             period: std::f64::consts::TAU / omega,
             origin,
+            #[cfg(target_arch = "x86_64")]
+            code: OwnCode::default(),
         })
     }
 }
@@ -123,6 +139,19 @@ impl EquationSystem {
         Some(format!("model.collision[{i}] = `{}`", c.collision_text[i]))
     }
 
+    /// The field tape's one-lane machine code for `usage`, looked up (compiled if it is the
+    /// first) and kept.
+    #[cfg(target_arch = "x86_64")]
+    #[cold]
+    fn look_up(&mut self, usage: IoUse) -> Option<IoCode> {
+        let c = &*self.model.inner;
+        let (io, kept) = match usage {
+            IoUse::Field => (&c.field_io, &mut self.code.field),
+            IoUse::Switching => (&c.switch_io, &mut self.code.switching),
+        };
+        *kept.insert(c.field_tape.io_code(usage, io))
+    }
+
     /// The collision conditions' values at (τ, x) into the registers; false if the model
     /// has none.
     fn load_collisions(&mut self, tau: f64, x: &Vector) -> bool {
@@ -165,14 +194,36 @@ impl System for EquationSystem {
 
     #[inline]
     fn field(&mut self, tau: f64, x: &Vector, mode: Mode, dx: &mut Vector) -> Mode {
+        #[cfg(target_arch = "x86_64")]
+        let code = match self.code.field {
+            Some(code) => code,
+            None => self.look_up(IoUse::Field),
+        };
         let c = &*self.model.inner;
         self.regs.load_time(&c.time_tape, tau);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(code) = code {
+            return code.run(&mut self.regs.values, mode, x, dx);
+        }
         c.field_tape
             .run_field(&mut self.regs.values, mode, &c.field_io, x, dx)
     }
 
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {
+        #[cfg(target_arch = "x86_64")]
+        let code = match self.code.switching {
+            Some(code) => code,
+            None => self.look_up(IoUse::Switching),
+        };
         let c = &*self.model.inner;
+        // (the code writes every switch's value: where `s` has room for them all)
+        #[cfg(target_arch = "x86_64")]
+        if let Some(code) = code
+            && s.len() >= c.switch_io.derivatives.len()
+        {
+            self.regs.load_time(&c.time_tape, tau);
+            return code.run(&mut self.regs.values, mode, x, s);
+        }
         self.regs.load(&c.time_tape, tau, x);
         let observed = c.field_tape.run_in(&mut self.regs.values, mode);
         for (out, sw) in s.iter_mut().zip(&c.graph.switches) {

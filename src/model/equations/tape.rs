@@ -77,11 +77,11 @@ pub(super) fn lane_slot(lanes: usize) -> Option<usize> {
 }
 
 /// A tape's machine code, per lane count ([`lane_slot`]) and use ([`HELD_USE`],
-/// [`FREE_USE`], [`FIELD_USE`]).
+/// [`FREE_USE`], [`FIELD_USE`], [`SWITCHING_USE`]).
 #[derive(Debug, Default)]
 struct Natives {
     #[cfg(target_arch = "x86_64")]
-    compiled: [[std::sync::OnceLock<Option<super::native::Native>>; 3]; 3],
+    compiled: [[std::sync::OnceLock<Option<super::native::Native>>; 4]; 3],
 }
 
 /// The uses a tape is compiled for: each kink held on the lane's mode, or free (on its
@@ -93,6 +93,10 @@ const HELD_USE: usize = 0;
 const FREE_USE: usize = 1;
 #[cfg(target_arch = "x86_64")]
 const FIELD_USE: usize = 2;
+/// Held, one lane, reading the states and writing the switching values (a [`FieldIo`] whose
+/// `derivatives` are the switches' registers).
+#[cfg(target_arch = "x86_64")]
+const SWITCHING_USE: usize = 3;
 
 /// Where a field tape's states go and its derivatives come from: (state, register) pairs,
 /// and the register of each state's derivative in state order.
@@ -230,6 +234,23 @@ impl Tape {
     #[cfg(target_arch = "x86_64")]
     pub fn native_field(&self, lanes: usize, io: &FieldIo) -> Option<super::native::Entry> {
         self.compiled([lane_slot(lanes)?, FIELD_USE], lanes, false, Some(io))
+    }
+
+    /// The field tape's one-lane machine code reading the states and writing what `io`
+    /// names, looked up once by its caller: `io` is the field's own ([`IoUse::Field`], the
+    /// derivatives) or the switches' ([`IoUse::Switching`], always the same `io` for each).
+    #[cfg(target_arch = "x86_64")]
+    pub fn io_code(&self, usage: IoUse, io: &FieldIo) -> Option<IoCode> {
+        let slot = match usage {
+            IoUse::Field => FIELD_USE,
+            IoUse::Switching => SWITCHING_USE,
+        };
+        let entry = self.compiled([0, slot], 1, false, Some(io))?;
+        Some(IoCode {
+            entry,
+            registers: self.registers,
+            outputs: io.derivatives.len(),
+        })
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -545,6 +566,41 @@ unsafe fn call<const L: usize>(
     // SAFETY: the caller's promise
     unsafe { entry(r.as_mut_ptr(), modes.as_ptr(), observed.as_mut_ptr(), x, dx) };
     observed
+}
+
+/// What a tape's [`IoCode`] writes out: the field's derivatives or the switching values.
+#[cfg(target_arch = "x86_64")]
+#[derive(Debug, Clone, Copy)]
+pub enum IoUse {
+    Field,
+    Switching,
+}
+
+/// A tape's one-lane machine code that reads the states and writes its outputs itself
+/// ([`Tape::io_code`]), kept by its caller so that a call passes no lock.
+#[cfg(target_arch = "x86_64")]
+#[derive(Debug, Clone, Copy)]
+pub struct IoCode {
+    entry: super::native::Entry,
+    registers: usize,
+    outputs: usize,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl IoCode {
+    /// Runs the code on registers `r` held on `mode`, the states from `x`, its outputs into
+    /// `out`; the observed mode (as [`Tape::run_in`]).
+    #[inline(always)]
+    pub fn run(&self, r: &mut [f64], mode: Mode, x: &Vector, out: &mut [f64]) -> Mode {
+        assert!(
+            r.len() >= self.registers && out.len() >= self.outputs,
+            "a register file of another graph"
+        );
+        // SAFETY: registers as in `Tape::run`; the code reads states i < MAX_DIM from x and
+        // writes `outputs` values into out, both long enough (x by its type, out asserted)
+        let observed = unsafe { call(self.entry, r, [mode], x.as_ptr(), out.as_mut_ptr()) };
+        observed[0]
+    }
 }
 
 /// A register file for one graph: constants filled in, parameters and the nodes they fix

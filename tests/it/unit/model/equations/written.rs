@@ -578,6 +578,33 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                 }
             }
         }
+        // the system's own field and switching values (the one-lane machine code it keeps,
+        // which reads the states and writes its outputs itself), against the interpreter
+        let mut own = sys.clone();
+        for round in 0..200 {
+            let scale = if round % 10 == 9 { 1e3 } else { 3.0 };
+            let mode = (uniform() * u32::MAX as f64) as u64;
+            let (x, t) = (state(&mut uniform, scale), 20.0 * uniform());
+            let mut regs = sys.registers().clone();
+            regs.load(&c.time_tape, t, &x[..dim]);
+            let want_mode = c.field_tape.interpret::<false>(&mut regs.values, mode);
+            let mut dx = [0.0; MAX_DIM];
+            assert_eq!(own.field(t, &x, mode, &mut dx), want_mode, "field's modes");
+            for i in 0..dim {
+                let want = regs.get(c.field_io.derivatives[i]);
+                assert!(same(dx[i], want), "field dx{i}: {:e} {want:e}", dx[i]);
+            }
+            let mut s = [0.0; 64];
+            assert_eq!(
+                own.switching(t, &x, mode, &mut s),
+                want_mode,
+                "switching's modes"
+            );
+            for (k, switch) in c.graph.switches.iter().enumerate() {
+                let want = regs.get(switch.value);
+                assert!(same(s[k], want), "switch {k}: {:e} {want:e}", s[k]);
+            }
+        }
     }
 }
 
