@@ -590,9 +590,9 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
             let want_mode = c.field_tape.interpret::<false>(&mut regs.values, mode);
             let mut dx = [0.0; MAX_DIM];
             assert_eq!(own.field(t, &x, mode, &mut dx), want_mode, "field's modes");
-            for i in 0..dim {
-                let want = regs.get(c.field_io.derivatives[i]);
-                assert!(same(dx[i], want), "field dx{i}: {:e} {want:e}", dx[i]);
+            for (i, (&got, &id)) in dx.iter().zip(&c.field_io.derivatives).enumerate() {
+                let want = regs.get(id);
+                assert!(same(got, want), "field dx{i}: {got:e} {want:e}");
             }
             let mut s = [0.0; 64];
             assert_eq!(
@@ -636,6 +636,17 @@ fn every_tape_of_the_catalogue_compiles_to_machine_code() {
             assert!(
                 c.field_tape.native_field(lanes, io).is_some(),
                 "{file}: field"
+            );
+        }
+        // the one-lane codes a system keeps for a split's evaluations
+        use isola::model::equations::tape::IoUse;
+        for (usage, io) in [
+            (IoUse::Field, &c.field_io),
+            (IoUse::Switching, &c.switch_io),
+        ] {
+            assert!(
+                c.field_tape.io_code(usage, io).is_some(),
+                "{file}: {usage:?}"
             );
         }
     }
