@@ -203,7 +203,7 @@ impl GeneralRk4 {
         &self,
         sys: &mut S,
         traj: &mut Trajectory,
-        first: Option<Trial>,
+        first: Option<&Trial>,
     ) {
         if traj.stop.is_some() {
             return;
@@ -240,7 +240,7 @@ impl GeneralRk4 {
                     switching: Some(switching),
                     start_switching: None,
                 };
-                return self.split_step(sys, traj, Some(trial));
+                return self.split_step(sys, traj, Some(&trial));
             }
         }
         self.split_step(sys, traj, first);
@@ -249,7 +249,7 @@ impl GeneralRk4 {
     /// [`Self::advance_step_after`] stage by stage, and where a switch is met (out of line:
     /// its probes take a large frame the plain steps need not set up).
     #[inline(never)]
-    fn split_step<S: System>(&self, sys: &mut S, traj: &mut Trajectory, mut first: Option<Trial>) {
+    fn split_step<S: System>(&self, sys: &mut S, traj: &mut Trajectory, mut first: Option<&Trial>) {
         let mask = sys.switch_mask();
         let t_end = self.tau(traj.steps + 1);
         let mut t = self.tau(traj.steps);
@@ -261,9 +261,13 @@ impl GeneralRk4 {
         for _ in 0..MAX_SWITCHES_PER_STEP {
             piece = (t, x, dx);
             let rem = t_end - t;
+            let made;
             let trial = match first.take() {
                 Some(trial) => trial,
-                None => rk4(sys, dim, t, &x, &dx, rem, mode, true),
+                None => {
+                    made = rk4(sys, dim, t, &x, &dx, rem, mode, true);
+                    &made
+                }
             };
             if trial.seen & mask == mode & mask && trial.finite {
                 (x, dx) = (trial.x, trial.dx);
@@ -271,9 +275,9 @@ impl GeneralRk4 {
                 break;
             }
             let located = if mask >> FEW_SWITCHES == 0 {
-                self.locate::<S, FEW_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, &trial)
+                self.locate::<S, FEW_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, trial)
             } else {
-                self.locate::<S, MAX_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, &trial)
+                self.locate::<S, MAX_SWITCHES>(sys, dim, t, &x, &dx, rem, mode, mask, trial)
             };
             match located {
                 Some((theta, flipped, at)) => {

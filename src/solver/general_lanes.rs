@@ -369,7 +369,7 @@ impl GeneralRk4 {
                         seen: lanes.mode[l],
                     }),
                 };
-                self.advance_step_after(sys, &mut traj, Some(trial));
+                self.advance_step_after(sys, &mut traj, Some(&trial));
                 lanes.set_lane(l, traj);
             }
         }
