@@ -127,6 +127,28 @@ fuzz_target!(|data: &[u8]| {
                 }
             }
         }
+        // the system's own field and switching values (the one-lane codes it keeps)
+        let mut own = sys.clone();
+        for round in 0..4 {
+            let scale = if round == 3 { 1e3 } else { 3.0 };
+            let (xy, t) = (state(&mut uniform, scale), 20.0 * uniform());
+            let mode = (uniform() * u32::MAX as f64) as u64;
+            let mut regs = sys.registers().clone();
+            regs.load(&c.time_tape, t, &xy);
+            let want = c.field_tape.interpret::<false>(&mut regs.values, mode);
+            let mut x = [0.0; MAX_DIM];
+            x[..2].copy_from_slice(&xy);
+            let mut dx = [0.0; MAX_DIM];
+            assert_eq!(own.field(t, &x, mode, &mut dx), want);
+            for (d, &id) in dx.iter().zip(&c.field_io.derivatives) {
+                assert!(same(*d, regs.get(id)), "field: {d:e}");
+            }
+            let mut s = [0.0; 64];
+            assert_eq!(own.switching(t, &x, mode, &mut s), want);
+            for (got, switch) in s.iter().zip(&c.graph.switches) {
+                assert!(same(*got, regs.get(switch.value)), "switching: {got:e}");
+            }
+        }
     }
     if Tape::native_enabled() {
         step_in_lanes(&mut sys, data);
