@@ -4,8 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Drawn, Legend, Style, Swatch, half_step, nothing, panel, short_type};
-use crate::model::Device;
+use super::{AxisSpec, Drawn, Legend, Style, Swatch, Units, half_step, nothing, panel, short_type};
 use crate::session::results::{AttractorRow, BasinView};
 
 /// The colour of attractor `a`: its response type's, unless another attractor has the same
@@ -29,7 +28,7 @@ fn attractor_color(b: &BasinView, a: &AttractorRow, s: &Style) -> RGBColor {
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     b: &BasinView,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -42,9 +41,17 @@ where
     let (hx, hv) = (half_step(&b.dx), half_step(&b.v));
     let x_range = b.dx[0] - hx..b.dx[n_dx - 1] + hx;
     let v_range = b.v[0] - hv..b.v[n_v - 1] + hv;
-    let mut x = AxisSpec::new("initial offset Δλ₀", x_range);
-    let mut y = AxisSpec::new("initial velocity v₀", v_range);
-    if let Some(d) = device {
+    let (mut x, mut y) = match units.names {
+        Some(names) => {
+            let [x, v] = names.grid.clone().map(|n| format!("initial Δ{n}"));
+            (AxisSpec::new(x, x_range), AxisSpec::new(v, v_range))
+        }
+        None => (
+            AxisSpec::new("initial offset Δλ₀", x_range),
+            AxisSpec::new("initial velocity v₀", v_range),
+        ),
+    };
+    if let Some(d) = units.device {
         let (l1, seconds) = (d.l1, d.time_scale());
         x = x.with_physical("Δλ₀·L₁ (mm)", |dx| dx * l1 * 1e3);
         y = y.with_physical("velocity (m/s)", |v| v * l1 / seconds);

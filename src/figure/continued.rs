@@ -6,9 +6,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{
-    AxisSpec, Chart, Drawn, Legend, Marker, Polylines, Style, Swatch, fit, nothing, panel,
+    AxisSpec, Chart, Drawn, Legend, Marker, Polylines, Style, Swatch, Units, fit, nothing, panel,
 };
-use crate::model::Device;
 use crate::session::results::{ContinuationView, ContinuedView};
 
 /// What a branch of period `k` is, for its colour and legend: `1:k`.
@@ -135,7 +134,7 @@ where
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     c: &ContinuationView,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -148,11 +147,11 @@ where
     let by_omega = c.parameter == "omega";
     let x_range = fit(points().map(|p| p.parameter), 0.04);
     let x = match by_omega {
-        true => AxisSpec::omega(x_range, device),
+        true => AxisSpec::omega(x_range, units),
         false => AxisSpec::new(c.parameter.clone(), x_range),
     };
     let top = points().map(|p| p.amplitude).fold(0.0f64, f64::max);
-    let y = AxisSpec::amplitude((top * 1.15).max(1e-3), device);
+    let y = AxisSpec::amplitude((top * 1.15).max(1e-3), units);
     let mut chart = panel(area, &x, &y, s)?;
     let mut legend = Legend::new(s);
     overlay(&mut chart, &c.branches, false, &mut legend, s)?;

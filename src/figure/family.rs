@@ -4,14 +4,15 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, fit, nothing, panel, short_type};
-use crate::model::Device;
+use super::{
+    AxisSpec, Drawn, Legend, Marker, Style, Swatch, Units, fit, nothing, panel, short_type,
+};
 use crate::session::results::FamilyView;
 
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     f: &FamilyView,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -22,8 +23,8 @@ where
         return Err(nothing("no periodic response in the family"));
     }
     let top = points().filter_map(|p| p.amplitude).fold(0.0f64, f64::max);
-    let x = AxisSpec::omega(fit(points().map(|p| p.omega), 0.02), device);
-    let mut chart = panel(area, &x, &AxisSpec::amplitude(top * 1.25, device), s)?;
+    let x = AxisSpec::omega(fit(points().map(|p| p.omega), 0.02), units);
+    let mut chart = panel(area, &x, &AxisSpec::amplitude(top * 1.25, units), s)?;
     let mut legend = Legend::new(s);
     let r = s.marker as i32;
     let mut types: Vec<&str> = Vec::new();

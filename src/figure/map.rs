@@ -5,14 +5,13 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, half_step, nothing, panel};
-use crate::model::Device;
+use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, Units, half_step, nothing, panel};
 use crate::session::results::MapView;
 
 pub(super) fn draw<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     m: &MapView,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -25,7 +24,7 @@ where
     let (hx, hy) = (half_step(&m.omegas), half_step(&m.values));
     let x_range = m.omegas[0] - hx..m.omegas[nx - 1] + hx;
     let x = match m.x.as_str() {
-        "omega" => AxisSpec::omega(x_range, device),
+        "omega" => AxisSpec::omega(x_range, units),
         name => AxisSpec::new(name, x_range),
     };
     let y = AxisSpec::new(m.parameter.clone(), m.values[0] - hy..m.values[ny - 1] + hy);

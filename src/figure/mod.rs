@@ -120,6 +120,8 @@ pub struct Subject<'a> {
     pub view: &'a ResultView,
     /// The device for physical units; `None` for a written model (its units are its own).
     pub device: Option<Device>,
+    /// A written model's names for the axes (`None`: the built-in model's).
+    pub names: Option<AxisNames>,
     /// The ω_e range of a frequency response or hunt, as its settings give it.
     pub omega_range: Option<(f64, f64)>,
     /// A chirp sweep's scalogram, drawn under its envelope.
@@ -127,6 +129,17 @@ pub struct Subject<'a> {
     /// A chirp sweep's partner the other way over the same ω_e range (see
     /// [`reverse_sweep`]), its envelope drawn with the sweep's.
     pub reverse: Option<&'a ChirpView>,
+}
+
+/// What a written model calls the quantities on a figure's axes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisNames {
+    /// The two states a basin's grid spans.
+    pub grid: [String; 2],
+    /// The forcing-frequency parameter.
+    pub frequency: String,
+    /// The output whose max − min is the amplitude, as written.
+    pub amplitude: String,
 }
 
 /// Why a figure could not be made.
@@ -253,29 +266,31 @@ where
         s.font(s.text + s.text / 4).color(&s.palette.text),
     ))?;
     let device = subject.device.as_ref();
+    let units = Units {
+        device,
+        names: subject.names.as_ref(),
+    };
     match subject.view {
         ResultView::Response(points) => {
-            response::draw(&body, points, &[], subject.omega_range, false, device, s)
+            response::draw(&body, points, &[], subject.omega_range, false, units, s)
         }
-        ResultView::Stepped(points) => response::draw(&body, points, &[], None, true, device, s),
+        ResultView::Stepped(points) => response::draw(&body, points, &[], None, true, units, s),
         ResultView::Hunt(h) => response::draw(
             &body,
             &h.responses,
             &h.continued,
             subject.omega_range,
             false,
-            device,
+            units,
             s,
         ),
-        ResultView::Basin(b) => basin::draw(&body, b, device, s),
+        ResultView::Basin(b) => basin::draw(&body, b, units, s),
         ResultView::History(h) => history::draw(&body, h, device, s),
-        ResultView::Chirp(c) => {
-            sweep::draw(&body, c, subject.reverse, subject.scalogram, device, s)
-        }
+        ResultView::Chirp(c) => sweep::draw(&body, c, subject.reverse, subject.scalogram, units, s),
         ResultView::Force(f) => force::draw(&body, f, device, s),
-        ResultView::Family(f) => family::draw(&body, f, device, s),
-        ResultView::Continuation(c) => continued::draw(&body, c, device, s),
-        ResultView::Map(m) => map::draw(&body, m, device, s),
+        ResultView::Family(f) => family::draw(&body, f, units, s),
+        ResultView::Continuation(c) => continued::draw(&body, c, units, s),
+        ResultView::Map(m) => map::draw(&body, m, units, s),
     }
 }
 
@@ -328,6 +343,14 @@ struct AxisSpec {
     physical: Option<(Range<f64>, String)>,
 }
 
+/// How a figure's axes are named: the built-in model's, with the device's physical units
+/// where it has one, or a written model's own names.
+#[derive(Debug, Clone, Copy)]
+struct Units<'a> {
+    device: Option<&'a Device>,
+    names: Option<&'a AxisNames>,
+}
+
 impl AxisSpec {
     fn new(name: impl Into<String>, range: Range<f64>) -> Self {
         AxisSpec {
@@ -343,18 +366,25 @@ impl AxisSpec {
         self
     }
 
-    /// ω_e over `range`, in Hz on the device.
-    fn omega(range: Range<f64>, device: Option<&Device>) -> Self {
+    /// ω_e over `range`, in Hz on the device; a written model's frequency by its name.
+    fn omega(range: Range<f64>, units: Units) -> Self {
+        if let Some(names) = units.names {
+            return AxisSpec::new(names.frequency.clone(), range);
+        }
         let axis = AxisSpec::new("excitation frequency ωₑ", range);
-        match device {
+        match units.device {
             Some(d) => axis.with_physical("f (Hz)", |w| d.hz(w)),
             None => axis,
         }
     }
 
-    /// An amplitude of Δλ from 0 to `top`, in mm of stretch (Δλ·L₁) on the device.
-    fn amplitude(top: f64, device: Option<&Device>) -> Self {
-        match device {
+    /// An amplitude of Δλ from 0 to `top`, in mm of stretch (Δλ·L₁) on the device; a
+    /// written model's of its output.
+    fn amplitude(top: f64, units: Units) -> Self {
+        if let Some(names) = units.names {
+            return AxisSpec::new(format!("amplitude of {}", names.amplitude), 0.0..top);
+        }
+        match units.device {
             Some(d) => AxisSpec::new("amplitude Δλ", 0.0..top)
                 .with_physical("amplitude Δλ·L₁ (mm)", |a| a * d.l1 * 1e3),
             None => AxisSpec::new("amplitude", 0.0..top),
@@ -854,6 +884,14 @@ impl<'a> Subject<'a> {
             ),
             view,
             device: session.written.is_none().then(|| session.device()),
+            names: session.written.as_ref().map(|w| {
+                let (model, states) = (&w.model, w.model.states());
+                AxisNames {
+                    grid: model.grid().map(|i| states[i].clone()),
+                    frequency: model.parameters()[model.frequency()].name.clone(),
+                    amplitude: model.amplitude_text().to_string(),
+                }
+            }),
             omega_range,
             scalogram,
             reverse: None,

@@ -6,7 +6,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{AxisSpec, Drawn, Legend, Marker, Style, Swatch, continued, fit, nothing, panel};
+use super::{
+    AxisSpec, Drawn, Legend, Marker, Style, Swatch, Units, continued, fit, nothing, panel,
+};
 use super::{Polylines, number, short_type};
 use crate::model::Device;
 use crate::session::results::{ContinuedView, ResponsePoint, branches};
@@ -19,7 +21,7 @@ pub(super) fn draw<DB: DrawingBackend>(
     continued: &[ContinuedView],
     omega_range: Option<(f64, f64)>,
     joined: bool,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -46,8 +48,8 @@ where
         )
         .fold(0.0f64, f64::max);
     // headroom for the branch annotations and the legend
-    let y = AxisSpec::amplitude((top * 1.4).max(1e-3), device);
-    let mut chart = panel(area, &AxisSpec::omega(x_range, device), &y, s)?;
+    let y = AxisSpec::amplitude((top * 1.4).max(1e-3), units);
+    let mut chart = panel(area, &AxisSpec::omega(x_range, units), &y, s)?;
     if joined {
         let mut run: Vec<(f64, f64)> = Vec::new();
         for q in points.iter().map(|q| (q.omega, q.amplitude)) {
@@ -117,7 +119,7 @@ where
         .filter_map(|q| Some(vec![(q.omega, q.amplitude?)]))
         .collect();
     if continued.is_empty() {
-        data.extend(annotate_branches(&mut chart, points, device, s)?);
+        data.extend(annotate_branches(&mut chart, points, units.device, s)?);
     } else {
         continued::overlay(&mut chart, continued, true, &mut legend, s)?;
         data.extend(continued::curves(continued, true));

@@ -7,11 +7,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{AxisSpec, Drawn, Legend, Style, Swatch, fit, nothing, number, panel};
+use super::{AxisSpec, Drawn, Legend, Style, Swatch, Units, fit, nothing, number, panel};
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::chirp_sweep::ChirpSpec;
 use crate::analysis::orbit::scalogram::{Scalogram, scalogram};
-use crate::model::Device;
 use crate::session::results::ChirpView;
 use crate::session::{AnalysisEntry, Session, Settings};
 
@@ -75,7 +74,7 @@ pub(super) fn draw<DB: DrawingBackend>(
     c: &ChirpView,
     reverse: Option<&ChirpView>,
     scalogram: Option<&Scalogram>,
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
@@ -105,8 +104,8 @@ where
         .fold(0.0f64, f64::max);
     let mut chart = panel(
         &top,
-        &AxisSpec::omega(omega_range.clone(), device),
-        &AxisSpec::amplitude((peak * 1.15).max(1e-3), device),
+        &AxisSpec::omega(omega_range.clone(), units),
+        &AxisSpec::amplitude((peak * 1.15).max(1e-3), units),
         s,
     )?;
     // forward blue, backward orange, in either figure of the pair

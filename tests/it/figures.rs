@@ -395,6 +395,7 @@ fn render(name: &str, view: &ResultView, format: Format, size: (u32, u32)) -> Ve
         title: name.into(),
         view,
         device: Some(Device::silicone()),
+        names: None,
         omega_range: None,
         scalogram: scalogram.as_ref(),
         reverse: None,
@@ -669,6 +670,7 @@ fn the_dark_theme_has_a_dark_background() {
         title: "dark".into(),
         view: &ResultView::Force(force()),
         device: None,
+        names: None,
         omega_range: None,
         scalogram: None,
         reverse: None,
@@ -698,6 +700,7 @@ fn bad_sizes_and_empty_views_are_refused_saying_why() {
         title: "empty".into(),
         view: &view,
         device: None,
+        names: None,
         omega_range: None,
         scalogram: None,
         reverse: None,
@@ -874,4 +877,56 @@ fn the_fig6a_report_holds_the_basin_and_its_attractors_with_fractions() {
     }
     assert!(html.contains("<td>46</td>"));
     assert!(html.contains("<caption>Steady state</caption>"));
+}
+
+#[test]
+fn a_written_models_figures_carry_its_names() {
+    // the clearance oscillator: states x and v, frequency w, amplitude of x; its cheapest
+    // basin and response computed first, as `figure` does
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("clearance.toml");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_clearance.toml"
+    ))
+    .unwrap()
+    .replace("points = 61", "points = 9")
+    .replace("points = 41", "points = 5");
+    std::fs::write(&session, text).unwrap();
+    for (analysis, want, not) in [
+        (
+            "basin_0_9",
+            &["initial Δx", "initial Δv"][..],
+            &["Δλ₀", "v₀"][..],
+        ),
+        ("response", &["amplitude of x", "w"][..], &["ωₑ", "Δλ"][..]),
+    ] {
+        let out = dir.path().join(format!("{analysis}.svg"));
+        let run = isola(&[
+            "figure",
+            session.to_str().unwrap(),
+            "--analysis",
+            analysis,
+            "--output",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let texts = svg_texts(&std::fs::read_to_string(&out).unwrap());
+        for label in want {
+            assert!(
+                texts.iter().any(|t| t == label),
+                "{analysis}: no '{label}' in {texts:?}"
+            );
+        }
+        for label in not {
+            assert!(
+                !texts.iter().any(|t| t.contains(label)),
+                "{analysis}: the built-in's '{label}' in {texts:?}"
+            );
+        }
+    }
 }
