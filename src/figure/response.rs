@@ -10,7 +10,6 @@ use super::{
     AxisSpec, Drawn, Legend, Marker, Style, Swatch, Units, continued, fit, nothing, panel,
 };
 use super::{Polylines, number, short_type};
-use crate::model::Device;
 use crate::session::results::{ContinuedView, ResponsePoint, branches};
 
 /// Draws `points` (joined in sweep order if `joined`) over `omega_range` (or their own), with
@@ -119,7 +118,7 @@ where
         .filter_map(|q| Some(vec![(q.omega, q.amplitude?)]))
         .collect();
     if continued.is_empty() {
-        data.extend(annotate_branches(&mut chart, points, units.device, s)?);
+        data.extend(annotate_branches(&mut chart, points, units, s)?);
     } else {
         continued::overlay(&mut chart, continued, true, &mut legend, s)?;
         data.extend(continued::curves(continued, true));
@@ -153,13 +152,15 @@ where
 fn annotate_branches<DB: DrawingBackend>(
     chart: &mut super::Chart<DB>,
     points: &[ResponsePoint],
-    device: Option<&Device>,
+    units: Units,
     s: &Style,
 ) -> Result<Polylines, Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
 {
     let branches = branches(points);
+    // the frequency as the model names it
+    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
     let mut drawn = Vec::new();
     for b in branches
         .iter()
@@ -187,7 +188,7 @@ where
         } else {
             "reached by a sweep"
         };
-        let hz = device.map_or(String::new(), |d| {
+        let hz = units.device.map_or(String::new(), |d| {
             format!(
                 " ({}–{} Hz)",
                 number(d.hz(b.omega_min)),
@@ -195,7 +196,7 @@ where
             )
         });
         let text = format!(
-            "{} ωₑ {:.2}–{:.2}{hz}, {reach}",
+            "{} {omega} {:.2}–{:.2}{hz}, {reach}",
             short_type(&b.response_type),
             b.omega_min,
             b.omega_max
