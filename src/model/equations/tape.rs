@@ -99,7 +99,9 @@ const FIELD_USE: usize = 2;
 const SWITCHING_USE: usize = 3;
 
 /// Where a field tape's states go and its derivatives come from: (state, register) pairs,
-/// and the register of each state's derivative in state order.
+/// and the register of each state's derivative in state order. (The same for the switching
+/// values a split reads, [`IoUse::Switching`]: then `derivatives` are the switches'
+/// registers, in switch order.)
 #[derive(Debug, Clone)]
 pub struct FieldIo {
     pub states: Vec<(u8, u32)>,
