@@ -34,6 +34,7 @@ use plotters::style::{FontStyle, register_font};
 
 use crate::analysis::orbit::scalogram::Scalogram;
 use crate::model::Device;
+use crate::model::equations::EquationModel;
 use crate::session::results::{ChirpView, ResultView};
 use crate::session::{AnalysisEntry, Session, Settings};
 
@@ -140,6 +141,18 @@ pub struct AxisNames {
     pub frequency: String,
     /// The output whose max − min is the amplitude, as written.
     pub amplitude: String,
+}
+
+impl AxisNames {
+    /// The names `model` gives its grid's states, its frequency and its amplitude.
+    pub fn of(model: &EquationModel) -> Self {
+        let states = model.states();
+        AxisNames {
+            grid: model.grid().map(|i| states[i].clone()),
+            frequency: model.parameters()[model.frequency()].name.clone(),
+            amplitude: model.amplitude_text().to_string(),
+        }
+    }
 }
 
 /// Why a figure could not be made.
@@ -884,14 +897,7 @@ impl<'a> Subject<'a> {
             ),
             view,
             device: session.written.is_none().then(|| session.device()),
-            names: session.written.as_ref().map(|w| {
-                let (model, states) = (&w.model, w.model.states());
-                AxisNames {
-                    grid: model.grid().map(|i| states[i].clone()),
-                    frequency: model.parameters()[model.frequency()].name.clone(),
-                    amplitude: model.amplitude_text().to_string(),
-                }
-            }),
+            names: session.written.as_ref().map(|w| AxisNames::of(&w.model)),
             omega_range,
             scalogram,
             reverse: None,

@@ -179,23 +179,15 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let inner = block.inner(area);
     block.render(area, buf);
     let device = app.session.device();
+    let names = (app.session.written.as_ref()).map(|w| isola::figure::AxisNames::of(&w.model));
     let ctx = PlotContext {
         theme: t,
         device: app.session.written.is_none().then_some(&device),
-        grid: app.session.written.as_ref().map(|w| {
-            let states = w.model.states();
-            w.model.grid().map(|i| states[i].clone())
+        grid: names.as_ref().map(|n| n.grid.clone()),
+        omega_axis: names.as_ref().map_or("ω_e".into(), |n| n.frequency.clone()),
+        amplitude_axis: (names.as_ref()).map_or("amplitude Δλ".into(), |n| {
+            format!("amplitude of {}", n.amplitude)
         }),
-        omega_axis: app.session.written.as_ref().map_or("ω_e".into(), |w| {
-            w.model.parameters()[w.model.frequency()].name.clone()
-        }),
-        amplitude_axis: app
-            .session
-            .written
-            .as_ref()
-            .map_or("amplitude Δλ".into(), |w| {
-                format!("amplitude of {}", w.model.amplitude_text())
-            }),
         cursor: app.cursor,
         pickable: app.pick_blocked().is_none(),
     };

@@ -1162,10 +1162,6 @@ fn setting_a_scalogram_value_writes_the_scalogram() {
     assert_eq!(session.to_text(), before);
 }
 
-/// A NaN that decides a kink or a collision stops the run with an error naming the value,
-/// on one trajectory (its compiled steps) and in a basin's lanes alike; it never picks a
-/// branch. `&&` decides as it reads: `x < 2 && ln(2 - x) > 0` is false past x = 2 without
-/// its second half, in an `if` and in a collision.
 /// The first analysis of the session `text`, written to `path` and run; its error as the
 /// user reads it.
 fn run_first_analysis(path: &Path, text: &str) -> Result<(), String> {
@@ -1176,6 +1172,10 @@ fn run_first_analysis(path: &Path, text: &str) -> Result<(), String> {
         .map_err(|e| format!("{e:#}"))
 }
 
+/// A NaN that decides a kink or a collision stops the run with an error naming the value,
+/// on one trajectory (its compiled steps) and in a basin's lanes alike; it never picks a
+/// branch. `&&` decides as it reads: `x < 2 && ln(2 - x) > 0` is false past x = 2 without
+/// its second half, in an `if` and in a collision.
 #[test]
 fn a_nan_that_decides_a_kink_or_a_collision_stops_the_run() {
     // x'' + 0.1x' + x = cos t from rest: x passes 2 near τ = 8 (the resonance's amplitude

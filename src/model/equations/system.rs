@@ -205,8 +205,9 @@ impl System for EquationSystem {
         if let Some(code) = code {
             return code.run(&mut self.regs.values, mode, x, dx);
         }
+        // no machine code: the interpreter
         c.field_tape
-            .run_field(&mut self.regs.values, mode, &c.field_io, x, dx)
+            .interpret_field(&mut self.regs.values, mode, &c.field_io, x, dx)
     }
 
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {

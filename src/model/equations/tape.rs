@@ -358,10 +358,9 @@ impl Tape {
     }
 
     /// [`Tape::run_in`] of a field tape reading the states from `x` and writing the
-    /// derivatives into `dx` (one call of machine code for all; the states' registers are
-    /// left as they were by machine code, written by the interpreter).
-    #[inline]
-    pub fn run_field(
+    /// derivatives into `dx`, instruction by instruction (the states' registers written):
+    /// what its [`IoCode`] does where the tape is compiled.
+    pub fn interpret_field(
         &self,
         r: &mut [f64],
         mode: Mode,
@@ -370,15 +369,9 @@ impl Tape {
         dx: &mut Vector,
     ) -> Mode {
         assert!(
-            r.len() >= self.registers && io.derivatives.len() <= MAX_DIM,
+            r.len() >= self.registers,
             "a register file of another graph"
         );
-        #[cfg(target_arch = "x86_64")]
-        if let Some(entry) = self.native_field(1, io) {
-            // SAFETY: registers as in `run`; states i < MAX_DIM are read from x and
-            // derivatives i < MAX_DIM (asserted) written into dx, both MAX_DIM long
-            return unsafe { call(entry, r, [mode], x.as_ptr(), dx.as_mut_ptr()) }[0];
-        }
         for &(i, slot) in &io.states {
             r[slot as usize] = x[i as usize];
         }
@@ -470,7 +463,7 @@ impl Tape {
     }
 
     /// [`Tape::run_lanes`] of a field tape with every lane's states loaded first and its
-    /// derivatives copied out after, as [`Tape::run_field`] for one.
+    /// derivatives copied out after, as [`Tape::interpret_field`] for one.
     #[inline]
     pub fn run_field_lanes<const L: usize>(
         &self,
@@ -486,7 +479,7 @@ impl Tape {
         );
         #[cfg(target_arch = "x86_64")]
         if let Some(entry) = self.native_field(L, io) {
-            // SAFETY: as in `run_field`, with `L` lanes of each (state i of lane l at
+            // SAFETY: as in `IoCode::run`, with `L` lanes of each (state i of lane l at
             // i·L + l, as the code reads it)
             let (x, dx) = (
                 x.as_flattened().as_ptr(),

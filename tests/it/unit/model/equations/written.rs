@@ -480,7 +480,7 @@ fn uniform_from(mut seed: u64) -> impl FnMut() -> f64 {
 
 #[test]
 fn machine_code_gives_the_interpreters_values_bit_for_bit() {
-    use isola::model::equations::tape::{NATIVE_LANES, Tape};
+    use isola::model::equations::tape::{IoUse, NATIVE_LANES, Tape};
     if !Tape::native_enabled() {
         eprintln!("tapes are interpreted on this host: nothing to compare");
         return;
@@ -580,13 +580,8 @@ fn machine_code_gives_the_interpreters_values_bit_for_bit() {
                 }
                 let mut scalar = regs.clone();
                 let mut dxl = [0.0; MAX_DIM];
-                let got = c.field_tape.run_field(
-                    &mut scalar.values,
-                    modes[l],
-                    &c.field_io,
-                    &xl,
-                    &mut dxl,
-                );
+                let code = c.field_tape.io_code(IoUse::Field, &c.field_io).unwrap();
+                let got = code.run(&mut scalar.values, modes[l], &xl, &mut dxl);
                 regs.load(&c.time_tape, t, &xl[..dim]);
                 want_modes[l] = c.field_tape.interpret::<false>(&mut regs.values, modes[l]);
                 assert_eq!(got, want_modes[l], "observed modes");
