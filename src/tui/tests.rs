@@ -1779,8 +1779,19 @@ fn a_written_models_response_opens_its_orbit() {
         start[2].abs() > 1e-3,
         "the lag state is away from its origin"
     );
+    // the readouts name the model's frequency and time, not the built-in's ω and τ
+    let screen = draw(&app, 120, 40);
+    assert!(
+        screen.contains("▸ omega 1.") && !screen.contains('ω'),
+        "{screen}"
+    );
     key(&mut app, KeyCode::Enter);
     settle(&mut app);
+    let screen = draw(&app, 120, 40);
+    assert!(
+        screen.contains("orbit omega 1.") && screen.contains("▸ t 0.00") && !screen.contains('τ'),
+        "{screen}"
+    );
     let picked = app.picked.as_ref().expect("an orbit");
     let Some(OrbitHistory::Written(h, grid)) = picked.history.as_deref() else {
         panic!("no written orbit: {:?}", picked.summary);
@@ -1796,7 +1807,11 @@ fn a_written_models_response_opens_its_orbit() {
         "{amplitude} against {:?}",
         point.amplitude
     );
-    assert!(picked.label.contains(&format!("ω {:.3}", point.omega)));
+    assert!(
+        picked
+            .label
+            .contains(&format!("orbit omega {:.3}", point.omega))
+    );
     let orbit = path.with_file_name("orbit.csv");
     command(&mut app, &format!("export {}", orbit.display()));
     let text = std::fs::read_to_string(&orbit).unwrap();

@@ -78,12 +78,18 @@ impl App {
                 return;
             }
         };
-        let omega = match &model {
-            ModelPoint::BuiltIn(p) => p.omega(),
-            ModelPoint::Written(sys) => sys.value_of(sys.frequency()),
+        let (name, omega) = match &model {
+            ModelPoint::BuiltIn(p) => ("ω".to_string(), p.omega()),
+            ModelPoint::Written(sys) => {
+                let frequency = sys.frequency();
+                (
+                    sys.model().parameters()[frequency].name.clone(),
+                    sys.value_of(frequency),
+                )
+            }
         };
         let (model, spec, from) = orbit::orbit_from(model, &start);
-        let label = format!("orbit ω {omega:.3} {from}");
+        let label = format!("orbit {name} {omega:.3} {from}");
         let job = self.jobs.push(label.clone(), Work::Orbit { model, spec });
         let fingerprint = self.session.fingerprint(entry);
         self.picked = Some(Picked {

@@ -213,9 +213,10 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
             Line::from(vec![
                 Span::styled("▸ ", ctx.theme.key()),
                 Span::raw(format!(
-                    "{} {:.5}  ω {:.4}{}  A {:.4}  {}",
+                    "{} {:.5}  {} {:.4}{}  A {:.4}  {}",
                     view.parameter,
                     p.parameter,
+                    ctx.omega,
                     p.omega,
                     ctx.in_hz(p.omega, 2),
                     p.amplitude,

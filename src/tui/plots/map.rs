@@ -103,7 +103,7 @@ pub fn draw(
             None => "not computed".into(),
         };
         let at = if m.x == "omega" {
-            format!("ω {w:.3}{}", ctx.in_hz(*w, 1))
+            format!("{} {w:.3}{}", ctx.omega, ctx.in_hz(*w, 1))
         } else {
             format!("{} {w:.4}", m.x)
         };
@@ -135,7 +135,11 @@ pub fn draw(
         legend.push(Span::raw(" period doubling"));
     }
     footer.push(Line::from(legend));
-    let x_name = if m.x == "omega" { "ω" } else { m.x.as_str() };
+    let x_name = if m.x == "omega" {
+        ctx.omega.as_str()
+    } else {
+        m.x.as_str()
+    };
     let turning: Vec<String> = m
         .curves
         .iter()

@@ -27,8 +27,14 @@ pub struct PlotContext<'a> {
     pub grid: Option<[String; 2]>,
     /// The forcing frequency's axis: `ω_e`, or a written model's frequency parameter.
     pub omega_axis: String,
+    /// The forcing frequency in readouts and labels: `ω`, or a written model's parameter.
+    pub omega: String,
     /// The amplitude's axis: `amplitude Δλ`, or of a written model's output.
     pub amplitude_axis: String,
+    /// A sweep's envelope axis: `envelope Δλ`, or of a written model's output.
+    pub envelope_axis: String,
+    /// The time's name: the built-in's dimensionless `τ`, or a written model's `t`.
+    pub time: &'static str,
     pub cursor: (usize, usize),
     /// Enter opens the orbit under the cursor (the result is current and not held): its
     /// hint is shown.

@@ -155,7 +155,7 @@ pub fn plot(
     }
     for (t, n) in without {
         legend.push(Span::styled(
-            format!("{} at {n} ω  ", short_type(t)),
+            format!("{} at {n} {}  ", short_type(t), ctx.omega),
             theme.muted(),
         ));
     }
@@ -165,15 +165,16 @@ pub fn plot(
             &mut plot,
             continued,
             super::continued::XAxis::Omega,
-            "ω",
+            &ctx.omega,
             ctx,
         );
     }
     for b in annotated.into_iter().filter(|_| continued.is_empty()) {
         plot.footer.push(Line::from(Span::styled(
             format!(
-                "{} ω {:.2}–{:.2}{} peak {:.3}{}",
+                "{} {} {:.2}–{:.2}{} peak {:.3}{}",
                 short_type(&b.response_type),
+                ctx.omega,
                 b.omega_min,
                 b.omega_max,
                 ctx.device.map_or(String::new(), |d| format!(
@@ -210,7 +211,8 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
     let mut spans = vec![
         Span::styled("▸ ", ctx.theme.key()),
         Span::raw(format!(
-            "ω {:.3}{}  A {}  {}",
+            "{} {:.3}{}  A {}  {}",
+            ctx.omega,
             p.omega,
             // the Hz kept with its number when the footer wraps
             ctx.device.map_or(String::new(), |d| format!(

@@ -34,7 +34,7 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
     let top = all().map(|e| e[1]).fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
         Axis::fit(ctx.omega_axis.as_str(), all().map(|e| e[0]), 0.0),
-        Axis::new("envelope Δλ", 0.0, (top * 1.1).max(0.01)),
+        Axis::new(ctx.envelope_axis.as_str(), 0.0, (top * 1.1).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();
@@ -62,8 +62,9 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
             plot.footer.push(Line::from(vec![
                 Span::styled("▸ ", theme.key()),
                 Span::raw(format!(
-                    "{}: ω_e {:.3}{}  envelope {:.4}",
+                    "{}: {} {:.3}{}  envelope {:.4}",
                     s.name,
+                    ctx.omega_axis,
                     e[0],
                     ctx.in_hz(e[0], 2),
                     e[1]
@@ -126,7 +127,9 @@ pub fn scalogram(
         footer.push(Line::from(vec![
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
-                "τ {t:.0}  ω_e {w:.3}  strongest ω_r {ridge:.3}  ω_r/ω_e\u{a0}{ratio}"
+                "{} {t:.0}  {omega} {w:.3}  strongest ω_r {ridge:.3}  ω_r/{omega}\u{a0}{ratio}",
+                ctx.time,
+                omega = ctx.omega_axis,
             )),
             Span::styled(
                 "  w: envelopes",
