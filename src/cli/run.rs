@@ -136,6 +136,8 @@ struct AnalysisRun {
 enum RunOutcome {
     /// Its result was already complete, verified and current.
     UpToDate,
+    /// The result of these settings kept from before is the stored result again.
+    BroughtBack { compute_seconds: f64 },
     /// Complete now; `compute_seconds` on every host, assembly included.
     Completed {
         chunks_computed: usize,
@@ -159,6 +161,9 @@ impl From<Outcome> for RunOutcome {
     fn from(outcome: Outcome) -> Self {
         match outcome {
             Outcome::UpToDate => RunOutcome::UpToDate,
+            Outcome::BroughtBack { seconds } => RunOutcome::BroughtBack {
+                compute_seconds: seconds,
+            },
             Outcome::Superseded { chunks_computed } => RunOutcome::Superseded { chunks_computed },
             Outcome::Completed {
                 chunks_computed,
@@ -421,6 +426,10 @@ impl Summary for AnalysisRun {
         let (name, csv) = (&self.name, self.csv.display());
         match self.outcome {
             RunOutcome::UpToDate => say!("{name}: up to date ({csv})"),
+            RunOutcome::BroughtBack { compute_seconds } => say!(
+                "{name}: brought back the result kept for these settings (it took \
+                 {compute_seconds:.2} s to compute) → {csv}"
+            ),
             RunOutcome::Superseded { chunks_computed } => say!(
                 "{name}: not stored ({chunks_computed} chunks computed now): the session was \
                  edited during the run, and the result of its settings now is complete ({csv})"

@@ -63,6 +63,9 @@ impl Shard {
 pub enum Outcome {
     /// Its result was already complete, verified and current.
     UpToDate,
+    /// The result of these settings, kept when other settings' replaced it, is the stored
+    /// result again (verified, nothing computed); `seconds` it had taken to compute.
+    BroughtBack { seconds: f64 },
     /// Complete now: assembled by this run, or by another run this one worked beside.
     Completed {
         chunks_computed: usize,
@@ -332,6 +335,12 @@ pub fn run_analysis_as(
         Ok(m) => tracing::info!(analysis = %entry.name, old = %m.fingerprint, new = %fingerprint,
             "stored result is stale: kept until the new one is complete"),
         Err(why) => tracing::info!(analysis = %entry.name, reason = %why, "no usable result"),
+    }
+    if let Some(m) = store::earlier::bring_back(&paths, &fingerprint)? {
+        store::remove_unused_work(&paths, &fingerprint);
+        return Ok(Outcome::BroughtBack {
+            seconds: m.compute_seconds,
+        });
     }
     let work = Work::join(&paths, &fingerprint)?;
     let run = Run {

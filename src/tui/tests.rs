@@ -1526,6 +1526,50 @@ fn watch_until(app: &mut App, i: usize, wanted: impl Fn(ResultStatus) -> bool) {
     }
 }
 
+/// Undo and redo bring back the result of the settings they restore, kept when the other
+/// settings' result replaced it: complete at once, byte for byte, with no preview and nothing
+/// computed; an edit back to earlier settings does the same.
+#[test]
+fn undo_and_redo_bring_back_the_results_of_their_settings() {
+    let (_dir, path) = fixture("kept", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    let csv = ResultPaths::new(&app.session, "response").csv;
+    let said = |app: &App| {
+        app.message
+            .as_ref()
+            .map_or(String::new(), |m| m.text.clone())
+    };
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    let first = std::fs::read(&csv).unwrap();
+    command(&mut app, "set adr 1.0");
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    let second = std::fs::read(&csv).unwrap();
+    assert!(first != second);
+    let jobs = app.jobs.entries.len();
+    key(&mut app, KeyCode::Char('u'));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(said(&app).contains("response: its result for these settings brought back"));
+    assert!(std::fs::read(&csv).unwrap() == first);
+    assert_eq!(app.jobs.entries.len(), jobs + 1, "one job, no preview");
+    app.handle_key(KeyEvent::new(KeyCode::Char('r'), KeyModifiers::CONTROL));
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(said(&app).contains("brought back"), "{}", said(&app));
+    assert!(std::fs::read(&csv).unwrap() == second);
+    command(&mut app, "set adr 0.6");
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(std::fs::read(&csv).unwrap() == first);
+    // settings never computed: nothing is run until asked
+    command(&mut app, "set adr 0.8");
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Stale);
+}
+
 /// After an edit, the run of the new settings is drawn over the previous settings' complete
 /// result (muted) until it completes; the previous result stays on disk until then, so a
 /// cancelled run loses nothing.

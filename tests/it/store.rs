@@ -82,7 +82,7 @@ fn computed(stdout: &str, analysis: &str) -> usize {
         .lines()
         .find(|l| l.starts_with(&format!("{analysis}:")))
         .unwrap_or_else(|| panic!("no line for {analysis}: {stdout}"));
-    if line.contains("up to date") {
+    if line.contains("up to date") || line.contains("brought back") {
         return 0;
     }
     let number_before = |marker: &str| -> Option<usize> {
@@ -234,6 +234,68 @@ fn chunks_of_other_settings_survive_another_result() {
     let out = run_ok(&session, &[]);
     assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
     assert!(result_files(&session, &BASIN_FILES) == expected);
+}
+
+/// Settings that come back (an undo, a comparison run again) get their result back without
+/// computing: a result replaced by other settings' is kept, verified again and brought back
+/// byte for byte, and the one it replaces is kept in turn; a kept result damaged meanwhile is
+/// removed and computed afresh; at most four are kept.
+#[test]
+fn a_result_of_settings_that_come_back_is_brought_back_verified() {
+    let other = BASIN.replace("adr = 1.0", "adr = 1.2");
+    let expected = reference(BASIN, &BASIN_FILES);
+    let expected_other = reference(&other, &BASIN_FILES);
+    let (dir, session) = session_dir(BASIN);
+    let kept = |text: &str| {
+        let s = Session::parse(&session, text).unwrap();
+        ResultPaths::new(&s, "basin").earlier(&s.fingerprint(&s.analyses[0]))
+    };
+    run_ok(&session, &[]);
+    std::fs::write(&session, &other).unwrap();
+    run_ok(&session, &[]);
+    assert!(kept(BASIN).is_dir(), "the replaced result is kept");
+    // back: nothing computed, the first result byte for byte, the other's kept in turn
+    std::fs::write(&session, BASIN).unwrap();
+    let out = run_ok(&session, &[]);
+    assert!(out.contains("basin: brought back the result kept"), "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+    assert!(!kept(BASIN).exists() && kept(&other).is_dir());
+    let status = isola().arg("status").arg(&session).output().unwrap();
+    let status = String::from_utf8_lossy(&status.stdout).into_owned();
+    assert!(status.contains("result complete, verified"), "{status}");
+    std::fs::write(&session, &other).unwrap();
+    let out = run_ok(&session, &[]);
+    assert!(out.contains("basin: brought back"), "{out}");
+    assert!(result_files(&session, &BASIN_FILES) == expected_other);
+    // a kept result changed meanwhile: removed, never used, and computed afresh
+    let csv = kept(BASIN).join("basin.csv");
+    let mut bytes = std::fs::read(&csv).unwrap();
+    let last = bytes.len() - 2;
+    bytes[last] = if bytes[last] == b'1' { b'2' } else { b'1' };
+    std::fs::write(&csv, bytes).unwrap();
+    std::fs::write(&session, BASIN).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "{out}");
+    assert!(
+        log(&session).contains("kept result failed its checks"),
+        "{}",
+        log(&session)
+    );
+    assert!(result_files(&session, &BASIN_FILES) == expected);
+    // four more settings: the last four replaced are kept, no more
+    for c in ["0.09", "0.1", "0.11", "0.12"] {
+        std::fs::write(
+            &session,
+            BASIN.replace("c_tilde = 0.08", &format!("c_tilde = {c}")),
+        )
+        .unwrap();
+        run_ok(&session, &[]);
+    }
+    let folders = std::fs::read_dir(dir.path().join("s.results/basin.earlier"))
+        .unwrap()
+        .count();
+    assert_eq!(folders, isola::session::store::earlier::KEEP_EARLIER);
+    assert!(kept(BASIN).is_dir() && !kept(&other).exists());
 }
 
 /// A run of the session file started before an edit, ending after a run of the edited file
@@ -395,10 +457,12 @@ fn changed_settings_or_device_are_never_mixed() {
         "saved chunks kept: {out}"
     );
     assert!(result_files(&session, &BASIN_FILES) == reference(BASIN, &BASIN_FILES));
-    // back to the first settings with the manifest gone: still nothing mixed
+    // back to the first settings with the manifest gone and no result kept: still nothing
+    // mixed
     std::fs::write(&session, BASIN).unwrap();
     run_ok(&session, &["--shard", "1/2"]);
     std::fs::remove_file(dir.path().join("s.results/basin.manifest.json")).unwrap();
+    std::fs::remove_dir_all(dir.path().join("s.results/basin.earlier")).unwrap();
     std::fs::write(&session, &other).unwrap();
     let out = run_ok(&session, &[]);
     assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "{out}");

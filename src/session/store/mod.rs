@@ -6,6 +6,8 @@
 //! - `NAME.results/A.manifest.json`: written last, only for a complete result: fingerprint,
 //!   numerics, build, and a SHA-256 of every file of the result (see [`manifest`]);
 //! - `NAME.results/A.lock`: held shared to read the result, exclusive to replace it;
+//! - `NAME.results/A.earlier/FINGERPRINT/`: complete results of earlier settings, kept to be
+//!   brought back when the settings come back (see [`earlier`]);
 //! - `NAME.results/A.chunks/FINGERPRINT/`: the work under way for one fingerprint:
 //!   - `000012.json`: a finished, self-describing chunk (see [`chunk`]);
 //!   - `000012.claim`: locked by whoever computes chunk 12 (`host pid N` inside);
@@ -19,6 +21,7 @@
 
 pub mod chunk;
 pub mod copy;
+pub mod earlier;
 pub mod finite;
 pub mod lock;
 pub mod manifest;
@@ -286,6 +289,12 @@ impl Work {
             tracing::info!(analysis = %self.paths.name, kept = %old.fingerprint,
                 "not stored: the session's settings now are those of the stored result");
             return Ok(None);
+        }
+        // a complete result of other settings is kept aside, its manifest gone first
+        if let Some(old) = &previous
+            && old.fingerprint != manifest.fingerprint
+        {
+            earlier::keep(&self.paths, old);
         }
         // the manifest goes first, so no old manifest vouches for half-replaced files
         match std::fs::remove_file(&self.paths.manifest) {

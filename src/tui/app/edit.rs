@@ -50,6 +50,7 @@ impl App {
                 self.modified = version.text != self.saved_text;
                 self.reload_session_state();
                 self.say(format!("{did} {}", version.what), false);
+                self.bring_back_kept();
             }
             // a version is a text this session had: it parses, unless the schema changed
             Err(e) => self.say(format!("cannot {did}: {e}"), true),
@@ -385,6 +386,7 @@ impl App {
                 self.refresh_rows();
                 self.poll_results(true);
                 self.say(format!("{} = {}", row.label, text.trim()), false);
+                self.bring_back_kept();
             }
             Err(e) => self.param_error = Some(params::error_line(&e)),
         }

@@ -386,6 +386,10 @@ impl App {
                     };
                     let text = match outcome {
                         Outcome::UpToDate => format!("{name}: already up to date{before}"),
+                        Outcome::BroughtBack { seconds } => format!(
+                            "{name}: its result for these settings brought back{before} \
+                             (kept from before; {seconds:.1} s of computing saved)"
+                        ),
                         Outcome::Completed {
                             chunks_computed,
                             seconds,

@@ -2,8 +2,9 @@
 
 use std::time::{Duration, Instant};
 
-use isola::session::Settings;
 use isola::session::results::{ResultStatus, ResultView};
+use isola::session::store::ResultPaths;
+use isola::session::{AnalysisEntry, Settings};
 
 use super::{App, Focus, Preview};
 use crate::tui::command::Which;
@@ -38,8 +39,9 @@ impl App {
         let Some(i) = self.session.analysis_index(name) else {
             return;
         };
-        let has_one = isola::session::preview::available(&self.session.analyses[i].settings);
-        if !has_one || self.status_of(i) == ResultStatus::Complete {
+        let entry = &self.session.analyses[i];
+        let has_one = isola::session::preview::available(&entry.settings);
+        if !has_one || self.status_of(i) == ResultStatus::Complete || self.kept_result(entry) {
             return;
         }
         let id = self.jobs.push(
@@ -50,6 +52,23 @@ impl App {
             },
         );
         self.preview_jobs.insert(id, name.to_string());
+    }
+
+    /// A result of `entry`'s settings now is kept from before (replaced by other settings').
+    fn kept_result(&self, entry: &AnalysisEntry) -> bool {
+        let paths = ResultPaths::new(&self.session, &entry.name);
+        isola::session::store::earlier::is_kept(&paths, &self.session.fingerprint(entry))
+    }
+
+    /// Runs the selected analysis where a result of its settings now is kept from before
+    /// (after an undo, or an edit back to them): it is brought back without computing.
+    pub(super) fn bring_back_kept(&mut self) {
+        let Some(entry) = self.session.analyses.get(self.selected) else {
+            return;
+        };
+        if self.active_job(&entry.name).is_none() && self.kept_result(entry) {
+            self.run_selected();
+        }
     }
 
     pub fn status_of(&self, i: usize) -> ResultStatus {

@@ -1,0 +1,190 @@
+//! Complete results of earlier settings, kept so that settings that come back (an undo, a
+//! comparison run twice) get their result back at once instead of computing it again.
+//!
+//! Layout, for analysis `A`: `NAME.results/A.earlier/FINGERPRINT/` holds the result's files
+//! and, written last, its `A.manifest.json`. A result replaced by one of other settings is
+//! moved there (only if it verified); a run whose settings have a kept result moves it back.
+//! Every move happens under the result's exclusive lock, and a kept result is verified again
+//! before it is brought back: a damaged one is removed, and the run computes afresh.
+
+use std::path::{Path, PathBuf};
+
+use super::ResultPaths;
+use super::lock::{Lock, Mode};
+use super::manifest::Manifest;
+
+/// Earlier results kept per analysis, the most recently replaced first.
+pub const KEEP_EARLIER: usize = 4;
+
+impl ResultPaths {
+    /// `A.earlier/`, one folder per fingerprint under it.
+    pub fn earlier_dir(&self) -> PathBuf {
+        self.dir.join(format!("{}.earlier", self.name))
+    }
+
+    /// The folder of the kept result of `fingerprint`.
+    pub fn earlier(&self, fingerprint: &str) -> PathBuf {
+        self.earlier_dir().join(fingerprint)
+    }
+}
+
+/// True where a result of `fingerprint` is kept (not yet verified).
+pub fn is_kept(paths: &ResultPaths, fingerprint: &str) -> bool {
+    is_fingerprint(fingerprint) && manifest_in(paths, &paths.earlier(fingerprint)).is_file()
+}
+
+/// The kept result of `fingerprint` moved back into place, verified, as the stored result:
+/// its manifest, or `None` if none is kept (or it failed its checks, and was removed). The
+/// stored result it replaces is kept in turn, if it verifies.
+pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Option<Manifest>> {
+    if !is_kept(paths, fingerprint) {
+        return Ok(None);
+    }
+    let _write = Lock::acquire(&paths.lock, Mode::Exclusive)?;
+    let stored = Manifest::read(&paths.manifest).ok();
+    if let Some(m) = &stored
+        && m.fingerprint == fingerprint
+        && m.verify_files(&paths.dir).is_ok()
+    {
+        // brought back by another run while this one waited for the lock
+        return Ok(Some(m.clone()));
+    }
+    let from = paths.earlier(fingerprint);
+    let kept = match Manifest::read(&manifest_in(paths, &from)) {
+        Ok(m) if m.analysis == paths.name && m.fingerprint == fingerprint => {
+            m.verify_files(&from).map(|()| m)
+        }
+        Ok(m) => Err(super::manifest::Unverified::Unreadable {
+            file: manifest_in(paths, &from).display().to_string(),
+            why: format!("it is of analysis '{}', {}", m.analysis, m.fingerprint),
+        }),
+        Err(e) => Err(e),
+    };
+    let kept = match kept {
+        Ok(m) if m.files.iter().all(|f| is_plain_name(&f.name)) => m,
+        Ok(_) => {
+            tracing::warn!(folder = %from.display(), "kept result names a file outside its folder; removed");
+            let _ = std::fs::remove_dir_all(&from);
+            return Ok(None);
+        }
+        Err(why) => {
+            tracing::warn!(folder = %from.display(), reason = %why, "kept result failed its checks; removed");
+            let _ = std::fs::remove_dir_all(&from);
+            return Ok(None);
+        }
+    };
+    // the stored result aside (kept if it verifies), its manifest gone before any file moves
+    match &stored {
+        Some(m) if m.fingerprint != fingerprint => keep(paths, m),
+        _ => remove_manifest(paths)?,
+    }
+    for f in &kept.files {
+        let (source, target) = (from.join(&f.name), paths.dir.join(&f.name));
+        std::fs::rename(&source, &target)
+            .map_err(|e| anyhow::anyhow!("{} → {}: {e}", source.display(), target.display()))?;
+    }
+    crate::session::atomic::sync_dir(&paths.dir);
+    for f in &kept.files {
+        f.verify(&paths.dir)
+            .map_err(|e| anyhow::anyhow!("result not brought back as kept: {e}"))?;
+    }
+    // files of the replaced result that this one does not have (another kind's tables)
+    if let Some(old) = &stored {
+        for f in old.files.iter().filter(|f| is_plain_name(&f.name)) {
+            if !kept.files.iter().any(|n| n.name == f.name) {
+                let _ = std::fs::remove_file(paths.dir.join(&f.name));
+            }
+        }
+    }
+    let json = serde_json::to_vec_pretty(&kept)?;
+    crate::session::atomic::write_atomic(&paths.manifest, &json)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", paths.manifest.display()))?;
+    let _ = std::fs::remove_dir_all(&from);
+    tracing::info!(analysis = %paths.name, fingerprint, "kept result brought back");
+    Ok(Some(kept))
+}
+
+/// Moves the stored result of manifest `stored` (to be replaced) aside as a kept result, if
+/// its files verify; else only removes its manifest, as a replacement does. Call under the
+/// exclusive lock. Its manifest is gone from the results folder either way.
+pub(super) fn keep(paths: &ResultPaths, stored: &Manifest) {
+    let verified = stored.analysis == paths.name
+        && is_fingerprint(&stored.fingerprint)
+        && stored.files.iter().all(|f| is_plain_name(&f.name))
+        && stored.verify_files(&paths.dir).is_ok();
+    if remove_manifest(paths).is_err() || !verified {
+        return;
+    }
+    let to = paths.earlier(&stored.fingerprint);
+    let moved = (|| -> std::io::Result<()> {
+        if to.exists() {
+            std::fs::remove_dir_all(&to)?;
+        }
+        std::fs::create_dir_all(&to)?;
+        for f in &stored.files {
+            std::fs::rename(paths.dir.join(&f.name), to.join(&f.name))?;
+        }
+        crate::session::atomic::sync_dir(&to);
+        let json = serde_json::to_vec_pretty(stored).map_err(std::io::Error::other)?;
+        crate::session::atomic::write_atomic(&manifest_in(paths, &to), &json)
+    })();
+    match moved {
+        Ok(()) => {
+            tracing::info!(analysis = %paths.name, fingerprint = %stored.fingerprint, "replaced result kept");
+            prune(paths);
+        }
+        Err(e) => {
+            // not kept: what was moved goes with its folder
+            tracing::warn!(folder = %to.display(), error = %e, "replaced result not kept");
+            let _ = std::fs::remove_dir_all(&to);
+        }
+    }
+}
+
+/// Removes all but the [`KEEP_EARLIER`] most recently kept results, and folders without a
+/// manifest (a keep cut short).
+fn prune(paths: &ResultPaths) {
+    let Ok(entries) = std::fs::read_dir(paths.earlier_dir()) else {
+        return;
+    };
+    let mut kept: Vec<(std::time::SystemTime, PathBuf)> = Vec::new();
+    for entry in entries.flatten() {
+        let folder = entry.path();
+        match std::fs::metadata(manifest_in(paths, &folder)).and_then(|m| m.modified()) {
+            Ok(written) => kept.push((written, folder)),
+            Err(_) => {
+                let _ = std::fs::remove_dir_all(&folder);
+            }
+        }
+    }
+    kept.sort_by_key(|(written, _)| std::cmp::Reverse(*written));
+    for (_, folder) in kept.iter().skip(KEEP_EARLIER) {
+        let _ = std::fs::remove_dir_all(folder);
+    }
+}
+
+fn manifest_in(paths: &ResultPaths, folder: &Path) -> PathBuf {
+    folder.join(format!("{}.manifest.json", paths.name))
+}
+
+fn remove_manifest(paths: &ResultPaths) -> anyhow::Result<()> {
+    match std::fs::remove_file(&paths.manifest) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(anyhow::anyhow!("{}: {e}", paths.manifest.display()))
+        }
+        _ => {
+            crate::session::atomic::sync_dir(&paths.dir);
+            Ok(())
+        }
+    }
+}
+
+/// A fingerprint as this build writes them (32 hex digits): safe as a folder's name.
+fn is_fingerprint(s: &str) -> bool {
+    s.len() == 32 && s.bytes().all(|b| b.is_ascii_hexdigit())
+}
+
+/// A file name inside the results folder, not a path out of it.
+fn is_plain_name(name: &str) -> bool {
+    Path::new(name).file_name().is_some_and(|n| n == name) && name != ".."
+}
