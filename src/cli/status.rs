@@ -42,6 +42,9 @@ struct AnalysisStatus {
     kind: &'static str,
     #[serde(flatten)]
     result: Stored,
+    /// Unless the result is current: one of these settings is kept from before (replaced by
+    /// other settings'), which a run brings back without computing.
+    kept: bool,
     chunks: Option<Chunks>,
 }
 
@@ -177,6 +180,7 @@ pub fn run(args: &StatusArgs, out: Output) -> anyhow::Result<()> {
             name: entry.name.clone(),
             kind: entry.settings.kind(),
             result: stored(),
+            kept: false,
             chunks: None,
         };
         if !matches!(status.result, Stored::Complete { .. }) {
@@ -185,6 +189,7 @@ pub fn run(args: &StatusArgs, out: Output) -> anyhow::Result<()> {
             status.result = stored();
             if !matches!(status.result, Stored::Complete { .. }) {
                 status.chunks = Some(Chunks::of(&survey));
+                status.kept = store::earlier::is_kept(&paths, &fingerprint);
             }
         }
         analyses.push(status);
@@ -221,6 +226,9 @@ impl Summary for StatusSummary<'_> {
                 Stored::Missing { reason } => format!("none ({reason})"),
             };
             say!("{} ({}): result {result}", a.name, a.kind);
+            if a.kept {
+                say!("  a result of these settings is kept from before: isola run brings it back");
+            }
             if let Some(chunks) = &a.chunks {
                 chunks.print_text();
             }

@@ -256,6 +256,12 @@ fn a_result_of_settings_that_come_back_is_brought_back_verified() {
     assert!(kept(BASIN).is_dir(), "the replaced result is kept");
     // back: nothing computed, the first result byte for byte, the other's kept in turn
     std::fs::write(&session, BASIN).unwrap();
+    let status = isola().arg("status").arg(&session).output().unwrap();
+    let status = String::from_utf8_lossy(&status.stdout).into_owned();
+    assert!(
+        status.contains("result stale") && status.contains("kept from before"),
+        "{status}"
+    );
     let out = run_ok(&session, &[]);
     assert!(out.contains("basin: brought back the result kept"), "{out}");
     assert!(result_files(&session, &BASIN_FILES) == expected);
