@@ -1528,7 +1528,7 @@ fn watch_until(app: &mut App, i: usize, wanted: impl Fn(ResultStatus) -> bool) {
 
 /// Undo and redo bring back the result of the settings they restore, kept when the other
 /// settings' result replaced it: complete at once, byte for byte, with no preview and nothing
-/// computed; an edit back to earlier settings does the same.
+/// computed; an edit back to earlier settings, or opening the session again, does the same.
 #[test]
 fn undo_and_redo_bring_back_the_results_of_their_settings() {
     let (_dir, path) = fixture("kept", RESPONSE);
@@ -1568,6 +1568,15 @@ fn undo_and_redo_bring_back_the_results_of_their_settings() {
     command(&mut app, "set adr 0.8");
     settle(&mut app);
     assert_eq!(app.status_of(0), ResultStatus::Stale);
+    // the session opened again: the result of its settings on disk comes back
+    command(&mut app, "set adr 1.0");
+    settle(&mut app);
+    assert!(std::fs::read(&csv).unwrap() == second);
+    drop(app);
+    let mut reopened = self::app(&path, ColorMode::None);
+    settle(&mut reopened);
+    assert_eq!(reopened.status_of(0), ResultStatus::Complete);
+    assert!(std::fs::read(&csv).unwrap() == first);
 }
 
 /// After an edit, the run of the new settings is drawn over the previous settings' complete

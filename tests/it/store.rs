@@ -238,8 +238,9 @@ fn chunks_of_other_settings_survive_another_result() {
 
 /// Settings that come back (an undo, a comparison run again) get their result back without
 /// computing: a result replaced by other settings' is kept, verified again and brought back
-/// byte for byte, and the one it replaces is kept in turn; a kept result damaged meanwhile is
-/// removed and computed afresh; at most four are kept.
+/// byte for byte, and the one it replaces is kept in turn; a kept result damaged meanwhile, or
+/// copied under the fingerprint of other settings, is removed and computed afresh; at most
+/// four are kept.
 #[test]
 fn a_result_of_settings_that_come_back_is_brought_back_verified() {
     let other = BASIN.replace("adr = 1.0", "adr = 1.2");
@@ -288,15 +289,24 @@ fn a_result_of_settings_that_come_back_is_brought_back_verified() {
         log(&session)
     );
     assert!(result_files(&session, &BASIN_FILES) == expected);
-    // four more settings: the last four replaced are kept, no more
+    // a kept result copied under the fingerprint of other settings is never theirs
+    let third = BASIN.replace("c_tilde = 0.08", "c_tilde = 0.09");
+    let foreign = kept(&third);
+    std::fs::create_dir_all(&foreign).unwrap();
+    for f in std::fs::read_dir(kept(&other)).unwrap().flatten() {
+        std::fs::copy(f.path(), foreign.join(f.file_name())).unwrap();
+    }
+    // four more settings, each computed: the last four replaced are kept, no more
     for c in ["0.09", "0.1", "0.11", "0.12"] {
         std::fs::write(
             &session,
             BASIN.replace("c_tilde = 0.08", &format!("c_tilde = {c}")),
         )
         .unwrap();
-        run_ok(&session, &[]);
+        let out = run_ok(&session, &[]);
+        assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "c̃ {c}: {out}");
     }
+    assert!(result_files(&session, &BASIN_FILES) != expected_other);
     let folders = std::fs::read_dir(dir.path().join("s.results/basin.earlier"))
         .unwrap()
         .count();

@@ -85,6 +85,7 @@ impl App {
                     format!("reloaded {name}: it changed on disk (u undoes)"),
                     false,
                 );
+                self.bring_back_kept();
             }
             Err(e) => self.say(
                 format!(
@@ -439,6 +440,7 @@ impl App {
                 self.show_scalogram = false;
                 self.reload_session_state();
                 self.say(format!("opened {}", path.display()), false);
+                self.bring_back_kept();
             }
             // the whole message, in a box: a session error names the line and the value
             Err(e) => {

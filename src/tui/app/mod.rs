@@ -266,6 +266,7 @@ impl App {
         app.saved_text = app.session.to_text();
         app.disk_seen = disk_stamp(&app.session.path);
         app.reload_session_state();
+        app.bring_back_kept();
         app
     }
 

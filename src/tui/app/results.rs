@@ -60,15 +60,22 @@ impl App {
         isola::session::store::earlier::is_kept(&paths, &self.session.fingerprint(entry))
     }
 
-    /// Runs the selected analysis where a result of its settings now is kept from before
-    /// (after an undo, or an edit back to them): it is brought back without computing.
+    /// Runs each analysis whose settings now have a result kept from before (after an undo,
+    /// an edit back to them, the session file changed back on disk): it is brought back
+    /// without computing.
     pub(super) fn bring_back_kept(&mut self) {
-        let Some(entry) = self.session.analyses.get(self.selected) else {
-            return;
-        };
-        if self.active_job(&entry.name).is_none() && self.kept_result(entry) {
+        let kept: Vec<usize> = (0..self.session.analyses.len())
+            .filter(|&i| {
+                let entry = &self.session.analyses[i];
+                self.active_job(&entry.name).is_none() && self.kept_result(entry)
+            })
+            .collect();
+        let selected = self.selected;
+        for i in kept {
+            self.selected = i;
             self.run_selected();
         }
+        self.selected = selected;
     }
 
     pub fn status_of(&self, i: usize) -> ResultStatus {
