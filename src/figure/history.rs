@@ -61,14 +61,16 @@ where
         }
         _ => first,
     };
+    // a written model's time is its own t, the built-in's the dimensionless τ
+    let time = if h.states.is_some() { "t" } else { "τ" };
     let name = if from > first {
         format!(
-            "time τ (the last {:.0} of {:.0})",
+            "time {time} (the last {:.0} of {:.0})",
             last - from,
             last - first
         )
     } else {
-        "time τ".into()
+        format!("time {time}")
     };
     let mut tau = AxisSpec::new(name, from..last);
     if let Some(d) = device {
@@ -121,7 +123,7 @@ where
     if let Some(tau) = h.collision {
         legend.add(
             Swatch::Line(p.response_type("collision"), false),
-            format!("ended by a collision at τ {tau:.4}"),
+            format!("ended by a collision at {time} {tau:.4}"),
         );
     }
     // from the left of the plot: past its margin and the y labels

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::{FigureError, Format, Options, Subject, render, short_type};
+use super::{AxisNames, FigureError, Format, Options, Subject, render, short_type};
 use crate::model::Device;
 use crate::session::results::{ResultView, branches};
 use crate::session::{AnalysisEntry, Session};
@@ -34,15 +34,15 @@ fn escape(text: &str) -> String {
 /// A table: a caption, a header and rows of cells (the first column left-aligned).
 struct Table {
     caption: String,
-    header: Vec<&'static str>,
+    header: Vec<String>,
     rows: Vec<Vec<String>>,
 }
 
 impl Table {
-    fn new(caption: impl Into<String>, header: Vec<&'static str>) -> Self {
+    fn new<S: Into<String>>(caption: impl Into<String>, header: Vec<S>) -> Self {
         Table {
             caption: caption.into(),
-            header,
+            header: header.into_iter().map(Into::into).collect(),
             rows: Vec::new(),
         }
     }
@@ -73,13 +73,27 @@ impl Table {
     }
 }
 
-/// `hz` of ω_e on the device, or an empty cell.
-fn hz(device: Option<&Device>, omega: f64) -> String {
-    device.map_or(String::new(), |d| format!("{:.2}", d.hz(omega)))
+/// Frequencies `omegas` as cells, each followed by its Hz on the device (none without one).
+fn with_hz(device: Option<&Device>, omegas: &[f64]) -> Vec<String> {
+    let mut cells: Vec<String> = omegas.iter().map(|w| format!("{w:.3}")).collect();
+    if let Some(d) = device {
+        cells.extend(omegas.iter().map(|&w| format!("{:.2}", d.hz(w))));
+    }
+    cells
 }
 
-/// The tables of one result.
-fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
+/// The tables of one result; `names`: a written model's (its frequency's name; no device,
+/// so no Hz, and no membranes to go slack).
+fn tables(view: &ResultView, device: Option<&Device>, names: Option<&AxisNames>) -> Vec<Table> {
+    let omega = names.map_or("ω_e", |n| n.frequency.as_str());
+    // frequency columns `labels`, then their Hz on the device
+    let omega_columns = |labels: &[&str]| -> Vec<String> {
+        let mut header: Vec<String> = labels.iter().map(|l| format!("{omega}{l}")).collect();
+        if device.is_some() {
+            header.extend(labels.iter().map(|l| format!("Hz{l}")));
+        }
+        header
+    };
     let mut out = Vec::new();
     match view {
         ResultView::Response(points)
@@ -87,40 +101,28 @@ fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
         | ResultView::Hunt(crate::session::results::HuntView {
             responses: points, ..
         }) => {
-            let mut t = Table::new(
-                "Branches",
-                vec![
-                    "branch",
-                    "type",
-                    "ω_e from",
-                    "ω_e to",
-                    "Hz from",
-                    "Hz to",
-                    "peak A",
-                    "at ω_e",
-                    "points",
-                    "reached",
-                ],
-            );
+            let mut header = vec!["branch".to_string(), "type".into()];
+            header.extend(omega_columns(&[" from", " to"]));
+            header.extend(["peak A".into(), format!("at {omega}"), "points".into()]);
+            header.push("reached".into());
+            let mut t = Table::new("Branches", header);
             for b in branches(points) {
-                t.rows.push(vec![
-                    b.id.to_string(),
-                    b.response_type.clone(),
-                    format!("{:.3}", b.omega_min),
-                    format!("{:.3}", b.omega_max),
-                    hz(device, b.omega_min),
-                    hz(device, b.omega_max),
+                let mut row = vec![b.id.to_string(), b.response_type.clone()];
+                row.extend(with_hz(device, &[b.omega_min, b.omega_max]));
+                let reached = if b.hidden {
+                    "hidden"
+                } else if b.partly_hidden {
+                    "partly hidden"
+                } else {
+                    "by a sweep"
+                };
+                row.extend([
                     format!("{:.4}", b.peak_amplitude),
                     format!("{:.3}", b.peak_omega),
                     b.points.to_string(),
-                    if b.hidden {
-                        "hidden".into()
-                    } else if b.partly_hidden {
-                        "partly hidden".into()
-                    } else {
-                        "by a sweep".into()
-                    },
+                    reached.into(),
                 ]);
+                t.rows.push(row);
             }
             out.push(t);
         }
@@ -142,30 +144,31 @@ fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
         }
         ResultView::History(h) => {
             if let Some(s) = &h.summary {
-                let mut t = Table::new(
-                    "Steady state",
-                    vec!["ω_e", "Hz", "period", "amplitude", "slack I", "slack II"],
-                );
-                t.rows.push(vec![
-                    format!("{:.3}", s.omega),
-                    hz(device, s.omega),
+                let mut header = omega_columns(&[""]);
+                header.extend(["period".into(), "amplitude".into()]);
+                let mut row = with_hz(device, &[s.omega]);
+                row.extend([
                     s.period_forcing_periods
                         .map_or("none within the record".into(), |k| format!("1:{k}")),
                     format!("{:.4}", s.amplitude),
-                    format!("{:.0} %", 100.0 * s.slack_i),
-                    format!("{:.0} %", 100.0 * s.slack_ii),
                 ]);
+                if let Some(slack) = s.slack {
+                    header.extend(["slack I".into(), "slack II".into()]);
+                    row.extend(slack.map(|share| format!("{:.0} %", 100.0 * share)));
+                }
+                let mut t = Table::new("Steady state", header);
+                t.rows.push(row);
                 out.push(t);
             }
         }
         ResultView::Chirp(c) => {
-            let mut t = Table::new("Envelope peak", vec!["ω_e", "Hz", "amplitude"]);
+            let mut header = omega_columns(&[""]);
+            header.push("amplitude".into());
+            let mut t = Table::new("Envelope peak", header);
             if let Some(e) = c.envelope.iter().max_by(|a, b| a[1].total_cmp(&b[1])) {
-                t.rows.push(vec![
-                    format!("{:.3}", e[0]),
-                    hz(device, e[0]),
-                    format!("{:.4}", e[1]),
-                ]);
+                let mut row = with_hz(device, &[e[0]]);
+                row.push(format!("{:.4}", e[1]));
+                t.rows.push(row);
             }
             out.push(t);
         }
@@ -184,13 +187,13 @@ fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
             let mut t = Table::new(
                 "Branches per member",
                 vec![
-                    "member",
-                    "branch",
-                    "type",
-                    "ω_e from",
-                    "ω_e to",
-                    "peak A",
-                    "reached",
+                    "member".to_string(),
+                    "branch".into(),
+                    "type".into(),
+                    format!("{omega} from"),
+                    format!("{omega} to"),
+                    "peak A".into(),
+                    "reached".into(),
                 ],
             );
             for (value, points) in &f.members {
@@ -212,7 +215,10 @@ fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
     }
     let continued = match view {
         ResultView::Continuation(c) => Some((c.parameter.as_str(), &c.branches)),
-        ResultView::Hunt(h) => Some(("omega", &h.continued)),
+        ResultView::Hunt(h) => Some((
+            names.map_or("omega", |n| n.frequency.as_str()),
+            &h.continued,
+        )),
         _ => None,
     };
     if let Some((parameter, branches)) = continued {
@@ -222,7 +228,7 @@ fn tables(view: &ResultView, device: Option<&Device>) -> Vec<Table> {
         );
         let mut f = Table::new(
             "Bifurcations",
-            vec!["branch", "kind", "parameter", "ω_e", "amplitude"],
+            vec!["branch", "kind", "parameter", omega, "amplitude"],
         );
         for (i, b) in branches.iter().enumerate() {
             t.rows.push(vec![
@@ -313,7 +319,12 @@ pub fn html(
         }
         .replacen(" xmlns=\"http://www.w3.org/2000/svg\"", "", 1);
         let _ = writeln!(html, "<figure>{svg}</figure>");
-        for table in tables(section.subject.view, section.subject.device.as_ref()) {
+        let subject = &section.subject;
+        for table in tables(
+            subject.view,
+            subject.device.as_ref(),
+            subject.names.as_ref(),
+        ) {
             table.write(&mut html);
         }
         html.push_str("</section>\n");

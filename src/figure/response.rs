@@ -106,10 +106,11 @@ where
     omegas.sort_by(f64::total_cmp);
     omegas.dedup();
     let of = omegas.len();
+    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
     for (t, n) in without {
         legend.add(
             Swatch::None,
-            format!("{}: some starts, at {n} of {of} ωₑ", short_type(t)),
+            format!("{}: some starts, at {n} of {of} {omega}", short_type(t)),
         );
     }
     // what the legend must not cover: every marker, and the brackets or the branches

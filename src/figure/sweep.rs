@@ -128,7 +128,7 @@ where
     }
     legend.draw_clear_of(&chart, &curves)?;
     if let (Some(area), Some(w)) = (bottom, scalogram) {
-        draw_scalogram(&area, c, w, omega_range, s)?;
+        draw_scalogram(&area, c, w, omega_range, units, s)?;
     }
     Ok(())
 }
@@ -140,12 +140,15 @@ fn draw_scalogram<DB: DrawingBackend>(
     c: &ChirpView,
     w: &Scalogram,
     omega_range: std::ops::Range<f64>,
+    units: Units,
     s: &Style,
 ) -> Drawn
 where
     DB::ErrorType: 'static,
 {
     let (nx, ny) = (w.times.len(), w.frequencies.len());
+    // the forcing frequency as the model names it
+    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
     if nx == 0 || ny < 2 {
         return Err(nothing("an empty scalogram"));
     }
@@ -165,7 +168,13 @@ where
     let df = 0.5 * (f1 - f0) / (ny - 1) as f64;
     let mut chart = panel(
         &map_area,
-        &AxisSpec::new("excitation frequency ωₑ", omega_range.clone()),
+        &AxisSpec::new(
+            match units.names {
+                Some(n) => n.frequency.clone(),
+                None => "excitation frequency ωₑ".into(),
+            },
+            omega_range.clone(),
+        ),
         &AxisSpec::new("response frequency ωᵣ", f0 - df..f1 + df),
         s,
     )?;
@@ -196,7 +205,10 @@ where
     chart.draw_series(cells)?;
     // where a 1:1 and a 1:2 response would show
     let white = s.palette.background;
-    for (ratio, name) in [(1.0, "ωᵣ = ωₑ"), (0.5, "ωᵣ = ωₑ/2")] {
+    for (ratio, name) in [
+        (1.0, format!("ωᵣ = {omega}")),
+        (0.5, format!("ωᵣ = {omega}/2")),
+    ] {
         let ends = [omega_range.start, omega_range.end].map(|x| (x, ratio * x));
         chart.draw_series(DashedLineSeries::new(
             ends,

@@ -151,7 +151,7 @@ pub fn integrate(
         OrbitModel::Written(sys, start) => {
             let h = state_history_from(sys, start, spec).map_err(|e| e.to_string())?;
             let grid = sys.model().grid();
-            let view = HistoryView::of_states(&h, grid);
+            let view = HistoryView::of_states(&h, grid, sys.omega());
             Ok((OrbitHistory::Written(h, grid), view))
         }
     }

@@ -1846,6 +1846,22 @@ fn a_written_models_response_opens_its_orbit() {
         "{screen}"
     );
     let picked = app.picked.as_ref().expect("an orbit");
+    // its steady part summarised as the response's: its period and amplitude (sampled)
+    let Some(ResultView::History(view)) = &picked.view else {
+        panic!("no orbit drawn");
+    };
+    let summary = view.summary.expect("a steady summary");
+    let k = point.response_type[2..].split(' ').next().unwrap();
+    assert_eq!(
+        summary
+            .period_forcing_periods
+            .map(|p| p.to_string())
+            .as_deref(),
+        Some(k)
+    );
+    assert!((summary.amplitude - point.amplitude.unwrap()).abs() < 2e-3);
+    assert!(screen.contains(&format!("steady 1:{k}  A {:.4}", summary.amplitude)));
+    let picked = app.picked.as_ref().expect("an orbit");
     let Some(OrbitHistory::Written(h, grid)) = picked.history.as_deref() else {
         panic!("no written orbit: {:?}", picked.summary);
     };

@@ -160,10 +160,10 @@ fn history() -> HistoryView {
             omega: 3.7,
             period_forcing_periods: Some(2),
             amplitude: 0.4156,
-            slack_i: 0.1,
-            slack_ii: 0.2,
+            slack: Some([0.1, 0.2]),
         }),
         states: None,
+        output: Vec::new(),
         collision: None,
     }
 }
@@ -877,6 +877,41 @@ fn the_fig6a_report_holds_the_basin_and_its_attractors_with_fractions() {
     }
     assert!(html.contains("<td>46</td>"));
     assert!(html.contains("<caption>Steady state</caption>"));
+}
+
+/// A written model's report speaks of its own quantities: its frequency's name in the tables'
+/// headers and the hunt's bifurcations, its time `t` on the orbits' figures, no Hz (it has no
+/// device) and no membranes going slack; nothing of the built-in's ω_e, τ or Δλ.
+#[test]
+fn a_written_models_report_carries_its_names() {
+    let session = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/sessions/user_model_clearance.toml"
+    );
+    let (html, _dir) = report(session, |text| text.replace("points = 61", "points = 9"));
+    for header in [
+        "<th>w from</th>",
+        "<th>w to</th>",
+        "<th>at w</th>",
+        "<th>w</th>",
+    ] {
+        assert!(html.contains(header), "no {header}");
+    }
+    assert!(html.contains("<td>w = 0.9073</td>"), "the 1:3 isola's fold");
+    // each orbit's steady part: its period, as the basin at w 0.9 has its responses
+    assert_eq!(html.matches("<caption>Steady state</caption>").count(), 2);
+    assert!(html.contains("<td>1:3</td>") && html.contains("<td>1:1</td>"));
+    let svgs = figures(&html);
+    let orbit = svg_texts(&svgs[3]);
+    assert!(
+        orbit
+            .iter()
+            .any(|t| t == "time t" || t.starts_with("time t (")),
+        "{orbit:?}"
+    );
+    for built_in in ["ω_e", "ωₑ", "τ", "Δλ", "Hz", "slack"] {
+        assert!(!html.contains(built_in), "the built-in's {built_in}");
+    }
 }
 
 #[test]

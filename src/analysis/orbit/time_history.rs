@@ -149,17 +149,17 @@ pub fn time_history(params: &Params, spec: &TimeHistorySpec) -> Result<TimeHisto
 /// What the steady part of a recorded orbit shows, read off its samples.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SteadySummary {
-    /// The forcing's ω_e.
+    /// The forcing's frequency (ω_e, or a written model's).
     pub omega: f64,
     /// The response period in forcing periods (1 for 1:1, 2 for 1:2...), if the samples
     /// repeat within the recorded steady part.
     pub period_forcing_periods: Option<usize>,
-    /// max − min of λ_I (the amplitude isola reports everywhere).
+    /// max − min of the amplitude's quantity (λ_I, or a written model's output): the
+    /// amplitude isola reports everywhere.
     pub amplitude: f64,
-    /// The share of the steady part during which membrane I, membrane II carries no force
-    /// (tension ≤ 0: slack).
-    pub slack_i: f64,
-    pub slack_ii: f64,
+    /// The built-in model's: the share of the steady part during which membrane I, membrane
+    /// II carries no force (tension ≤ 0: slack). None for a written model.
+    pub slack: Option<[f64; 2]>,
 }
 
 /// The summary of the steady part of samples (τ, λ_I, v, steady) taken every `dt` = `τ[1] − τ[0]`
@@ -171,28 +171,9 @@ pub fn steady_summary(
     v: &[f64],
     steady: &[bool],
 ) -> Option<SteadySummary> {
-    let idx: Vec<usize> = (0..tau.len().min(lambda.len()).min(v.len()).min(steady.len()))
-        .filter(|&k| steady[k])
-        .collect();
-    let dt = tau.get(1)? - tau.first()?;
-    let per = (p.period() / dt).round() as usize;
-    if dt <= 0.0 || per == 0 || idx.len() <= per {
-        return None;
-    }
-    let (lo, hi) = idx
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
-            (lo.min(lambda[k]), hi.max(lambda[k]))
-        });
-    let amplitude = hi - lo;
-    // the smallest whole number of forcing periods after which the samples repeat
-    let tolerance = 1e-3 * amplitude.max(1e-3);
-    let period_forcing_periods = (1..=idx.len() / per).find(|&k| {
-        let shift = k * per;
-        shift < idx.len()
-            && (0..idx.len() - shift)
-                .all(|i| (lambda[idx[i + shift]] - lambda[idx[i]]).abs() < tolerance)
-    });
+    let n = tau.len().min(lambda.len()).min(v.len()).min(steady.len());
+    let mut summary = periodic_summary(p.omega(), &tau[..n], &lambda[..n], &steady[..n])?;
+    let idx: Vec<usize> = (0..n).filter(|&k| steady[k]).collect();
     let (mut slack_i, mut slack_ii) = (0usize, 0usize);
     for &k in &idx {
         let (phi_sq_i, phi_sq_ii) = p.phi_sq_at(tau[k]);
@@ -200,12 +181,45 @@ pub fn steady_summary(
         slack_i += usize::from(f_i <= 0.0);
         slack_ii += usize::from(f_ii <= 0.0);
     }
-    let n = idx.len() as f64;
+    let steady_samples = idx.len() as f64;
+    summary.slack = Some([slack_i, slack_ii].map(|s| s as f64 / steady_samples));
+    Some(summary)
+}
+
+/// The summary of the steady part of samples (τ, x, steady), taken every `dt` = `τ[1] − τ[0]`,
+/// of an orbit forced at frequency `omega`, `x` the quantity whose max − min is the amplitude;
+/// no slack. `None` without a steady part of at least a forcing period.
+pub fn periodic_summary(
+    omega: f64,
+    tau: &[f64],
+    x: &[f64],
+    steady: &[bool],
+) -> Option<SteadySummary> {
+    let idx: Vec<usize> = (0..tau.len().min(x.len()).min(steady.len()))
+        .filter(|&k| steady[k])
+        .collect();
+    let dt = tau.get(1)? - tau.first()?;
+    let per = (std::f64::consts::TAU / omega / dt).round() as usize;
+    if dt <= 0.0 || per == 0 || idx.len() <= per {
+        return None;
+    }
+    let (lo, hi) = idx
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
+            (lo.min(x[k]), hi.max(x[k]))
+        });
+    let amplitude = hi - lo;
+    // the smallest whole number of forcing periods after which the samples repeat
+    let tolerance = 1e-3 * amplitude.max(1e-3);
+    let period_forcing_periods = (1..=idx.len() / per).find(|&k| {
+        let shift = k * per;
+        shift < idx.len()
+            && (0..idx.len() - shift).all(|i| (x[idx[i + shift]] - x[idx[i]]).abs() < tolerance)
+    });
     Some(SteadySummary {
-        omega: p.omega(),
+        omega,
         period_forcing_periods,
         amplitude,
-        slack_i: slack_i as f64 / n,
-        slack_ii: slack_ii as f64 / n,
+        slack: None,
     })
 }

@@ -133,9 +133,15 @@ impl ResultReader {
             self.stored = match store::verified(&paths) {
                 Ok(m) => match read_csv_view(&entry.settings, &paths) {
                     Ok(ResultView::History(h)) => {
-                        let h = match session.params(Some(entry)) {
-                            Ok(p) => h.summarised(&p),
-                            Err(_) => h,
+                        let h = match &session.written {
+                            Some(w) => match w.system(&entry.values) {
+                                Ok(sys) => h.summarised_written(sys.omega()),
+                                Err(_) => h,
+                            },
+                            None => match session.params(Some(entry)) {
+                                Ok(p) => h.summarised(&p),
+                                Err(_) => h,
+                            },
                         };
                         Some((m, std::sync::Arc::new(ResultView::History(h))))
                     }
@@ -548,6 +554,9 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                 h.lambda.push(c.f64(r, &x)?);
                 h.v.push(c.f64(r, &v)?);
                 h.steady.push(c.str(r, "steady")? == "true");
+                if h.states.is_some() {
+                    h.output.push(c.f64(r, "amplitude_output")?);
+                }
                 if c.opt::<bool>(r, "collision") == Some(true) {
                     h.collision = h.tau.last().copied();
                 }

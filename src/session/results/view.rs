@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use crate::analysis::continuation::map::MapCell;
 use crate::analysis::global::frequency_response::{Branch, Response};
 use crate::analysis::orbit::attractor::AttractorTable;
-use crate::analysis::orbit::time_history::{SteadySummary, steady_summary};
+use crate::analysis::orbit::time_history::{SteadySummary, periodic_summary, steady_summary};
 use crate::analysis::{Ratio, SteadyState};
 
 /// One response at one ω_e (a frequency response, a stepped sweep or a family member).
@@ -164,6 +164,9 @@ pub struct HistoryView {
     pub summary: Option<SteadySummary>,
     /// The names of the two states drawn, for a written model (λ_I and v otherwise).
     pub states: Option<[String; 2]>,
+    /// A written model's output whose max − min is the amplitude, at each sample (empty for
+    /// the built-in model, whose amplitude is of λ_I).
+    pub output: Vec<f64>,
     /// τ where a collision ended a written model's orbit (its last sample), if one did.
     pub collision: Option<f64>,
 }
@@ -175,10 +178,18 @@ impl HistoryView {
         self
     }
 
-    /// A written model's orbit, drawn in the two states its grid spans (`grid`).
+    /// A written model's view with its steady part summarised, the model forced at `omega`.
+    pub fn summarised_written(mut self, omega: f64) -> Self {
+        self.summary = periodic_summary(omega, &self.tau, &self.output, &self.steady);
+        self
+    }
+
+    /// A written model's orbit forced at `omega`, drawn in the two states its grid spans
+    /// (`grid`), its steady part summarised.
     pub fn of_states(
         h: &crate::analysis::global::oscillator::history::StateHistory,
         grid: [usize; 2],
+        omega: f64,
     ) -> Self {
         let state = |i: usize| h.samples.iter().map(|s| s.state[i]).collect();
         HistoryView {
@@ -188,8 +199,10 @@ impl HistoryView {
             steady: h.samples.iter().map(|s| s.steady).collect(),
             summary: None,
             states: Some(grid.map(|i| h.states[i].clone())),
+            output: h.samples.iter().map(|s| s.output).collect(),
             collision: h.collision.as_ref().map(|c| c.tau),
         }
+        .summarised_written(omega)
     }
 }
 
@@ -202,6 +215,7 @@ impl From<&crate::analysis::orbit::time_history::TimeHistory> for HistoryView {
             steady: h.samples.iter().map(|s| s.steady).collect(),
             summary: None,
             states: None,
+            output: Vec::new(),
             collision: None,
         }
     }

@@ -80,14 +80,16 @@ pub fn draw(
             (Some(k), None) => format!("1:{k}"),
             (None, _) => "no period within the record".into(),
         };
+        let slack = s.slack.map_or(String::new(), |[i, ii]| {
+            format!(
+                "  slack: I {:.0}%, II {:.0}% of the time",
+                i * 100.0,
+                ii * 100.0
+            )
+        });
         footer.push(Line::from(vec![
             Span::styled("steady ", theme.muted()),
-            Span::raw(format!(
-                "{period}  A {:.4}  slack: I {:.0}%, II {:.0}% of the time",
-                s.amplitude,
-                s.slack_i * 100.0,
-                s.slack_ii * 100.0
-            )),
+            Span::raw(format!("{period}  A {:.4}{slack}", s.amplitude)),
         ]));
     }
     // one plot of (x, y) over the samples: the transient muted, the steady part in colour
