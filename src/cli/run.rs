@@ -432,7 +432,8 @@ impl Summary for AnalysisRun {
             ),
             RunOutcome::Superseded { chunks_computed } => say!(
                 "{name}: not stored ({chunks_computed} chunks computed now): the session was \
-                 edited during the run, and the result of its settings now is complete ({csv})"
+                 edited during the run, and the result of its settings now is complete ({csv}); \
+                 this one is kept, to be brought back if its settings come back"
             ),
             RunOutcome::Completed {
                 chunks_computed,

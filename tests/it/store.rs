@@ -316,7 +316,8 @@ fn a_result_of_settings_that_come_back_is_brought_back_verified() {
 
 /// A run of the session file started before an edit, ending after a run of the edited file
 /// completed: it does not replace the current result with its stale one (it says it did not
-/// store it, and ends well: nothing failed), and the current result stays complete.
+/// store it, and ends well: nothing failed), and the current result stays complete; the
+/// stale one is kept, and brought back when its settings come back.
 #[test]
 fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
     let (_dir, session) = session_dir(&BASIN.replace("points = 64", "points = 160"));
@@ -348,6 +349,13 @@ fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
     let status = String::from_utf8_lossy(&status.stdout).into_owned();
     assert!(status.contains("result complete, verified"), "{status}");
     assert!(std::fs::read(session.with_file_name("s.results/basin.csv")).unwrap() == current);
+    // the old run's work is kept: back to its settings, its result is brought back
+    std::fs::write(&session, BASIN.replace("points = 64", "points = 160")).unwrap();
+    let out = run_ok(&session, &[]);
+    assert!(out.contains("basin: brought back"), "{out}");
+    let status = isola().arg("status").arg(&session).output().unwrap();
+    let status = String::from_utf8_lossy(&status.stdout).into_owned();
+    assert!(status.contains("result complete, verified"), "{status}");
 }
 
 /// Chunks of the other shard survive damage to a few of this shard's: nothing finished is

@@ -115,27 +115,56 @@ pub(super) fn keep(paths: &ResultPaths, stored: &Manifest) {
     if remove_manifest(paths).is_err() || !verified {
         return;
     }
-    let to = paths.earlier(&stored.fingerprint);
+    let files: Vec<PathBuf> = stored
+        .files
+        .iter()
+        .map(|f| paths.dir.join(&f.name))
+        .collect();
+    put(paths, stored, &files, "replaced result");
+}
+
+/// Keeps a result computed for settings the session no longer has (not stored: the stored
+/// result is of its settings now), so that its work is not lost if they come back: its
+/// checksummed `files` (staged, in `computed`'s order) moved in, `computed` written last.
+/// Call under the exclusive lock.
+pub(super) fn keep_computed(paths: &ResultPaths, files: &[PathBuf], computed: &Manifest) {
+    if is_fingerprint(&computed.fingerprint)
+        && computed.files.iter().all(|f| is_plain_name(&f.name))
+    {
+        put(
+            paths,
+            computed,
+            files,
+            "result computed for earlier settings",
+        );
+    }
+}
+
+/// Moves `files` into the kept folder of `m`'s fingerprint, each under its name in `m`, then
+/// writes `m` there and prunes; on any failure the folder is removed (`what`: the log's
+/// words for the result).
+fn put(paths: &ResultPaths, m: &Manifest, files: &[PathBuf], what: &str) {
+    let to = paths.earlier(&m.fingerprint);
     let moved = (|| -> std::io::Result<()> {
         if to.exists() {
             std::fs::remove_dir_all(&to)?;
         }
         std::fs::create_dir_all(&to)?;
-        for f in &stored.files {
-            std::fs::rename(paths.dir.join(&f.name), to.join(&f.name))?;
+        for (from, f) in files.iter().zip(&m.files) {
+            std::fs::rename(from, to.join(&f.name))?;
         }
         crate::session::atomic::sync_dir(&to);
-        let json = serde_json::to_vec_pretty(stored).map_err(std::io::Error::other)?;
+        let json = serde_json::to_vec_pretty(m).map_err(std::io::Error::other)?;
         crate::session::atomic::write_atomic(&manifest_in(paths, &to), &json)
     })();
     match moved {
         Ok(()) => {
-            tracing::info!(analysis = %paths.name, fingerprint = %stored.fingerprint, "replaced result kept");
+            tracing::info!(analysis = %paths.name, fingerprint = %m.fingerprint, "{what} kept");
             prune(paths);
         }
         Err(e) => {
             // not kept: what was moved goes with its folder
-            tracing::warn!(folder = %to.display(), error = %e, "replaced result not kept");
+            tracing::warn!(folder = %to.display(), error = %e, "{what} not kept");
             let _ = std::fs::remove_dir_all(&to);
         }
     }

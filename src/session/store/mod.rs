@@ -286,8 +286,9 @@ impl Work {
             && old.fingerprint != manifest.fingerprint
             && current().as_ref() == Some(&old.fingerprint)
         {
-            tracing::info!(analysis = %self.paths.name, kept = %old.fingerprint,
+            tracing::info!(analysis = %self.paths.name, current = %old.fingerprint,
                 "not stored: the session's settings now are those of the stored result");
+            earlier::keep_computed(&self.paths, files, &manifest);
             return Ok(None);
         }
         // a complete result of other settings is kept aside, its manifest gone first
