@@ -73,7 +73,7 @@ impl Table {
     }
 }
 
-/// Frequencies `omegas` as cells, each followed by its Hz on the device (none without one).
+/// Frequencies `omegas` as cells, then their Hz on the device (none without one).
 fn with_hz(device: Option<&Device>, omegas: &[f64]) -> Vec<String> {
     let mut cells: Vec<String> = omegas.iter().map(|w| format!("{w:.3}")).collect();
     if let Some(d) = device {
@@ -103,8 +103,12 @@ fn tables(view: &ResultView, device: Option<&Device>, names: Option<&AxisNames>)
         }) => {
             let mut header = vec!["branch".to_string(), "type".into()];
             header.extend(omega_columns(&[" from", " to"]));
-            header.extend(["peak A".into(), format!("at {omega}"), "points".into()]);
-            header.push("reached".into());
+            header.extend([
+                "peak A".into(),
+                format!("at {omega}"),
+                "points".into(),
+                "reached".into(),
+            ]);
             let mut t = Table::new("Branches", header);
             for b in branches(points) {
                 let mut row = vec![b.id.to_string(), b.response_type.clone()];

@@ -78,15 +78,27 @@ pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Opti
         Some(m) if m.fingerprint != fingerprint => keep(paths, m),
         _ => remove_manifest(paths)?,
     }
-    for f in &kept.files {
-        let (source, target) = (from.join(&f.name), paths.dir.join(&f.name));
-        std::fs::rename(&source, &target)
-            .map_err(|e| anyhow::anyhow!("{} → {}: {e}", source.display(), target.display()))?;
-    }
-    crate::session::atomic::sync_dir(&paths.dir);
-    for f in &kept.files {
-        f.verify(&paths.dir)
-            .map_err(|e| anyhow::anyhow!("result not brought back as kept: {e}"))?;
+    let moved_in = (|| -> anyhow::Result<()> {
+        for f in &kept.files {
+            let (source, target) = (from.join(&f.name), paths.dir.join(&f.name));
+            std::fs::rename(&source, &target)
+                .map_err(|e| anyhow::anyhow!("{} → {}: {e}", source.display(), target.display()))?;
+        }
+        crate::session::atomic::sync_dir(&paths.dir);
+        for f in &kept.files {
+            f.verify(&paths.dir)
+                .map_err(|e| anyhow::anyhow!("result not brought back as kept: {e}"))?;
+        }
+        let json = serde_json::to_vec_pretty(&kept)?;
+        crate::session::atomic::write_atomic(&paths.manifest, &json)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", paths.manifest.display()))
+    })();
+    if let Err(e) = moved_in {
+        // back where they were kept (its manifest still there), for a later run to try again
+        for f in &kept.files {
+            let _ = std::fs::rename(paths.dir.join(&f.name), from.join(&f.name));
+        }
+        return Err(e);
     }
     // files of the replaced result that this one does not have (another kind's tables)
     if let Some(old) = &stored {
@@ -96,9 +108,6 @@ pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Opti
             }
         }
     }
-    let json = serde_json::to_vec_pretty(&kept)?;
-    crate::session::atomic::write_atomic(&paths.manifest, &json)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", paths.manifest.display()))?;
     let _ = std::fs::remove_dir_all(&from);
     tracing::info!(analysis = %paths.name, fingerprint, "kept result brought back");
     Ok(Some(kept))
