@@ -315,6 +315,21 @@ pub fn run_analysis(
     run_analysis_as(session, entry, Role::whole(shard), progress)
 }
 
+/// Brings back the result of `entry`'s settings kept from before (replaced by other
+/// settings'), verified, computing nothing: [`Outcome::BroughtBack`], or `None` where no kept
+/// result passes its checks (a damaged one is removed).
+pub fn bring_back(session: &Session, entry: &AnalysisEntry) -> anyhow::Result<Option<Outcome>> {
+    let paths = ResultPaths::new(session, &entry.name);
+    let fingerprint = session.fingerprint(entry);
+    let Some(m) = store::earlier::bring_back(&paths, &fingerprint)? else {
+        return Ok(None);
+    };
+    store::remove_unused_work(&paths, &fingerprint);
+    Ok(Some(Outcome::BroughtBack {
+        seconds: m.compute_seconds,
+    }))
+}
+
 /// [`run_analysis`] in a given role.
 pub fn run_analysis_as(
     session: &Session,
@@ -336,11 +351,8 @@ pub fn run_analysis_as(
             "stored result is stale: kept until the new one is complete"),
         Err(why) => tracing::info!(analysis = %entry.name, reason = %why, "no usable result"),
     }
-    if let Some(m) = store::earlier::bring_back(&paths, &fingerprint)? {
-        store::remove_unused_work(&paths, &fingerprint);
-        return Ok(Outcome::BroughtBack {
-            seconds: m.compute_seconds,
-        });
+    if let Some(outcome) = bring_back(session, entry)? {
+        return Ok(outcome);
     }
     let work = Work::join(&paths, &fingerprint)?;
     let run = Run {

@@ -14,7 +14,7 @@ use isola::session::preview;
 use isola::session::results::{HistoryView, ResultView};
 
 use super::orbit::{OrbitHistory, OrbitModel, integrate};
-use isola::session::run::{Outcome, Shard, run_analysis};
+use isola::session::run::{Outcome, Shard, bring_back, run_analysis};
 
 /// What a job computes.
 pub enum Work {
@@ -33,6 +33,9 @@ pub enum Work {
     },
     /// The coarse first picture of analysis `name` (a basin or a frequency response).
     Preview { session: Arc<Session>, name: String },
+    /// The result of analysis `name`'s settings kept from before, brought back (nothing
+    /// computed: it starts at once, beside a running analysis).
+    BringBack { session: Arc<Session>, name: String },
 }
 
 /// What a finished job gives back.
@@ -70,6 +73,8 @@ pub struct JobEntry {
     pub progress: Arc<Progress>,
     /// A preview: analyses wait for it (it is short, and drawn first).
     pub preview: bool,
+    /// It computes (all but a result brought back): analyses wait for one another.
+    computes: bool,
     /// Of a session closed since (its label names it).
     aside: bool,
     started: Option<Instant>,
@@ -137,10 +142,11 @@ impl JobList {
         let id = self.next_id;
         self.next_id += 1;
         let analysis = match &work {
-            Work::Analysis { name, .. } => Some(name.clone()),
+            Work::Analysis { name, .. } | Work::BringBack { name, .. } => Some(name.clone()),
             _ => None,
         };
         let preview = matches!(work, Work::Preview { .. });
+        let computes = !matches!(work, Work::BringBack { .. });
         self.entries.push(JobEntry {
             id,
             label,
@@ -148,6 +154,7 @@ impl JobList {
             state: JobState::Queued,
             progress: Arc::new(Progress::new(0)),
             preview,
+            computes,
             aside: false,
             started: None,
             work: Some(work),
@@ -249,14 +256,14 @@ impl JobList {
         let analysis_running = self
             .entries
             .iter()
-            .any(|e| e.job.is_some() && (e.analysis.is_some() || e.preview));
+            .any(|e| e.job.is_some() && ((e.analysis.is_some() && e.computes) || e.preview));
         let threads = self.threads;
         let mut may_start_analysis = !analysis_running;
         for e in &mut self.entries {
             if e.state != JobState::Queued {
                 continue;
             }
-            let is_analysis = e.analysis.is_some();
+            let is_analysis = e.analysis.is_some() && e.computes;
             if is_analysis && !may_start_analysis {
                 continue;
             }
@@ -282,7 +289,7 @@ impl JobList {
 /// arrives; a preview (a few tens of milliseconds) runs ahead of them at normal priority.
 fn start(threads: usize, work: Work) -> Result<Job<Output>, JobError> {
     let priority = match work {
-        Work::Preview { .. } => Priority::Normal,
+        Work::Preview { .. } | Work::BringBack { .. } => Priority::Normal,
         _ => Priority::Background,
     };
     Job::spawn_with(threads, priority, move |ctx| match work {
@@ -299,6 +306,20 @@ fn start(threads: usize, work: Work) -> Result<Job<Output>, JobError> {
             outcome
                 .map(Output::Analysis)
                 .map_err(|e| JobError::Failed(format!("{e:#}")))
+        }
+        Work::BringBack { session, name } => {
+            let entry = session
+                .analysis(&name)
+                .ok_or_else(|| JobError::Failed(format!("no analysis '{name}'")))?;
+            match bring_back(&session, entry) {
+                Ok(Some(outcome)) => Ok(Output::Analysis(outcome)),
+                Ok(None) => Err(JobError::Failed(
+                    "the result kept for these settings failed its checks and was removed: \
+                     r computes it"
+                        .into(),
+                )),
+                Err(e) => Err(JobError::Failed(format!("{e:#}"))),
+            }
         }
         Work::Orbit { model, spec } => {
             ctx.progress.grow_total(1);

@@ -1577,6 +1577,21 @@ fn undo_and_redo_bring_back_the_results_of_their_settings() {
     settle(&mut reopened);
     assert_eq!(reopened.status_of(0), ResultStatus::Complete);
     assert!(std::fs::read(&csv).unwrap() == first);
+    // a kept result damaged meanwhile is said, and nothing is computed in its place
+    let paths = ResultPaths::new(&reopened.session, "response");
+    let kept = std::fs::read_dir(paths.earlier_dir()).unwrap();
+    for folder in kept.flatten() {
+        std::fs::write(folder.path().join("response.csv"), "damaged").unwrap();
+    }
+    command(&mut reopened, "set adr 1.0");
+    settle(&mut reopened);
+    assert!(
+        said(&reopened).contains("failed its checks and was removed: r computes it"),
+        "{}",
+        said(&reopened)
+    );
+    assert_eq!(reopened.status_of(0), ResultStatus::Stale);
+    assert!(std::fs::read(&csv).unwrap() == first);
 }
 
 /// After an edit, the run of the new settings is drawn over the previous settings' complete

@@ -60,22 +60,27 @@ impl App {
         isola::session::store::earlier::is_kept(&paths, &self.session.fingerprint(entry))
     }
 
-    /// Runs each analysis whose settings now have a result kept from before (after an undo,
-    /// an edit back to them, the session file changed back on disk): it is brought back
-    /// without computing.
+    /// Brings back the result of each analysis whose settings now have one kept from before
+    /// (after an undo, an edit back to them, the session file changed back on disk): a job
+    /// that computes nothing (a kept result that fails its checks is said, not recomputed).
     pub(super) fn bring_back_kept(&mut self) {
-        let kept: Vec<usize> = (0..self.session.analyses.len())
-            .filter(|&i| {
-                let entry = &self.session.analyses[i];
-                self.active_job(&entry.name).is_none() && self.kept_result(entry)
-            })
+        let kept: Vec<String> = (self.session.analyses.iter())
+            .filter(|entry| self.active_job(&entry.name).is_none() && self.kept_result(entry))
+            .map(|entry| entry.name.clone())
             .collect();
-        let selected = self.selected;
-        for i in kept {
-            self.selected = i;
-            self.run_selected();
+        for name in kept {
+            let id = self.jobs.push(
+                format!("{name} (kept result)"),
+                Work::BringBack {
+                    session: self.snapshot.clone(),
+                    name: name.clone(),
+                },
+            );
+            let entry = self.session.analysis(&name).expect("listed above");
+            let fingerprint = self.snapshot.fingerprint(entry);
+            self.run_fingerprints.insert(id, (name, fingerprint));
         }
-        self.selected = selected;
+        self.tick();
     }
 
     pub fn status_of(&self, i: usize) -> ResultStatus {
