@@ -549,12 +549,14 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                     (names[0].clone(), names[1].clone())
                 }
             };
+            // a written model's amplitude output, for its steady summary
+            let output = h.states.is_some() && c.0.contains_key("amplitude_output");
             for r in &rows {
                 h.tau.push(c.f64(r, "tau")?);
                 h.lambda.push(c.f64(r, &x)?);
                 h.v.push(c.f64(r, &v)?);
                 h.steady.push(c.str(r, "steady")? == "true");
-                if h.states.is_some() {
+                if output {
                     h.output.push(c.f64(r, "amplitude_output")?);
                 }
                 if c.opt::<bool>(r, "collision") == Some(true) {

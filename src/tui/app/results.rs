@@ -68,6 +68,9 @@ impl App {
             .filter(|entry| self.active_job(&entry.name).is_none() && self.kept_result(entry))
             .map(|entry| entry.name.clone())
             .collect();
+        if kept.is_empty() {
+            return;
+        }
         for name in kept {
             let id = self.jobs.push(
                 format!("{name} (kept result)"),
