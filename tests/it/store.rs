@@ -296,6 +296,19 @@ fn a_result_of_settings_that_come_back_is_brought_back_verified() {
     for f in std::fs::read_dir(kept(&other)).unwrap().flatten() {
         std::fs::copy(f.path(), foreign.join(f.file_name())).unwrap();
     }
+    // a kept result of other numerics is never brought back, and goes at the next keep
+    let old_numerics = dir
+        .path()
+        .join("s.results/basin.earlier/0123456789abcdef0123456789abcdef");
+    std::fs::create_dir_all(&old_numerics).unwrap();
+    let manifest = std::fs::read_to_string(kept(&other).join("basin.manifest.json")).unwrap();
+    let mut manifest: serde_json::Value = serde_json::from_str(&manifest).unwrap();
+    manifest["numerics"] = serde_json::json!(0);
+    std::fs::write(
+        old_numerics.join("basin.manifest.json"),
+        manifest.to_string(),
+    )
+    .unwrap();
     // four more settings, each computed: the last four replaced are kept, no more
     for c in ["0.09", "0.1", "0.11", "0.12"] {
         std::fs::write(
@@ -305,6 +318,10 @@ fn a_result_of_settings_that_come_back_is_brought_back_verified() {
         .unwrap();
         let out = run_ok(&session, &[]);
         assert_eq!(computed(&out, "basin"), BASIN_CHUNKS, "c̃ {c}: {out}");
+        assert!(
+            !old_numerics.exists(),
+            "c̃ {c}: of other numerics, still kept"
+        );
     }
     assert!(result_files(&session, &BASIN_FILES) != expected_other);
     let folders = std::fs::read_dir(dir.path().join("s.results/basin.earlier"))

@@ -179,8 +179,9 @@ fn put(paths: &ResultPaths, m: &Manifest, files: &[PathBuf], what: &str) {
     }
 }
 
-/// Removes all but the [`KEEP_EARLIER`] most recently kept results, and folders without a
-/// manifest (a keep cut short).
+/// Removes all but the [`KEEP_EARLIER`] most recently kept results, folders without a
+/// readable manifest (a keep cut short), and results of other numerics (no settings of this
+/// build have their fingerprint).
 fn prune(paths: &ResultPaths) {
     let Ok(entries) = std::fs::read_dir(paths.earlier_dir()) else {
         return;
@@ -188,9 +189,12 @@ fn prune(paths: &ResultPaths) {
     let mut kept: Vec<(std::time::SystemTime, PathBuf)> = Vec::new();
     for entry in entries.flatten() {
         let folder = entry.path();
-        match std::fs::metadata(manifest_in(paths, &folder)).and_then(|m| m.modified()) {
-            Ok(written) => kept.push((written, folder)),
-            Err(_) => {
+        let manifest = manifest_in(paths, &folder);
+        let of_this_build = Manifest::read(&manifest)
+            .is_ok_and(|m| m.numerics == crate::analysis::NUMERICS_VERSION);
+        match std::fs::metadata(&manifest).and_then(|m| m.modified()) {
+            Ok(written) if of_this_build => kept.push((written, folder)),
+            _ => {
                 let _ = std::fs::remove_dir_all(&folder);
             }
         }
