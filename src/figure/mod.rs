@@ -149,7 +149,7 @@ impl AxisNames {
         let states = model.states();
         AxisNames {
             grid: model.grid().map(|i| states[i].clone()),
-            frequency: model.parameters()[model.frequency()].name.clone(),
+            frequency: model.frequency_name().to_string(),
             amplitude: model.amplitude_text().to_string(),
         }
     }
@@ -362,6 +362,13 @@ struct AxisSpec {
 struct Units<'a> {
     device: Option<&'a Device>,
     names: Option<&'a AxisNames>,
+}
+
+impl Units<'_> {
+    /// The forcing frequency in labels: `ωₑ`, or a written model's frequency parameter.
+    fn omega(&self) -> &str {
+        self.names.map_or("ωₑ", |n| n.frequency.as_str())
+    }
 }
 
 impl AxisSpec {

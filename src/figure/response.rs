@@ -106,7 +106,7 @@ where
     omegas.sort_by(f64::total_cmp);
     omegas.dedup();
     let of = omegas.len();
-    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
+    let omega = units.omega();
     for (t, n) in without {
         legend.add(
             Swatch::None,
@@ -160,8 +160,7 @@ where
     DB::ErrorType: 'static,
 {
     let branches = branches(points);
-    // the frequency as the model names it
-    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
+    let omega = units.omega();
     let mut drawn = Vec::new();
     for b in branches
         .iter()

@@ -147,8 +147,7 @@ where
     DB::ErrorType: 'static,
 {
     let (nx, ny) = (w.times.len(), w.frequencies.len());
-    // the forcing frequency as the model names it
-    let omega = units.names.map_or("ωₑ", |n| n.frequency.as_str());
+    let omega = units.omega();
     if nx == 0 || ny < 2 {
         return Err(nothing("an empty scalogram"));
     }
@@ -168,12 +167,13 @@ where
     let df = 0.5 * (f1 - f0) / (ny - 1) as f64;
     let mut chart = panel(
         &map_area,
-        &AxisSpec::new(
-            match units.names {
-                Some(n) => n.frequency.clone(),
-                None => "excitation frequency ωₑ".into(),
-            },
+        // without Hz: the envelope's axis above gives them
+        &AxisSpec::omega(
             omega_range.clone(),
+            Units {
+                device: None,
+                ..units
+            },
         ),
         &AxisSpec::new("response frequency ωᵣ", f0 - df..f1 + df),
         s,

@@ -108,7 +108,7 @@ impl WrittenModel {
         used: &crate::session::schema::ModelUse,
     ) -> serde_json::Value {
         use crate::session::schema::ModelUse;
-        let frequency = &self.model.parameters()[self.model.frequency()].name;
+        let frequency = self.model.frequency_name();
         let all: BTreeMap<&str, f64> = self
             .model
             .parameters()
@@ -122,7 +122,7 @@ impl WrittenModel {
             ModelUse::AllBut(keys) => {
                 for key in keys {
                     values.remove(if key == "omega" {
-                        frequency.as_str()
+                        frequency
                     } else {
                         key.as_str()
                     });

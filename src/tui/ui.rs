@@ -179,20 +179,10 @@ fn draw_plot(app: &App, area: Rect, buf: &mut Buffer) {
     let inner = block.inner(area);
     block.render(area, buf);
     let device = app.session.device();
-    let names = (app.session.written.as_ref()).map(|w| isola::figure::AxisNames::of(&w.model));
     let ctx = PlotContext {
         theme: t,
         device: app.session.written.is_none().then_some(&device),
-        grid: names.as_ref().map(|n| n.grid.clone()),
-        omega_axis: names.as_ref().map_or("ω_e".into(), |n| n.frequency.clone()),
-        omega: names.as_ref().map_or("ω".into(), |n| n.frequency.clone()),
-        amplitude_axis: (names.as_ref()).map_or("amplitude Δλ".into(), |n| {
-            format!("amplitude of {}", n.amplitude)
-        }),
-        envelope_axis: (names.as_ref()).map_or("envelope Δλ".into(), |n| {
-            format!("envelope of {}", n.amplitude)
-        }),
-        time: if names.is_some() { "t" } else { "τ" },
+        names: (app.session.written.as_ref()).map(|w| isola::figure::AxisNames::of(&w.model)),
         cursor: app.cursor,
         pickable: app.pick_blocked().is_none(),
     };

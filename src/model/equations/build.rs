@@ -260,6 +260,11 @@ impl EquationModel {
         self.inner.frequency
     }
 
+    /// The forcing-frequency parameter's name, as written.
+    pub fn frequency_name(&self) -> &str {
+        &self.inner.parameters[self.inner.frequency].name
+    }
+
     /// Indices of the two states the grids span.
     pub fn grid(&self) -> [usize; 2] {
         self.inner.grid

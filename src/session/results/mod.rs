@@ -134,10 +134,9 @@ impl ResultReader {
                 Ok(m) => match read_csv_view(&entry.settings, &paths) {
                     Ok(ResultView::History(h)) => {
                         let h = match &session.written {
-                            Some(w) => match w.system(&entry.values) {
-                                Ok(sys) => h.summarised_written(sys.omega()),
-                                Err(_) => h,
-                            },
+                            Some(w) => {
+                                h.summarised_written(w.values(&entry.values)[w.model.frequency()])
+                            }
                             None => match session.params(Some(entry)) {
                                 Ok(p) => h.summarised(&p),
                                 Err(_) => h,

@@ -3,9 +3,10 @@
 //!
 //! Layout, for analysis `A`: `NAME.results/A.earlier/FINGERPRINT/` holds the result's files
 //! and, written last, its `A.manifest.json`. A result replaced by one of other settings is
-//! moved there (only if it verified); a run whose settings have a kept result moves it back.
-//! Every move happens under the result's exclusive lock, and a kept result is verified again
-//! before it is brought back: a damaged one is removed, and the run computes afresh.
+//! moved there; a run whose settings have a kept result moves it back. Every move happens
+//! under the result's exclusive lock, and a kept result is verified (every file against its
+//! manifest) only before it is brought back: a damaged one is removed, and the run computes
+//! afresh.
 
 use std::path::{Path, PathBuf};
 
@@ -35,7 +36,7 @@ pub fn is_kept(paths: &ResultPaths, fingerprint: &str) -> bool {
 
 /// The kept result of `fingerprint` moved back into place, verified, as the stored result:
 /// its manifest, or `None` if none is kept (or it failed its checks, and was removed). The
-/// stored result it replaces is kept in turn, if it verifies.
+/// stored result it replaces is kept in turn.
 pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Option<Manifest>> {
     if !is_kept(paths, fingerprint) {
         return Ok(None);
@@ -78,17 +79,14 @@ pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Opti
         Some(m) if m.fingerprint != fingerprint => keep(paths, m),
         _ => remove_manifest(paths)?,
     }
+    // (verified above, under this lock: a rename moves the files as they are)
     let moved_in = (|| -> anyhow::Result<()> {
         for f in &kept.files {
             let (source, target) = (from.join(&f.name), paths.dir.join(&f.name));
-            std::fs::rename(&source, &target)
-                .map_err(|e| anyhow::anyhow!("{} → {}: {e}", source.display(), target.display()))?;
+            let moved = std::fs::rename(&source, &target);
+            moved.map_err(|e| anyhow::anyhow!("{} → {target:?}: {e}", source.display()))?;
         }
         crate::session::atomic::sync_dir(&paths.dir);
-        for f in &kept.files {
-            f.verify(&paths.dir)
-                .map_err(|e| anyhow::anyhow!("result not brought back as kept: {e}"))?;
-        }
         let json = serde_json::to_vec_pretty(&kept)?;
         crate::session::atomic::write_atomic(&paths.manifest, &json)
             .map_err(|e| anyhow::anyhow!("{}: {e}", paths.manifest.display()))
@@ -113,15 +111,15 @@ pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Opti
     Ok(Some(kept))
 }
 
-/// Moves the stored result of manifest `stored` (to be replaced) aside as a kept result, if
-/// its files verify; else only removes its manifest, as a replacement does. Call under the
+/// Moves the stored result of manifest `stored` (to be replaced) aside as a kept result
+/// (its files are verified if it is ever brought back); a manifest of another analysis, or
+/// naming a file outside the folder, is only removed, as a replacement does. Call under the
 /// exclusive lock. Its manifest is gone from the results folder either way.
 pub(super) fn keep(paths: &ResultPaths, stored: &Manifest) {
-    let verified = stored.analysis == paths.name
+    let keepable = stored.analysis == paths.name
         && is_fingerprint(&stored.fingerprint)
-        && stored.files.iter().all(|f| is_plain_name(&f.name))
-        && stored.verify_files(&paths.dir).is_ok();
-    if remove_manifest(paths).is_err() || !verified {
+        && stored.files.iter().all(|f| is_plain_name(&f.name));
+    if remove_manifest(paths).is_err() || !keepable {
         return;
     }
     let files: Vec<PathBuf> = stored

@@ -291,7 +291,7 @@ impl Work {
             earlier::keep_computed(&self.paths, files, &manifest);
             return Ok(None);
         }
-        // a complete result of other settings is kept aside, its manifest gone first
+        // a result of other settings is kept aside, its manifest gone first
         if let Some(old) = &previous
             && old.fingerprint != manifest.fingerprint
         {

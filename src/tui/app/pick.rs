@@ -80,13 +80,10 @@ impl App {
         };
         let (name, omega) = match &model {
             ModelPoint::BuiltIn(p) => ("ω".to_string(), p.omega()),
-            ModelPoint::Written(sys) => {
-                let frequency = sys.frequency();
-                (
-                    sys.model().parameters()[frequency].name.clone(),
-                    sys.value_of(frequency),
-                )
-            }
+            ModelPoint::Written(sys) => (
+                sys.model().frequency_name().to_string(),
+                sys.value_of(sys.frequency()),
+            ),
         };
         let (model, spec, from) = orbit::orbit_from(model, &start);
         let label = format!("orbit {name} {omega:.3} {from}");

@@ -41,7 +41,10 @@ impl App {
         };
         let entry = &self.session.analyses[i];
         let has_one = isola::session::preview::available(&entry.settings);
-        if !has_one || self.status_of(i) == ResultStatus::Complete || self.kept_result(entry) {
+        if !has_one
+            || self.status_of(i) == ResultStatus::Complete
+            || self.kept_result(entry).is_some()
+        {
             return;
         }
         let id = self.jobs.push(
@@ -54,24 +57,26 @@ impl App {
         self.preview_jobs.insert(id, name.to_string());
     }
 
-    /// A result of `entry`'s settings now is kept from before (replaced by other settings').
-    fn kept_result(&self, entry: &AnalysisEntry) -> bool {
+    /// The fingerprint of `entry`'s settings now, if a result of them is kept from before
+    /// (replaced by other settings').
+    fn kept_result(&self, entry: &AnalysisEntry) -> Option<String> {
         let paths = ResultPaths::new(&self.session, &entry.name);
-        isola::session::store::earlier::is_kept(&paths, &self.session.fingerprint(entry))
+        let fingerprint = self.session.fingerprint(entry);
+        isola::session::store::earlier::is_kept(&paths, &fingerprint).then_some(fingerprint)
     }
 
     /// Brings back the result of each analysis whose settings now have one kept from before
     /// (after an undo, an edit back to them, the session file changed back on disk): a job
     /// that computes nothing (a kept result that fails its checks is said, not recomputed).
     pub(super) fn bring_back_kept(&mut self) {
-        let kept: Vec<String> = (self.session.analyses.iter())
-            .filter(|entry| self.active_job(&entry.name).is_none() && self.kept_result(entry))
-            .map(|entry| entry.name.clone())
+        let kept: Vec<(String, String)> = (self.session.analyses.iter())
+            .filter(|entry| self.active_job(&entry.name).is_none())
+            .filter_map(|entry| Some((entry.name.clone(), self.kept_result(entry)?)))
             .collect();
         if kept.is_empty() {
             return;
         }
-        for name in kept {
+        for (name, fingerprint) in kept {
             let id = self.jobs.push(
                 format!("{name} (kept result)"),
                 Work::BringBack {
@@ -79,8 +84,6 @@ impl App {
                     name: name.clone(),
                 },
             );
-            let entry = self.session.analysis(&name).expect("listed above");
-            let fingerprint = self.snapshot.fingerprint(entry);
             self.run_fingerprints.insert(id, (name, fingerprint));
         }
         self.tick();

@@ -79,7 +79,7 @@ pub fn draw(
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
                 "{}  → {}",
-                match &ctx.grid {
+                match ctx.grid() {
                     None => format!("Δλ {dx:+.3} (λ_I {:.3})  v {v:+.3}", lambda_p + dx),
                     Some([a, b]) => format!("{a} {dx:+.3}  {b} {v:+.3} (from the origin)"),
                 },
@@ -143,7 +143,7 @@ pub fn draw(
             theme,
         ));
     }
-    let (x_label, y_label) = match &ctx.grid {
+    let (x_label, y_label) = match ctx.grid() {
         None => ("Δλ".to_string(), "v (per τ)".to_string()),
         Some([a, b]) => (format!("Δ{a}"), format!("Δ{b}")),
     };

@@ -191,11 +191,7 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
     let all = || view.branches.iter().flat_map(|b| b.points.iter());
     let mut plot = XyPlot::new(
         Axis::fit(view.parameter.as_str(), all().map(|p| p.parameter), 0.02),
-        Axis::fit(
-            ctx.amplitude_axis.as_str(),
-            all().map(|p| p.amplitude),
-            0.05,
-        ),
+        Axis::fit(ctx.of_output("amplitude"), all().map(|p| p.amplitude), 0.05),
     );
     plot.axis_style = ctx.theme.muted();
     plot.cursor_style = ctx.theme.cursor();
@@ -216,7 +212,7 @@ pub fn plot(view: &ContinuationView, ctx: &PlotContext) -> XyPlot {
                     "{} {:.5}  {} {:.4}{}  A {:.4}  {}",
                     view.parameter,
                     p.parameter,
-                    ctx.omega,
+                    ctx.omega(),
                     p.omega,
                     ctx.in_hz(p.omega, 2),
                     p.amplitude,

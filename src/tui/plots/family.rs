@@ -13,8 +13,8 @@ pub fn plot(f: &FamilyView, ctx: &PlotContext) -> XyPlot {
     let all = || f.members.iter().flat_map(|(_, pts)| pts.iter());
     let top = all().filter_map(|p| p.amplitude).fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
-        Axis::fit(ctx.omega_axis.as_str(), all().map(|p| p.omega), 0.0),
-        Axis::new(ctx.amplitude_axis.as_str(), 0.0, (top * 1.1).max(0.01)),
+        Axis::fit(ctx.omega_axis(), all().map(|p| p.omega), 0.0),
+        Axis::new(ctx.of_output("amplitude"), 0.0, (top * 1.1).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();

@@ -47,7 +47,7 @@ pub fn draw(
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
                 "{} {:.2}{seconds}  {x_name} {:.4}  {v_name} {:+.4}{}",
-                ctx.time,
+                ctx.time(),
                 h.tau[i],
                 h.lambda[i],
                 h.v[i],
@@ -63,7 +63,7 @@ pub fn draw(
         footer.push(Line::from(Span::styled(
             format!(
                 "ended by a collision at {} {tau:.4}: nothing recorded after it",
-                ctx.time
+                ctx.time()
             ),
             theme.error(),
         )));
@@ -111,7 +111,7 @@ pub fn draw(
         p.cursor_style = theme.cursor();
         p
     };
-    let time = plot(ctx.time, &h.tau, &x_name, &h.lambda, 0.0);
+    let time = plot(ctx.time(), &h.tau, &x_name, &h.lambda, 0.0);
     let phase = plot(&x_name, &h.lambda, &v_name, &h.v, 0.05);
     let footer = super::frame::wrap_footer(&footer, area.width, (area.height / 3).max(1) as usize);
     let footer_rows = footer.len() as u16;

@@ -103,7 +103,7 @@ pub fn draw(
             None => "not computed".into(),
         };
         let at = if m.x == "omega" {
-            format!("{} {w:.3}{}", ctx.omega, ctx.in_hz(*w, 1))
+            format!("{} {w:.3}{}", ctx.omega(), ctx.in_hz(*w, 1))
         } else {
             format!("{} {w:.4}", m.x)
         };
@@ -136,7 +136,7 @@ pub fn draw(
     }
     footer.push(Line::from(legend));
     let x_name = if m.x == "omega" {
-        ctx.omega.as_str()
+        ctx.omega()
     } else {
         m.x.as_str()
     };
@@ -172,7 +172,7 @@ pub fn draw(
         // the forcing frequency as the model names it (ω_e, or a written model's parameter)
         x: Axis::new(
             if m.x == "omega" {
-                ctx.omega_axis.as_str()
+                ctx.omega_axis()
             } else {
                 m.x.as_str()
             },

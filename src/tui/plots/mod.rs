@@ -13,6 +13,7 @@ pub mod previous;
 pub mod response;
 pub mod sweep;
 
+use isola::figure::AxisNames;
 use isola::model::Device;
 use isola::session::results::{HuntView, ResponsePoint, ResultView};
 
@@ -23,18 +24,9 @@ pub struct PlotContext<'a> {
     pub theme: &'a Theme,
     /// The device frequencies are given in Hz for: none for a written model.
     pub device: Option<&'a Device>,
-    /// A written model's two grid states (the built-in model's are Δλ and v).
-    pub grid: Option<[String; 2]>,
-    /// The forcing frequency's axis: `ω_e`, or a written model's frequency parameter.
-    pub omega_axis: String,
-    /// The forcing frequency in readouts and labels: `ω`, or a written model's parameter.
-    pub omega: String,
-    /// The amplitude's axis: `amplitude Δλ`, or of a written model's output.
-    pub amplitude_axis: String,
-    /// A sweep's envelope axis: `envelope Δλ`, or of a written model's output.
-    pub envelope_axis: String,
-    /// The time's name: the built-in's dimensionless `τ`, or a written model's `t`.
-    pub time: &'static str,
+    /// A written model's names (its grid states, frequency and output); `None` for the
+    /// built-in model's Δλ, v, ω_e and τ.
+    pub names: Option<AxisNames>,
     pub cursor: (usize, usize),
     /// Enter opens the orbit under the cursor (the result is current and not held): its
     /// hint is shown.
@@ -42,6 +34,35 @@ pub struct PlotContext<'a> {
 }
 
 impl PlotContext<'_> {
+    /// A written model's two grid states (the built-in model's are Δλ and v).
+    pub fn grid(&self) -> Option<&[String; 2]> {
+        self.names.as_ref().map(|n| &n.grid)
+    }
+
+    /// The forcing frequency's axis: `ω_e`, or a written model's frequency parameter.
+    pub fn omega_axis(&self) -> &str {
+        self.names.as_ref().map_or("ω_e", |n| n.frequency.as_str())
+    }
+
+    /// The forcing frequency in readouts and labels: `ω`, or a written model's parameter.
+    pub fn omega(&self) -> &str {
+        self.names.as_ref().map_or("ω", |n| n.frequency.as_str())
+    }
+
+    /// `what` of the amplitude's quantity, as an axis: `amplitude Δλ`, or `amplitude of x`
+    /// for a written model's output.
+    pub fn of_output(&self, what: &str) -> String {
+        match &self.names {
+            Some(n) => format!("{what} of {}", n.amplitude),
+            None => format!("{what} Δλ"),
+        }
+    }
+
+    /// The time's name: the built-in's dimensionless `τ`, or a written model's `t`.
+    pub fn time(&self) -> &'static str {
+        if self.names.is_some() { "t" } else { "τ" }
+    }
+
     /// ` (52.67 Hz)`: ω_e in Hz on the device with `decimals`, or nothing without one.
     pub fn in_hz(&self, omega: f64, decimals: usize) -> String {
         self.device.map_or(String::new(), |d| {

@@ -48,8 +48,8 @@ pub fn plot(
         )
         .fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
-        Axis::new(ctx.omega_axis.as_str(), omega_range.0, omega_range.1),
-        Axis::new(ctx.amplitude_axis.as_str(), 0.0, (top * 1.2).max(0.01)),
+        Axis::new(ctx.omega_axis(), omega_range.0, omega_range.1),
+        Axis::new(ctx.of_output("amplitude"), 0.0, (top * 1.2).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();
@@ -155,7 +155,7 @@ pub fn plot(
     }
     for (t, n) in without {
         legend.push(Span::styled(
-            format!("{} at {n} {}  ", short_type(t), ctx.omega),
+            format!("{} at {n} {}  ", short_type(t), ctx.omega()),
             theme.muted(),
         ));
     }
@@ -165,7 +165,7 @@ pub fn plot(
             &mut plot,
             continued,
             super::continued::XAxis::Omega,
-            &ctx.omega,
+            ctx.omega(),
             ctx,
         );
     }
@@ -174,7 +174,7 @@ pub fn plot(
             format!(
                 "{} {} {:.2}–{:.2}{} peak {:.3}{}",
                 short_type(&b.response_type),
-                ctx.omega,
+                ctx.omega(),
                 b.omega_min,
                 b.omega_max,
                 ctx.device.map_or(String::new(), |d| format!(
@@ -212,7 +212,7 @@ pub fn readout(p: &ResponsePoint, ctx: &PlotContext) -> Line<'static> {
         Span::styled("▸ ", ctx.theme.key()),
         Span::raw(format!(
             "{} {:.3}{}  A {}  {}",
-            ctx.omega,
+            ctx.omega(),
             p.omega,
             // the Hz kept with its number when the footer wraps
             ctx.device.map_or(String::new(), |d| format!(

@@ -33,8 +33,8 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
     let all = || sweeps.iter().flat_map(|s| s.view.envelope.iter());
     let top = all().map(|e| e[1]).fold(0.0f64, f64::max);
     let mut plot = XyPlot::new(
-        Axis::fit(ctx.omega_axis.as_str(), all().map(|e| e[0]), 0.0),
-        Axis::new(ctx.envelope_axis.as_str(), 0.0, (top * 1.1).max(0.01)),
+        Axis::fit(ctx.omega_axis(), all().map(|e| e[0]), 0.0),
+        Axis::new(ctx.of_output("envelope"), 0.0, (top * 1.1).max(0.01)),
     );
     plot.axis_style = theme.muted();
     plot.cursor_style = theme.cursor();
@@ -64,7 +64,7 @@ pub fn envelopes(sweeps: &[Sweep], ctx: &PlotContext) -> XyPlot {
                 Span::raw(format!(
                     "{}: {} {:.3}{}  envelope {:.4}",
                     s.name,
-                    ctx.omega_axis,
+                    ctx.omega_axis(),
                     e[0],
                     ctx.in_hz(e[0], 2),
                     e[1]
@@ -128,8 +128,8 @@ pub fn scalogram(
             Span::styled("▸ ", theme.key()),
             Span::raw(format!(
                 "{} {t:.0}  {omega} {w:.3}  strongest ω_r {ridge:.3}  ω_r/{omega}\u{a0}{ratio}",
-                ctx.time,
-                omega = ctx.omega_axis,
+                ctx.time(),
+                omega = ctx.omega_axis(),
             )),
             Span::styled(
                 "  w: envelopes",
@@ -172,7 +172,7 @@ pub fn scalogram(
     }
     footer.push(Line::from(scale));
     let map = HeatMap {
-        x: Axis::new(ctx.omega_axis.as_str(), first.min(last), first.max(last)),
+        x: Axis::new(ctx.omega_axis(), first.min(last), first.max(last)),
         y: Axis::new(
             "response ω",
             s.frequencies.first().copied().unwrap_or(0.0),
