@@ -59,8 +59,8 @@ pub enum AnalysisError {
     Cancelled,
     #[error(
         "the recorded orbit cannot meet its tolerance (rtol = {rtol:e}, atol = {atol:e}): at \
-         {steps} RK4 steps per forcing period, the most allowed, the error estimated over the \
-         sample interval from τ = {tau} is still {excess:.3} times its share of it (round-off, \
+         {steps} RK4 steps per {per}, the most allowed, the error estimated over the sample \
+         interval from τ = {tau} is still {excess:.3} times its share of it (round-off, \
          an orbit too sensitive to follow that closely, or a model whose slope is unbounded \
          where the orbit passes, as sqrt(x) at x = 0); allowed rtol in (1e-14, 1), and a \
          larger one will do"
@@ -69,6 +69,8 @@ pub enum AnalysisError {
         rtol: f64,
         atol: f64,
         steps: usize,
+        /// What `steps` are counted per: `forcing period` or `sample interval`.
+        per: &'static str,
         tau: f64,
         /// The error estimate over the tolerance.
         excess: f64,
@@ -81,4 +83,39 @@ pub enum AnalysisError {
         /// The first named value that is not finite (`model.let.g_I = NaN`), if known.
         expression: String,
     },
+}
+
+impl AnalysisError {
+    /// The error of a model that gave a value that is not finite: where, from which state (by
+    /// the states' names), in which expression.
+    pub fn not_finite(
+        sys: &impl crate::model::system::System,
+        tau: f64,
+        state: &crate::model::system::Vector,
+        expression: &Option<String>,
+    ) -> AnalysisError {
+        let state = sys
+            .state_names()
+            .iter()
+            .zip(state)
+            .map(|(name, &v)| match v.abs() {
+                // a state running away reads as 1.2e150, not as 150 digits
+                a if a >= 1e9 => format!("{name} = {v:e}"),
+                _ => format!("{name} = {v}"),
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        AnalysisError::NotFinite {
+            tau,
+            state,
+            expression: expression.clone().unwrap_or_else(|| {
+                // every named value is finite there: a stage of the next step is not
+                "every expression is finite there, but not at a stage of the step from it: the \
+                 state left an expression's domain within one step (sqrt or ln of a negative, a \
+                 division by zero) or ran away; a finer resolution, or a collision condition \
+                 ending the trajectory where the model stops holding, can help"
+                    .into()
+            }),
+        }
+    }
 }

@@ -14,25 +14,24 @@ impl Forcing for Params {
     }
 }
 
-/// The drive of `params` with ω_e moving linearly from `omega_start` to `omega_end` over
-/// `span`, then held. The phase is ∫ω dτ = ω₀τ + (ω₁ − ω₀)τ²/(2·span): writing
-/// cos(ω(τ)·τ) instead would double the instantaneous frequency (MODEL.md §4b).
-#[derive(Debug, Clone, Copy)]
-pub struct Chirp {
-    pub params: Params,
+/// A frequency moving linearly from `omega_start` to `omega_end` over `span`, then held. Its
+/// phase is ∫ω dτ = ω₀τ + (ω₁ − ω₀)τ²/(2·span): writing cos(ω(τ)·τ) instead would double the
+/// instantaneous frequency (MODEL.md §4b).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sweep {
     pub omega_start: f64,
     pub omega_end: f64,
     pub span: f64,
 }
 
-impl Chirp {
-    /// Instantaneous forcing frequency at τ.
+impl Sweep {
+    /// Instantaneous frequency at τ.
     pub fn omega_at(&self, tau: f64) -> f64 {
         let s = (tau / self.span).clamp(0.0, 1.0);
         self.omega_start + (self.omega_end - self.omega_start) * s
     }
 
-    /// Forcing phase θ(τ) = ∫₀^τ ω dτ'.
+    /// Phase θ(τ) = ∫₀^τ ω dτ'.
     pub fn phase_at(&self, tau: f64) -> f64 {
         let rate = (self.omega_end - self.omega_start) / self.span;
         if tau <= self.span {
@@ -43,9 +42,16 @@ impl Chirp {
     }
 }
 
+/// The drive of `params` with ω_e swept (Fig 3).
+#[derive(Debug, Clone, Copy)]
+pub struct Chirp {
+    pub params: Params,
+    pub sweep: Sweep,
+}
+
 impl Forcing for Chirp {
     fn phi_sq(&self, tau: f64) -> (f64, f64) {
-        let theta = self.phase_at(tau);
+        let theta = self.sweep.phase_at(tau);
         let p = &self.params;
         let phi_sq_ii = if p.drive_ii().is_off() {
             0.0

@@ -14,6 +14,6 @@ pub mod units;
 
 pub use drive::{Drive, DriveSpec};
 pub use error::ParamError;
-pub use forcing::{Chirp, Forcing};
+pub use forcing::{Chirp, Forcing, Sweep};
 pub use params::{ParamSpec, Params};
 pub use units::Device;

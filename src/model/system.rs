@@ -41,25 +41,6 @@ pub trait System: Clone + Send {
     /// The switching functions' values on `mode` into `s` (for locating where one changes
     /// sign), and the mode their signs select.
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode;
-    /// dx/dτ into `dx` and ∂f/∂x into `jac` (`jac[i][j]` = ∂f_i/∂x_j), both on the smooth
-    /// piece `mode`, in one evaluation (they share most of their work).
-    fn field_and_jacobian(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        dx: &mut Vector,
-        jac: &mut [Vector; MAX_DIM],
-    );
-    /// The gradient of switching function `k` on `mode` into `grad` (∂h/∂x_j), and ∂h/∂τ.
-    fn switch_gradient(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        k: usize,
-        grad: &mut Vector,
-    ) -> f64;
     /// The output whose max − min is the amplitude, and its rate of change.
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64);
     /// Whether (τ, x) has left the model (a collision ends the trajectory), or a collision
@@ -91,6 +72,31 @@ pub trait System: Clone + Send {
     /// tabulate what depends on time alone at the grid's stage times. Results must not
     /// depend on it beyond rounding.
     fn tabulate(&mut self, _n: usize) {}
+}
+
+/// A [`System`] whose field can be linearised: what the variational equations of
+/// shooting and Floquet multipliers need besides the field (a model driven by a chirp has no
+/// fixed period to shoot, and is not one).
+pub trait Differentiable: System {
+    /// dx/dτ into `dx` and ∂f/∂x into `jac` (`jac[i][j]` = ∂f_i/∂x_j), both on the smooth
+    /// piece `mode`, in one evaluation (they share most of their work).
+    fn field_and_jacobian(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        dx: &mut Vector,
+        jac: &mut [Vector; MAX_DIM],
+    );
+    /// The gradient of switching function `k` on `mode` into `grad` (∂h/∂x_j), and ∂h/∂τ.
+    fn switch_gradient(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        k: usize,
+        grad: &mut Vector,
+    ) -> f64;
 }
 
 /// How many switching values a compiled step gives at its end: the model's first.

@@ -17,6 +17,7 @@ pub mod illinois;
 pub mod isa;
 pub mod resolution;
 pub mod rk4;
+pub mod sampled;
 
 pub use dopri::{DenseStep, Dopri5, State, Tolerance};
 pub use field::{Field, Mode};

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::scalogram::ScalogramSpec;
 use crate::model::error::{check, check_in};
-use crate::model::{Chirp, Params};
+use crate::model::{Chirp, Params, Sweep};
 use crate::solver::{Dopri5, Tolerance};
 
 /// A chirp sweep.
@@ -148,11 +148,17 @@ pub struct ChirpFindings {
 }
 
 impl ChirpSpec {
-    /// Checks every setting; the error names the first bad one.
+    /// Checks every setting for the built-in model; the error names the first bad one.
     pub fn validate(&self) -> Result<(), crate::model::ParamError> {
         let omega_max = crate::model::limits::OMEGA.1;
         check_in("omega_start", self.omega_start, 0.0, omega_max)?;
         check_in("omega_end", self.omega_end, 0.0, omega_max)?;
+        self.validate_settings()
+    }
+
+    /// Checks every setting but the frequencies, which a written model checks against its
+    /// frequency parameter's range.
+    pub fn validate_settings(&self) -> Result<(), crate::model::ParamError> {
         check("span", self.span, |s| s > 0.0 && s <= 1e7, "(0, 1e7]")?;
         check(
             "dt",
@@ -199,13 +205,11 @@ pub fn chirp_sweep(
     spec.validate()?;
     let chirp = Chirp {
         params: *params,
-        omega_start: spec.omega_start,
-        omega_end: spec.omega_end,
-        span: spec.span,
+        sweep: spec.sweep(),
     };
     let dopri = Dopri5::with_forcing(params, chirp, spec.tolerance, 0.05);
     let mut state = dopri.state(0.0, params.lambda_p() + spec.dx0, spec.v0);
-    let n = (spec.span / spec.dt).round() as usize + 1;
+    let n = spec.samples();
     let mut lambda = Vec::with_capacity(n);
     lambda.push(state.x);
     let mut collision_tau = None;
@@ -231,56 +235,79 @@ pub fn chirp_sweep(
         }
         on_progress(t_end / spec.span);
     }
-    let omega: Vec<f64> = (0..lambda.len())
-        .map(|j| chirp.omega_at(j as f64 * spec.dt))
-        .collect();
-    let per_window = ((spec.window / spec.dt).round() as usize).max(1);
-    let envelope = lambda
-        .chunks(per_window)
-        .enumerate()
-        .map(|(w, chunk)| {
-            let (lo, hi) = chunk
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-                    (lo.min(x), hi.max(x))
-                });
-            let centre = (w * per_window) as f64 * spec.dt + 0.5 * chunk.len() as f64 * spec.dt;
-            [centre, chirp.omega_at(centre), hi - lo]
-        })
-        .collect::<Vec<_>>();
-    let findings = ChirpFindings {
-        jumps: envelope_jumps(&envelope, spec.dt * per_window as f64, spec.jump_ratio)
-            .into_iter()
-            .map(|(direction, window, before, after)| {
-                let tau = (window * per_window) as f64 * spec.dt;
-                EnvelopeJump {
-                    direction,
-                    window,
-                    tau,
-                    omega: chirp.omega_at(tau),
-                    amplitude_before: before,
-                    amplitude_after: after,
-                }
+    Ok(spec.recorded(lambda, collision_tau))
+}
+
+impl ChirpSpec {
+    /// The sweep of the forcing frequency.
+    pub fn sweep(&self) -> Sweep {
+        Sweep {
+            omega_start: self.omega_start,
+            omega_end: self.omega_end,
+            span: self.span,
+        }
+    }
+
+    /// Samples in the whole record, τ = 0 and `span` included.
+    pub(crate) fn samples(&self) -> usize {
+        (self.span / self.dt).round() as usize + 1
+    }
+
+    /// The sweep of the output `lambda` sampled every `dt` (up to a collision at
+    /// `collision_tau`): its envelope and findings.
+    pub(crate) fn recorded(&self, lambda: Vec<f64>, collision_tau: Option<f64>) -> ChirpSweep {
+        let (spec, sweep) = (self, self.sweep());
+        let omega: Vec<f64> = (0..lambda.len())
+            .map(|j| sweep.omega_at(j as f64 * spec.dt))
+            .collect();
+        let per_window = ((spec.window / spec.dt).round() as usize).max(1);
+        let envelope = lambda
+            .chunks(per_window)
+            .enumerate()
+            .map(|(w, chunk)| {
+                let (lo, hi) = chunk
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                        (lo.min(x), hi.max(x))
+                    });
+                let centre = (w * per_window) as f64 * spec.dt + 0.5 * chunk.len() as f64 * spec.dt;
+                [centre, sweep.omega_at(centre), hi - lo]
             })
-            .collect(),
-        ..peak_and_range(
-            &envelope,
-            &lambda,
-            collision_tau.map(|tau| Collision {
-                tau,
-                omega: chirp.omega_at(tau),
-            }),
-        )
-    };
-    Ok(ChirpSweep {
-        dt: spec.dt,
-        lambda,
-        omega,
-        envelope,
-        window_samples: per_window,
-        collision_tau,
-        findings,
-    })
+            .collect::<Vec<_>>();
+        let findings = ChirpFindings {
+            jumps: envelope_jumps(&envelope, spec.dt * per_window as f64, spec.jump_ratio)
+                .into_iter()
+                .map(|(direction, window, before, after)| {
+                    let tau = (window * per_window) as f64 * spec.dt;
+                    EnvelopeJump {
+                        direction,
+                        window,
+                        tau,
+                        omega: sweep.omega_at(tau),
+                        amplitude_before: before,
+                        amplitude_after: after,
+                    }
+                })
+                .collect(),
+            ..peak_and_range(
+                &envelope,
+                &lambda,
+                collision_tau.map(|tau| Collision {
+                    tau,
+                    omega: sweep.omega_at(tau),
+                }),
+            )
+        };
+        ChirpSweep {
+            dt: spec.dt,
+            lambda,
+            omega,
+            envelope,
+            window_samples: per_window,
+            collision_tau,
+            findings,
+        }
+    }
 }
 
 /// The largest envelope, the range of λ_I and the collision; no jumps.

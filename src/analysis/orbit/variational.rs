@@ -13,7 +13,7 @@ use nalgebra::DMatrix;
 
 use crate::analysis::orbit::shooting::{PeriodFlow, Shootable, ShootingError};
 use crate::model::equations::EquationSystem;
-use crate::model::system::{MAX_DIM, Mode, StateVec, System, Vector};
+use crate::model::system::{Differentiable, MAX_DIM, Mode, StateVec, System, Vector};
 use crate::solver::dopri_tableau::{A, C, E};
 use crate::solver::isa::{self, Isa};
 use crate::solver::{Collision, Tolerance};
@@ -33,7 +33,7 @@ const MAX_STEPS: usize = 2_000_000;
 const JUMP_TOLERANCE: f64 = 1e-9;
 
 /// The orbit of `sys` from `x0` at τ = 0 over `k` forcing periods, with its monodromy.
-pub fn period_flow<S: System>(
+pub fn period_flow<S: Differentiable>(
     sys: &S,
     x0: &[f64],
     k: usize,
@@ -70,7 +70,7 @@ impl Shootable for EquationSystem {
     }
 }
 
-struct Flow<S: System> {
+struct Flow<S: Differentiable> {
     sys: S,
     n: usize,
     mask: Mode,
@@ -88,7 +88,7 @@ fn state(y: &Aug, n: usize) -> Vector {
     x
 }
 
-impl<S: System> Flow<S> {
+impl<S: Differentiable> Flow<S> {
     /// Entries of the augmented state in use.
     fn used(&self) -> usize {
         self.n + self.n * self.n + 1

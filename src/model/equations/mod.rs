@@ -23,6 +23,7 @@
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 pub mod build;
+pub mod chirped;
 pub mod definition;
 pub mod graph;
 #[cfg(target_arch = "x86_64")]

@@ -14,9 +14,9 @@ use super::tape::{IoCode, IoUse};
 use super::time_table::TimeTable;
 use crate::model::ParamError;
 use crate::model::equations::tape::Registers;
+use crate::model::system::{Differentiable, MAX_DIM, Mode, System, Vector};
 #[cfg(target_arch = "x86_64")]
 use crate::model::system::{END_SWITCHES, EndSwitching, GridStep};
-use crate::model::system::{MAX_DIM, Mode, System, Vector};
 
 /// A written model ready to integrate: its parameters set and its own registers.
 #[derive(Debug, Clone)]
@@ -107,6 +107,15 @@ impl EquationSystem {
     /// The forcing frequency ω (the value of the model's frequency parameter).
     pub fn omega(&self) -> f64 {
         self.values[self.model.frequency()]
+    }
+
+    /// Its frequency parameter set to `omega` (> 0), unchecked: a chirp moves it through the
+    /// values between its checked ends.
+    pub(super) fn set_frequency(&mut self, omega: f64) {
+        let c = &*self.model.inner;
+        self.values[c.frequency] = omega;
+        self.regs.set_params(&c.graph, &self.values);
+        self.period = std::f64::consts::TAU / omega;
     }
 
     /// The state the grids are laid out around.
@@ -233,47 +242,6 @@ impl System for EquationSystem {
         observed
     }
 
-    fn field_and_jacobian(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        dx: &mut Vector,
-        jac: &mut [Vector; MAX_DIM],
-    ) {
-        let c = &*self.model.inner;
-        let n = c.states.len();
-        self.regs.load(&c.time_tape, tau, x);
-        c.jacobian_tape.run_in(&mut self.regs.values, mode);
-        for (d, &id) in dx.iter_mut().zip(&c.field_io.derivatives) {
-            *d = self.regs.get(id);
-        }
-        for (row, ids) in jac.iter_mut().zip(c.jacobian.chunks(n)) {
-            for (entry, &id) in row.iter_mut().zip(ids) {
-                *entry = self.regs.get(id);
-            }
-        }
-    }
-
-    fn switch_gradient(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        k: usize,
-        grad: &mut Vector,
-    ) -> f64 {
-        let c = &*self.model.inner;
-        let ids = &c.switch_gradients[k];
-        self.regs.load(&c.time_tape, tau, x);
-        c.switch_gradient_tapes[k].run_in(&mut self.regs.values, mode);
-        let (time, states) = ids.split_last().expect("a gradient has its ∂/∂τ");
-        for (g, &id) in grad.iter_mut().zip(states) {
-            *g = self.regs.get(id);
-        }
-        self.regs.get(*time)
-    }
-
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
         let c = &*self.model.inner;
         self.regs.load(&c.time_tape, tau, x);
@@ -350,6 +318,49 @@ impl System for EquationSystem {
             let table = TimeTable::new(&c.time_tape, &self.regs, self.period, n);
             self.regs.table = Some(Arc::new(table));
         }
+    }
+}
+
+impl Differentiable for EquationSystem {
+    fn field_and_jacobian(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        dx: &mut Vector,
+        jac: &mut [Vector; MAX_DIM],
+    ) {
+        let c = &*self.model.inner;
+        let n = c.states.len();
+        self.regs.load(&c.time_tape, tau, x);
+        c.jacobian_tape.run_in(&mut self.regs.values, mode);
+        for (d, &id) in dx.iter_mut().zip(&c.field_io.derivatives) {
+            *d = self.regs.get(id);
+        }
+        for (row, ids) in jac.iter_mut().zip(c.jacobian.chunks(n)) {
+            for (entry, &id) in row.iter_mut().zip(ids) {
+                *entry = self.regs.get(id);
+            }
+        }
+    }
+
+    fn switch_gradient(
+        &mut self,
+        tau: f64,
+        x: &Vector,
+        mode: Mode,
+        k: usize,
+        grad: &mut Vector,
+    ) -> f64 {
+        let c = &*self.model.inner;
+        let ids = &c.switch_gradients[k];
+        self.regs.load(&c.time_tape, tau, x);
+        c.switch_gradient_tapes[k].run_in(&mut self.regs.values, mode);
+        let (time, states) = ids.split_last().expect("a gradient has its ∂/∂τ");
+        for (g, &id) in grad.iter_mut().zip(states) {
+            *g = self.regs.get(id);
+        }
+        self.regs.get(*time)
     }
 }
 

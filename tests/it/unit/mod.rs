@@ -6,6 +6,7 @@ pub mod analysis {
     pub mod global {
         mod batch;
         mod capture;
+        mod chirp;
         mod ellipse;
         pub mod history;
         mod stepped_sweep;

@@ -1,28 +1,22 @@
 //! The time history of one orbit of a written model: every state sampled through the transient
 //! and a few response periods, its error held within the spec's `tolerance`.
 //!
-//! Each sample interval is integrated twice from the same state, with N and 2N RK4 steps, and
-//! N doubled until the two agree: the 2N run's error is about a fifteenth of their difference
-//! (RK4 is of fourth order, and the general engine keeps it across kinks), and it must be
-//! within the interval's share of `atol + rtol·|x|` in every state (1/`samples_per_period`
-//! of it: the tolerance holds for each forcing period). The 2N run is recorded and the next interval
-//! starts from its end; where the estimate is far inside the tolerance, N is halved again
-//! (2N never below 4× the classification's steps). Steps are refined only where the orbit
-//! needs them: near a singular kink (`sqrt` at its branch's end), not over the whole period.
-
-use std::collections::BTreeMap;
+//! Each sample interval's error is held by step doubling ([`Sampler`]), within its share of
+//! the tolerance (1/`samples_per_period` of it: the tolerance holds for each forcing period),
+//! the fine run at least 4× the classification's steps.
 
 use serde::Serialize;
 
-use super::written::{not_finite, steady_state_of};
+use super::written::steady_state_of;
 use crate::analysis::AnalysisError;
 use crate::analysis::Oscillator;
 use crate::analysis::orbit::steady_state::SteadyState;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::model::equations::EquationSystem;
-use crate::model::system::{Mode, System, Vector};
+use crate::model::system::{System, Vector};
 use crate::solver::Tolerance;
 use crate::solver::general::{GeneralRk4, Stop};
+use crate::solver::sampled::Sampler;
 
 /// Most RK4 steps per forcing period a recording takes to meet its tolerance.
 pub const MAX_STEPS_PER_PERIOD: usize = 1 << 20;
@@ -101,7 +95,7 @@ pub fn state_history_from(
             tau,
             state,
             expression,
-        }) => return Err(not_finite(&sys, tau, &state, &expression)),
+        }) => return Err(AnalysisError::not_finite(&sys, tau, &state, &expression)),
         Some(Stop::Collision { tau, state }) => {
             let condition = sys.collision_met(tau, &state).unwrap_or_default();
             collision = Some(HistoryCollision { tau, condition });
@@ -117,47 +111,25 @@ pub fn state_history_from(
     // the coarse run's steps per sample: twice the classification's steps, the fine run's four
     // times, to begin with
     let least = (2 * spec.steady.resolution.steps_for(period)).div_ceil(spp);
-    let most = MAX_STEPS_PER_PERIOD / spp;
-    let mut per_sample = least;
     // each sample interval's share of the tolerance, which holds for a whole period
     let share = Tolerance {
         rtol: spec.tolerance.rtol / spp as f64,
         atol: spec.tolerance.atol / spp as f64,
     };
-    // one system per step length: each keeps its forcing's table
-    let mut systems = Systems {
-        model: sys.clone(),
-        by_steps: BTreeMap::new(),
-    };
+    let mut sampler = Sampler::new(sys.clone(), spp, least, MAX_STEPS_PER_PERIOD / spp, share);
     let mut x = *start;
     for j in 0..(total_periods * spp) as u64 {
-        let mut coarse = systems.interval(per_sample, spp, j, &x);
-        let (fine, excess) = loop {
-            let fine = systems.interval(2 * per_sample, spp, j, &x);
-            if let Some(Stop::NonFinite {
+        let fine = sampler.interval(j, &x).map_err(|not| {
+            let tau = j as f64 * period / spp as f64;
+            AnalysisError::ToleranceNotMet {
+                rtol: spec.tolerance.rtol,
+                atol: spec.tolerance.atol,
+                steps: not.steps * spp,
+                per: "forcing period",
                 tau,
-                state,
-                expression,
-            }) = &fine.stop
-            {
-                return Err(not_finite(&sys, *tau, state, expression));
+                excess: not.excess,
             }
-            let excess = error_excess(&coarse, &fine, dim, share);
-            if excess <= 1.0 {
-                break (fine, excess);
-            }
-            if 2 * per_sample >= most {
-                return Err(AnalysisError::ToleranceNotMet {
-                    rtol: spec.tolerance.rtol,
-                    atol: spec.tolerance.atol,
-                    steps: 2 * per_sample * spp,
-                    tau: j as f64 * period / spp as f64,
-                    excess,
-                });
-            }
-            per_sample *= 2;
-            coarse = fine;
-        };
+        })?;
         if let Some((tau, state, mode)) = &fine.end {
             samples.push(sample(&mut sys, *tau, state, *mode));
             x = *state;
@@ -170,13 +142,12 @@ pub fn state_history_from(
                 collision = Some(HistoryCollision { tau, condition });
                 break;
             }
-            Some(Stop::NonFinite { .. }) => unreachable!("returned as an error above"),
+            Some(Stop::NonFinite {
+                tau,
+                state,
+                expression,
+            }) => return Err(AnalysisError::not_finite(&sys, tau, &state, &expression)),
             None => {}
-        }
-        // far inside the tolerance (the coarse run's error, 16 times the fine one's, within
-        // a tenth of it): half the steps will do for the next interval
-        if 16.0 * excess < 0.1 && per_sample / 2 >= least {
-            per_sample /= 2;
         }
     }
     Ok(StateHistory {
@@ -196,60 +167,4 @@ impl HistoryCollision {
             self.tau, self.condition
         )
     }
-}
-
-/// One sample interval of a recording: its end sample (τ, state, piece), unless it stopped
-/// first, and what stopped it.
-struct IntervalRun {
-    end: Option<(f64, Vector, Mode)>,
-    stop: Option<Stop>,
-}
-
-/// The model, and a copy of it per step length used (its forcing tabulated for that length).
-struct Systems {
-    model: EquationSystem,
-    by_steps: BTreeMap<usize, EquationSystem>,
-}
-
-impl Systems {
-    /// Sample interval `j` (from τ = j·T/`spp`) from `x`, at `per_sample` steps.
-    fn interval(&mut self, per_sample: usize, spp: usize, j: u64, x: &Vector) -> IntervalRun {
-        let n = per_sample * spp;
-        let sys = self.by_steps.entry(n).or_insert_with(|| self.model.clone());
-        let rk = GeneralRk4::with_steps(sys, n);
-        let dim = sys.dim();
-        let mut traj = rk.start_at(sys, &x[..dim], j * per_sample as u64);
-        for _ in 0..per_sample {
-            if traj.stop.is_some() {
-                break;
-            }
-            rk.advance_step(sys, &mut traj);
-        }
-        IntervalRun {
-            end: traj
-                .stop
-                .is_none()
-                .then(|| (rk.tau(traj.steps), traj.x, traj.mode)),
-            stop: traj.stop,
-        }
-    }
-}
-
-/// The fine run's error estimated from its difference to the coarse one (a fifteenth of it),
-/// over the tolerance: the largest over the states at the interval's end. Infinite where the
-/// coarse run stopped on a value that is not finite and the fine one did not; 0 where either
-/// stopped on a collision (the fine run's is taken).
-fn error_excess(coarse: &IntervalRun, fine: &IntervalRun, dim: usize, tol: Tolerance) -> f64 {
-    if matches!(coarse.stop, Some(Stop::NonFinite { .. })) {
-        return f64::INFINITY;
-    }
-    let (Some((_, c, _)), Some((_, f, _))) = (&coarse.end, &fine.end) else {
-        return 0.0;
-    };
-    (0..dim)
-        .map(|i| {
-            let scale = tol.atol + tol.rtol * c[i].abs().max(f[i].abs());
-            (f[i] - c[i]).abs() / 15.0 / scale
-        })
-        .fold(0.0, f64::max)
 }

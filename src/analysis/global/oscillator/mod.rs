@@ -4,6 +4,7 @@
 //! general engine). Frequency responses, basins and sweeps are generic over it.
 
 mod built_in;
+pub mod chirp;
 pub mod history;
 pub mod written;
 

@@ -93,39 +93,6 @@ fn record<S: System>(
     Ok(s)
 }
 
-/// The error of a model that gave a value that is not finite: where, from which state (by
-/// the states' names), in which expression.
-pub(crate) fn not_finite(
-    sys: &impl System,
-    tau: f64,
-    state: &Vector,
-    expression: &Option<String>,
-) -> AnalysisError {
-    let state = sys
-        .state_names()
-        .iter()
-        .zip(state)
-        .map(|(name, &v)| match v.abs() {
-            // a state running away reads as 1.2e150, not as 150 digits
-            a if a >= 1e9 => format!("{name} = {v:e}"),
-            _ => format!("{name} = {v}"),
-        })
-        .collect::<Vec<_>>()
-        .join(", ");
-    AnalysisError::NotFinite {
-        tau,
-        state,
-        expression: expression.clone().unwrap_or_else(|| {
-            // every named value is finite there: a stage of the next step is not
-            "every expression is finite there, but not at a stage of the step from it: the \
-             state left an expression's domain within one step (sqrt or ln of a negative, a \
-             division by zero) or ran away; a finer resolution, or a collision condition \
-             ending the trajectory where the model stops holding, can help"
-                .into()
-        }),
-    }
-}
-
 /// A collision as a result; a value that is not finite as an error naming where.
 fn stopped(
     sys: &impl System,
@@ -145,7 +112,7 @@ fn stopped(
             tau,
             state,
             expression,
-        } => Err(not_finite(sys, *tau, state, expression)),
+        } => Err(AnalysisError::not_finite(sys, *tau, state, expression)),
     }
 }
 

@@ -1,13 +1,10 @@
 //! Unit tests of `model::forcing` (`src/model/forcing.rs`).
 
 use isola::model::forcing::*;
-use isola::model::params::Params;
-
 /// The phase's derivative is the instantaneous frequency (not twice it).
 #[test]
-fn chirp_phase_derivative_is_omega() {
-    let c = Chirp {
-        params: Params::baseline(),
+fn a_sweeps_phase_derivative_is_omega() {
+    let c = Sweep {
         omega_start: 0.0,
         omega_end: 6.0,
         span: 12000.0,

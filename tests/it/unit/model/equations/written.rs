@@ -5,7 +5,7 @@ use isola::model::Params;
 use isola::model::equations::build::EquationModel;
 use isola::model::equations::definition::ModelDefinition;
 use isola::model::equations::system::EquationSystem;
-use isola::model::system::{END_SWITCHES, MAX_DIM, Mode, System, Vector};
+use isola::model::system::{Differentiable, END_SWITCHES, MAX_DIM, Mode, System, Vector};
 use isola::solver::general::{GeneralRk4, Trajectory};
 use isola::solver::{Resolution, Rk4};
 
@@ -816,26 +816,6 @@ impl System for StageByStage {
     }
     fn switching(&mut self, tau: f64, x: &Vector, mode: Mode, s: &mut [f64]) -> Mode {
         self.0.switching(tau, x, mode, s)
-    }
-    fn field_and_jacobian(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        dx: &mut Vector,
-        jac: &mut [Vector; MAX_DIM],
-    ) {
-        self.0.field_and_jacobian(tau, x, mode, dx, jac)
-    }
-    fn switch_gradient(
-        &mut self,
-        tau: f64,
-        x: &Vector,
-        mode: Mode,
-        k: usize,
-        grad: &mut Vector,
-    ) -> f64 {
-        self.0.switch_gradient(tau, x, mode, k, grad)
     }
     fn output(&mut self, tau: f64, x: &Vector, mode: Mode) -> (f64, f64) {
         self.0.output(tau, x, mode)
