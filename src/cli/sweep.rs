@@ -215,14 +215,15 @@ pub fn run(args: &SweepArgs, out: Output) -> anyhow::Result<()> {
     parse::set_resolution(&mut spec, args.resolution)?;
     let sweep = chirp_sweep(&params, &spec, &never, |_| {})?;
     done.elapsed_seconds = started.elapsed().as_secs_f64();
+    let columns = isola::session::export::ModelColumns::built_in(&dev);
     if let Some(path) = &args.csv {
         done.wrote
-            .extend(isola::session::export::chirp_csv(&sweep, &dev, path)?);
+            .extend(isola::session::export::chirp_csv(&sweep, &columns, path)?);
     }
     if let Some(path) = &args.scalogram_csv {
         let sc = scalogram(&sweep.lambda, sweep.dt, &ScalogramSpec::default())?;
         done.wrote.extend(isola::session::export::scalogram_csv(
-            &sc, &sweep, &dev, path,
+            &sc, &sweep, &columns, path,
         )?);
     }
     let found = &sweep.findings;

@@ -9,6 +9,22 @@ use super::written::WrittenModel;
 /// rest take their defaults, shown in the workbench's parameter pane).
 fn required_settings(kind: &str, written: Option<&WrittenModel>) -> toml_edit::Table {
     let mut table = toml_edit::Table::new();
+    let round = |x: f64| (x * 1e6).round() / 1e6;
+    // a written model's chirp from half its frequency to twice it, within its range (the
+    // built-in's default, from 0, is not a frequency a written model is swept from)
+    if let (Some(w), "chirp_sweep") = (written, kind) {
+        let omega = &w.model.parameters()[w.model.frequency()];
+        let v = omega.default;
+        table.insert(
+            "omega_start",
+            toml_edit::value(round((0.5 * v).max(omega.min))),
+        );
+        table.insert(
+            "omega_end",
+            toml_edit::value(round((2.0 * v).min(omega.max))),
+        );
+        return table;
+    }
     // the built-in model's ADR, or a written model's first parameter but its frequency,
     // around its value within its range
     let (parameter, [lo, value, hi]) = match written {
@@ -23,7 +39,6 @@ fn required_settings(kind: &str, written: Option<&WrittenModel>) -> toml_edit::T
             };
             let v = p.default;
             let d = if v == 0.0 { 1.0 } else { 0.5 * v.abs() };
-            let round = |x: f64| (x * 1e6).round() / 1e6;
             (
                 p.name.clone(),
                 [round((v - d).max(p.min)), v, round((v + d).min(p.max))],

@@ -67,6 +67,8 @@ pub struct ModelColumns {
     pub amplitude: String,
     /// The output whose extremes are `OUTPUT_min`, `OUTPUT_max`.
     pub output: String,
+    /// The suffix of a value in the output's unit: `_stretch` for the built-in's λ_I.
+    pub unit: &'static str,
     pub device: Option<Device>,
 }
 
@@ -79,6 +81,7 @@ impl ModelColumns {
             offsets: ["dx_stretch".into(), "v_per_tau".into()],
             amplitude: "amplitude_stretch".into(),
             output: "lambda".into(),
+            unit: "_stretch",
             device: Some(*device),
         }
     }
@@ -102,6 +105,7 @@ impl ModelColumns {
             } else {
                 "output".into()
             },
+            unit: "",
             device: None,
         }
     }
@@ -152,6 +156,16 @@ impl ModelColumns {
     /// `omega` in Hz on the device, empty without one.
     fn hz(&self, omega: f64) -> String {
         self.device.map_or(String::new(), |d| num(d.hz(omega)))
+    }
+
+    /// τ in seconds on the device, empty without one.
+    fn seconds(&self, tau: f64) -> String {
+        self.device.map_or(String::new(), |d| num(d.seconds(tau)))
+    }
+
+    /// The column of a value `name` in the output's unit (`magnitude_stretch`).
+    fn in_unit(&self, name: &str) -> String {
+        format!("{name}{}", self.unit)
     }
 }
 
@@ -536,7 +550,8 @@ pub fn state_history_bytes(
 }
 
 /// The Morlet scalogram of chirp sweep `s` (Fig 3C/D): one row per time column and analysis
-/// frequency (`tau, time_s, omega_r, frequency_hz, magnitude_stretch`), and beside it its ridge
+/// frequency (`tau, time_s, omega_r, frequency_hz, magnitude_stretch`, a written model's
+/// `magnitude`), and beside it its ridge
 /// (`A.ridge.csv`, one row per time column: the forcing's `omega_e` and `frequency_hz_e` then,
 /// the frequency of the largest magnitude `ridge_omega_r` and `ridge_frequency_hz`, and their
 /// ratio `ridge_ratio` = ω_r/ω_e, 0.5 on a 1:2 response, empty where ω_e is 0). Returns the
@@ -544,24 +559,19 @@ pub fn state_history_bytes(
 pub fn scalogram_csv(
     sc: &crate::analysis::orbit::scalogram::Scalogram,
     s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
-    device: &Device,
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
     write_atomic(path, |w| {
-        w.write_record([
-            "tau",
-            "time_s",
-            "omega_r",
-            "frequency_hz",
-            "magnitude_stretch",
-        ])?;
+        let magnitude = columns.in_unit("magnitude");
+        w.write_record(["tau", "time_s", "omega_r", "frequency_hz", &magnitude])?;
         for (c, &tau) in sc.times.iter().enumerate() {
             for (row, &omega_r) in sc.magnitude.iter().zip(&sc.frequencies) {
                 w.write_record([
                     num(tau),
-                    num(device.seconds(tau)),
+                    columns.seconds(tau),
                     num(omega_r),
-                    num(device.hz(omega_r)),
+                    columns.hz(omega_r),
                     num(row[c]),
                 ])?;
             }
@@ -582,11 +592,11 @@ pub fn scalogram_csv(
         for ((&tau, &ridge), &omega_e) in sc.times.iter().zip(&sc.ridge).zip(&forcing) {
             w.write_record([
                 num(tau),
-                num(device.seconds(tau)),
+                columns.seconds(tau),
                 num(omega_e),
-                num(device.hz(omega_e)),
+                columns.hz(omega_e),
                 num(ridge),
-                num(device.hz(ridge)),
+                columns.hz(ridge),
                 // no ratio where the forcing is at ω_e = 0 (a sweep up from rest), or so near
                 // it that the ratio overflows
                 opt(Some(ridge / omega_e).filter(|r| r.is_finite())),
@@ -597,38 +607,35 @@ pub fn scalogram_csv(
     Ok(written(path, &["ridge"]))
 }
 
-/// One row per sample of a chirp sweep (τ and the time in seconds on `device`), with the
-/// envelope (max − min of λ_I over the sample's window) beside it; beside the samples, one
-/// row per located jump of the envelope (`A.jumps.csv`: `jump, direction, window, tau,
-/// time_s, omega, frequency_hz`, the envelope before and after) and one row of extremes
-/// (`A.extremes.csv`: the largest envelope with its τ and ω_e, λ_I's least and greatest
-/// values, and where the mass met a frame, empty if it did not). Returns the files written,
-/// `path` first.
+/// One row per sample of a chirp sweep (τ and the time in seconds on the device), the output
+/// (`lambda_stretch`, a written model's under its name), with the envelope (max − min of the
+/// output over the sample's window, `envelope_amplitude_stretch`, a written model's
+/// `envelope_amplitude`) beside it; beside the samples, one row per located jump of the
+/// envelope (`A.jumps.csv`: `jump, direction, window, tau, time_s, omega, frequency_hz`, the
+/// envelope before and after) and one row of extremes (`A.extremes.csv`: the largest envelope
+/// with its τ and ω_e, the output's least and greatest values, and where the trajectory
+/// collided, empty if it did not). Seconds and Hz are empty without a device. Returns the
+/// files written, `path` first.
 pub fn chirp_csv(
     s: &crate::analysis::orbit::chirp_sweep::ChirpSweep,
-    device: &Device,
+    columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
     let per_window = s.window_samples.max(1);
+    let envelope = columns.in_unit("envelope_amplitude");
     write_atomic(path, |w| {
-        w.write_record([
-            "tau",
-            "time_s",
-            "omega",
-            "frequency_hz",
-            "lambda_stretch",
-            "envelope_amplitude_stretch",
-        ])?;
+        let output = columns.in_unit(&columns.output);
+        w.write_record(["tau", "time_s", "omega", "frequency_hz", &output, &envelope])?;
         for (j, (&lambda, &omega)) in s.lambda.iter().zip(&s.omega).enumerate() {
-            let envelope = s.envelope.get(j / per_window).map_or(0.0, |e| e[2]);
+            let amplitude = s.envelope.get(j / per_window).map_or(0.0, |e| e[2]);
             let tau = j as f64 * s.dt;
             w.write_record([
                 num(tau),
-                num(device.seconds(tau)),
+                columns.seconds(tau),
                 num(omega),
-                num(device.hz(omega)),
+                columns.hz(omega),
                 num(lambda),
-                num(envelope),
+                num(amplitude),
             ])?;
         }
         Ok(())
@@ -643,8 +650,8 @@ pub fn chirp_csv(
             "time_s",
             "omega",
             "frequency_hz",
-            "envelope_amplitude_stretch_before",
-            "envelope_amplitude_stretch_after",
+            &format!("{envelope}_before"),
+            &format!("{envelope}_after"),
         ])?;
         for (id, j) in found.jumps.iter().enumerate() {
             w.write_record([
@@ -652,9 +659,9 @@ pub fn chirp_csv(
                 j.direction.as_str().into(),
                 j.window.to_string(),
                 num(j.tau),
-                num(device.seconds(j.tau)),
+                columns.seconds(j.tau),
                 num(j.omega),
-                num(device.hz(j.omega)),
+                columns.hz(j.omega),
                 num(j.amplitude_before),
                 num(j.amplitude_after),
             ])?;
@@ -662,14 +669,15 @@ pub fn chirp_csv(
         Ok(())
     })?;
     write_atomic(&beside(path, "extremes"), |w| {
+        let output = &columns.output;
         w.write_record([
-            "peak_envelope_amplitude_stretch",
+            &format!("peak_{envelope}"),
             "peak_tau",
             "peak_time_s",
             "peak_omega",
             "peak_frequency_hz",
-            "lambda_min",
-            "lambda_max",
+            &format!("{output}_min"),
+            &format!("{output}_max"),
             "collision_tau",
             "collision_time_s",
             "collision_omega",
@@ -679,15 +687,15 @@ pub fn chirp_csv(
         w.write_record([
             num(found.peak_amplitude),
             num(found.peak_tau),
-            num(device.seconds(found.peak_tau)),
+            columns.seconds(found.peak_tau),
             num(found.peak_omega),
-            num(device.hz(found.peak_omega)),
+            columns.hz(found.peak_omega),
             num(found.lambda_min),
             num(found.lambda_max),
             opt(c.map(|c| c.tau)),
-            opt(c.map(|c| device.seconds(c.tau))),
+            c.map_or(String::new(), |c| columns.seconds(c.tau)),
             opt(c.map(|c| c.omega)),
-            opt(c.map(|c| device.hz(c.omega))),
+            c.map_or(String::new(), |c| columns.hz(c.omega)),
         ])?;
         Ok(())
     })?;

@@ -26,9 +26,10 @@ use crate::analysis::continuation::model::Continuable;
 use crate::analysis::global::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
 use crate::analysis::global::family::{FamilyMember, FamilySpec, family_member};
 use crate::analysis::global::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
+use crate::analysis::global::oscillator::chirp::written_chirp_sweep;
 use crate::analysis::global::oscillator::history::state_history;
 use crate::analysis::global::stepped_sweep::{SweepFindings, stepped_sweep};
-use crate::analysis::orbit::chirp_sweep::chirp_sweep;
+use crate::analysis::orbit::chirp_sweep::{ChirpSpec, ChirpSweep, chirp_sweep};
 use crate::analysis::orbit::force_curve::force_curves;
 use crate::analysis::orbit::scalogram::scalogram;
 use crate::analysis::orbit::time_history::time_history;
@@ -989,9 +990,30 @@ impl Single for EquationSystem {
                 export::stepped_csv(&swept, &found, columns, csv)?;
                 Ok(Vec::new())
             }
+            Settings::ChirpSweep(spec) => {
+                let s = written_chirp_sweep(sys, spec, progress.cancel_flag(), |_| {})?;
+                chirp_outputs(&s, spec, columns, csv)
+            }
             other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
         }
     }
+}
+
+/// A chirp sweep's tables, and its scalogram's where `spec` asks for it.
+fn chirp_outputs(
+    s: &ChirpSweep,
+    spec: &ChirpSpec,
+    columns: &export::ModelColumns,
+    csv: &Path,
+) -> anyhow::Result<Vec<String>> {
+    finite(s, "the chirp sweep")?;
+    export::chirp_csv(s, columns, csv)?;
+    if let Some(spec) = &spec.scalogram {
+        let sc = scalogram(&s.lambda, s.dt, spec)?;
+        finite(&sc, "the scalogram")?;
+        export::scalogram_csv(&sc, s, columns, &export::beside(csv, "scalogram"))?;
+    }
+    Ok(Vec::new())
 }
 
 /// The built-in model's analyses that have no chunks.
@@ -1018,14 +1040,7 @@ impl Single for Params {
             }
             Settings::ChirpSweep(spec) => {
                 let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
-                finite(&s, "the chirp sweep")?;
-                export::chirp_csv(&s, &device, csv)?;
-                if let Some(spec) = &spec.scalogram {
-                    let sc = scalogram(&s.lambda, s.dt, spec)?;
-                    finite(&sc, "the scalogram")?;
-                    export::scalogram_csv(&sc, &s, &device, &export::beside(csv, "scalogram"))?;
-                }
-                Ok(Vec::new())
+                chirp_outputs(&s, spec, columns, csv)
             }
             Settings::SteppedSweep(spec) => {
                 let start = params.grid_start([spec.dx0, spec.v0]);

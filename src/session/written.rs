@@ -21,9 +21,9 @@ pub enum ModelPoint {
     Written(EquationSystem),
 }
 
-/// The kinds only the built-in DEA runs (its force curves and chirp sweeps); a written model
-/// runs every other kind.
-pub const DEA_ONLY_KINDS: [&str; 2] = ["force_curve", "chirp_sweep"];
+/// The kinds only the built-in DEA runs (its force curves); a written model runs every other
+/// kind.
+pub const DEA_ONLY_KINDS: [&str; 1] = ["force_curve"];
 
 /// Whether `text`'s `[model]` writes equations (has `states`).
 pub fn writes_equations(table: &toml::Table) -> bool {

@@ -1809,6 +1809,46 @@ dx = { min = -0.5, max = 0.5, points = 2 }
 v = { min = -0.5, max = 0.5, points = 2 }
 "#;
 
+/// A written model's chirp sweep, added with `:add`, runs in the workbench: swept from half
+/// the model's frequency to twice it, its envelope drawn under the model's names (no ω, τ or
+/// Δλ), and its scalogram computed with `w`.
+#[test]
+fn a_written_models_chirp_sweep_runs_and_draws() {
+    let (_dir, path) = fixture("written-chirp", WRITTEN_LAG);
+    let mut app = app(&path, ColorMode::None);
+    command(&mut app, "add chirp_sweep sweep");
+    assert_eq!(app.session.analyses.len(), 2);
+    let Settings::ChirpSweep(spec) = &app.session.analyses[1].settings else {
+        panic!("a chirp sweep");
+    };
+    assert_eq!((spec.omega_start, spec.omega_end), (0.6, 2.4));
+    app.selected = 1;
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    assert_eq!(app.status_of(1), ResultStatus::Complete);
+    let Some(ResultView::Chirp(view)) = app.view() else {
+        panic!("no chirp view");
+    };
+    assert_eq!(view.lambda.len(), 240_001);
+    let screen = draw(&app, 120, 40);
+    assert!(
+        screen.contains("envelope of x")
+            && screen.contains("▸ sweep: omega 0.600")
+            && !screen.contains('ω')
+            && !screen.contains('Δ'),
+        "{screen}"
+    );
+    app.focus = Focus::Plot;
+    key(&mut app, KeyCode::Char('w'));
+    settle(&mut app);
+    let Some(ResultView::Chirp(view)) = app.view() else {
+        panic!("no chirp view");
+    };
+    assert!(app.scalogram("sweep", view).is_some(), "the scalogram");
+    let screen = draw(&app, 120, 40);
+    assert!(screen.contains("▸ t 0  omega 0.600"), "{screen}");
+}
+
 /// On a written model, Enter on a response integrates the orbit from the response's whole
 /// stroboscopic state (its lag state too, kept in the result's `start_` columns), at the
 /// point's ω, and the orbit is that response; `e` exports it as the model's time history.

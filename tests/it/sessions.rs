@@ -508,8 +508,9 @@ fn numbers_read_back_from_a_csv_are_the_ones_computed() {
 
 /// The paper's model written as equations (`sessions/user_model_paper.toml`) gives the
 /// built-in model's results through the session path: the same responses (type, hidden flag,
-/// share of starts, branch) at each ω_e with amplitudes within 1e-7, and the same basin label
-/// in every cell with the same attractor counts.
+/// share of starts, branch) at each ω_e with amplitudes within 1e-7, the same basin label
+/// in every cell with the same attractor counts, and the same chirp sweep (samples within
+/// 1e-6, its scalogram's magnitudes within 1e-5 of the largest) under the model's names.
 #[test]
 fn the_paper_model_written_as_equations_gives_the_built_in_results() {
     let dir = scratch("written");
@@ -535,6 +536,16 @@ model = { omega = 3.7 }
 [analysis.settings]
 dx = { min = -0.8, max = 0.8, points = 9 }
 v = { min = -1.0, max = 1.0, points = 11 }
+
+[[analysis]]
+name = "chirp"
+kind = "chirp_sweep"
+[analysis.settings]
+omega_start = 1.0
+omega_end = 2.5
+span = 400.0
+dx0 = 0.1
+scalogram = { frequencies = { min = 0.5, max = 5.0, points = 10 }, columns = 50 }
 "#;
     let built_in = format!("schema = 1\n[model]\nadr = 0.6\ne_a = 0.04\n{analyses}");
     let written = format!("schema = 1\n{model}\n{analyses}");
@@ -554,7 +565,21 @@ v = { min = -1.0, max = 1.0, points = 11 }
             read("response.csv"),
             read("basin.csv"),
             read("basin.attractors.csv"),
+            [
+                read("chirp.csv"),
+                read("chirp.scalogram.csv"),
+                read("chirp.extremes.csv"),
+            ],
         ));
+        // the workbench reads the sweep back, under either model's names
+        let chirp = session.analyses.iter().find(|a| a.name == "chirp").unwrap();
+        let Ok(isola::session::results::ResultView::Chirp(view)) =
+            isola::session::results::current_view(&session, chirp)
+        else {
+            panic!("{name}: the chirp reads back as a chirp");
+        };
+        assert_eq!(view.lambda.len(), 8001, "{name}");
+        assert_eq!(view.envelope.len(), 21, "{name}");
     }
     let key = |r: &std::collections::HashMap<String, String>| {
         [
@@ -596,6 +621,42 @@ v = { min = -1.0, max = 1.0, points = 11 }
         b.2.len() >= 2,
         "the basin shows the 1:1 response and the 1:2 isola"
     );
+    // the chirp: λ_I as `lambda_I`, its envelope as `envelope_amplitude`, no seconds or Hz
+    let [samples_b, cells_b, extremes_b] = &b.3;
+    let [samples_w, cells_w, extremes_w] = &w.3;
+    let number = |r: &std::collections::HashMap<String, String>, c: &str| -> f64 {
+        r[c].parse().unwrap_or_else(|_| panic!("{c} in {r:?}"))
+    };
+    assert_eq!(samples_b.len(), samples_w.len());
+    for (rb, rw) in samples_b.iter().zip(samples_w) {
+        assert_eq!((&rb["tau"], &rb["omega"]), (&rw["tau"], &rw["omega"]));
+        assert!(rw["time_s"].is_empty() && rw["frequency_hz"].is_empty());
+        let (x, y) = (number(rb, "lambda_stretch"), number(rw, "lambda_I"));
+        assert!((x - y).abs() < 1e-6, "τ {}: {x} {y}", rb["tau"]);
+        let (x, y) = (
+            number(rb, "envelope_amplitude_stretch"),
+            number(rw, "envelope_amplitude"),
+        );
+        assert!((x - y).abs() < 2e-6, "τ {}: {x} {y}", rb["tau"]);
+    }
+    let largest = cells_b
+        .iter()
+        .map(|r| number(r, "magnitude_stretch"))
+        .fold(0.0, f64::max);
+    assert_eq!(cells_b.len(), cells_w.len());
+    for (rb, rw) in cells_b.iter().zip(cells_w) {
+        let (x, y) = (number(rb, "magnitude_stretch"), number(rw, "magnitude"));
+        assert!((x - y).abs() < 1e-5 * largest, "{x} {y}");
+    }
+    let (eb, ew) = (&extremes_b[0], &extremes_w[0]);
+    assert_eq!(eb["peak_omega"], ew["peak_omega"]);
+    for (c_b, c_w) in [
+        ("lambda_min", "lambda_I_min"),
+        ("lambda_max", "lambda_I_max"),
+        ("peak_envelope_amplitude_stretch", "peak_envelope_amplitude"),
+    ] {
+        assert!((number(eb, c_b) - number(ew, c_w)).abs() < 2e-6, "{c_b}");
+    }
 }
 
 /// A written model's mistakes name the key, line and column, and the token or name; a value
@@ -686,8 +747,31 @@ fn a_written_model_gets_clear_errors() {
         ),
         (
             "kind = \"time_history\"",
+            "kind = \"force_curve\"",
+            "a written model runs time_history, chirp_sweep, stepped_sweep",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"force_curve\"",
+            "(force curves are the built-in DEA's own)",
+        ),
+        // a written model's chirp: its frequency parameter swept, above 0 and in its range
+        (
+            "kind = \"time_history\"",
             "kind = \"chirp_sweep\"",
-            "a written model runs",
+            "omega_start = 0 is out of range: allowed > 0 (the forcing frequency) (as omega)",
+        ),
+        (
+            "kind = \"time_history\"",
+            "kind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 0.5\nomega_end = -1",
+            "omega_end = -1 is out of range: allowed > 0 (the forcing frequency) (as omega)",
+        ),
+        // and its time read as the sweep's phase: only as k·ω·t inside a periodic function
+        (
+            "cos(omega*t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"",
+            "cos(omega*t)*exp(-t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 0.5\nomega_end = 2",
+            "a model whose time t enters only as k*omega*t (k a whole number, plus a fixed phase) \
+             inside sin, cos or tan: a chirp sweep reads omega*t as its phase",
         ),
         (
             "kind = \"time_history\"",
@@ -722,6 +806,18 @@ fn a_written_model_gets_clear_errors() {
         let e = error_of(&text);
         assert!(e.contains(want), "{from} → {to}: {e}");
     }
+    // a chirp stays in its frequency parameter's range
+    let ranged = good
+        .replace("omega = 1.0", "omega = { value = 1.0, min = 0.5, max = 3 }")
+        .replace(
+            "kind = \"time_history\"",
+            "kind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 0.5\nomega_end = 4",
+        );
+    let e = error_of(&ranged);
+    assert!(
+        e.contains("omega_end = 4 is out of range: allowed [0.5, 3] (as omega)"),
+        "{e}"
+    );
     // a parameter is the model's own by its name: `w` or `damping` is no other name for
     // the forcing frequency or the built-in model's damping
     for name in ["w", "damping", "ea"] {

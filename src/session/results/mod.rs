@@ -373,7 +373,8 @@ impl Columns {
     }
 
     /// A written model's columns also under the built-in model's names, which the readers
-    /// use (see [`super::export::ModelColumns`]): `amplitude` as `amplitude_stretch`, the
+    /// use (see [`super::export::ModelColumns`]): `amplitude` as `amplitude_stretch` (and
+    /// `envelope_amplitude` as `envelope_amplitude_stretch`), the
     /// output's extremes after it as `lambda_min` and `lambda_max`, the grid's Poincaré
     /// columns as `poincare_lambda` and `poincare_v`, a basin's offsets as `dx_stretch` and
     /// `v_per_tau`.
@@ -390,7 +391,7 @@ impl Columns {
         };
         let name_of = |i: usize| by_index.get(i).map(|(_, n)| n.as_str()).unwrap_or("");
         for (i, name) in &by_index {
-            for stem in ["", "largest_", "peak_"] {
+            for stem in ["", "largest_", "peak_", "envelope_"] {
                 if *name == format!("{stem}amplitude") {
                     add(&format!("{stem}amplitude_stretch"), *i, map);
                 }
@@ -566,6 +567,11 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
         }
         Settings::ChirpSweep(_) => {
             let mut s = ChirpView::default();
+            // a written model's output under its name, after τ, time, ω and Hz
+            let output = match c.0.contains_key("lambda_stretch") {
+                true => "lambda_stretch".to_string(),
+                false => c.name_at(4)?,
+            };
             let mut last_envelope = f64::NAN;
             for (j, r) in rows.iter().enumerate() {
                 let omega = c.f64(r, "omega")?;
@@ -578,7 +584,7 @@ fn read_csv_view(settings: &Settings, paths: &ResultPaths) -> anyhow::Result<Res
                     last_envelope = envelope;
                 }
                 s.omega.push(omega);
-                s.lambda.push(c.f64(r, "lambda_stretch")?);
+                s.lambda.push(c.f64(r, &output)?);
             }
             ResultView::Chirp(s)
         }

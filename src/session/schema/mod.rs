@@ -35,6 +35,7 @@ use crate::analysis::orbit::force_curve::ForceCurveSpec;
 use crate::analysis::orbit::scalogram::ScalogramSpec;
 use crate::analysis::orbit::time_history::TimeHistorySpec;
 use crate::analysis::resolution::{Integrators, ResolutionSetting};
+use crate::model::equations::chirped::ChirpedSystem;
 use crate::model::error::check_in;
 use crate::model::{Device, ParamError, ParamSpec, Params, limits};
 
@@ -536,8 +537,8 @@ impl Session {
                         .filter(|kind| !DEA_ONLY_KINDS.contains(kind))
                         .collect();
                     return Err(syntax(format!(
-                        "analysis '{}' ({}): a written model runs {} (force curves and chirp \
-                         sweeps are the built-in DEA's own)",
+                        "analysis '{}' ({}): a written model runs {} (force curves are the \
+                         built-in DEA's own)",
                         raw.name,
                         raw.kind,
                         runs.join(", ")
@@ -857,7 +858,13 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
         }
         Settings::ChirpSweep(s) => {
             start(s.dx0, s.v0)?;
-            s.validate()
+            match point {
+                ModelPoint::BuiltIn(_) => s.validate(),
+                ModelPoint::Written(sys) => {
+                    s.validate_settings()?;
+                    ChirpedSystem::new(sys, s.sweep(), s.dt).map(drop)
+                }
+            }
         }
         Settings::SteppedSweep(s) => {
             start(s.dx0, s.v0)?;

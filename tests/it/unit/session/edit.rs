@@ -57,14 +57,17 @@ fn bad_edits_are_refused_and_change_nothing() {
 
 /// A family or a map added to a session that writes its model varies the model's first
 /// parameter but its frequency, around its value and within its range (the built-in's ADR
-/// is not the model's).
+/// is not the model's); a chirp sweeps its frequency from half its value to twice it, within
+/// its range (not from 0, the built-in's default, which a written model refuses).
 #[test]
 fn a_family_or_map_added_to_a_written_model_varies_its_own_parameter() {
     let text = "schema = 1\n[model]\nstates = [\"x\", \"v\"]\nfrequency = \"omega\"\namplitude = \"x\"\n[model.parameters]\nomega = 1.0\nk = { value = 2, min = 1.5, max = 10 }\n[model.derivatives]\nx = \"v\"\nv = \"-k*x - 0.1*v + cos(omega*t)\"\n";
     let mut s = Session::parse(std::path::Path::new("t.toml"), text).unwrap();
     s.add_analysis("family", "f").unwrap();
     s.add_analysis("map", "m").unwrap();
+    s.add_analysis("chirp_sweep", "c").unwrap();
     let out = s.to_text();
+    assert!(out.contains("omega_start = 0.5\nomega_end = 2.0"), "{out}");
     assert!(
         out.contains("parameter = \"k\"\nvalues = [1.5, 2.0, 3.0]"),
         "{out}"
