@@ -42,23 +42,7 @@ pub fn written_chirp_sweep(
     let first = GeneralRk4::with_steps(&chirped, 2 * least).start(&mut chirped, &x[..dim]);
     let mut lambda = Vec::with_capacity(spec.samples());
     lambda.push(chirped.output(0.0, &first.x, first.mode).0);
-    let mut collision_tau = None;
-    match first.stop {
-        Some(Stop::Collision { tau, .. }) => collision_tau = Some(tau),
-        Some(Stop::NonFinite {
-            tau,
-            state,
-            expression,
-        }) => {
-            return Err(AnalysisError::not_finite(
-                &chirped,
-                tau,
-                &state,
-                &expression,
-            ));
-        }
-        None => {}
-    }
+    let mut collision_tau = stopped_at(&chirped, first.stop)?;
     let mut sampler = Sampler::new(
         chirped.clone(),
         1,
@@ -72,10 +56,11 @@ pub fn written_chirp_sweep(
         spec.samples() - 1
     };
     for j in 0..intervals as u64 {
+        // every sample: one may take up to 2²¹ steps where the model's slope has no bound
+        if cancel.load(Ordering::Relaxed) {
+            return Err(AnalysisError::Cancelled);
+        }
         if j % 256 == 0 {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(AnalysisError::Cancelled);
-            }
             on_progress(j as f64 / intervals as f64);
         }
         let fine = sampler
@@ -92,26 +77,25 @@ pub fn written_chirp_sweep(
             lambda.push(chirped.output(*tau, state, *mode).0);
             x = *state;
         }
-        match fine.stop {
-            Some(Stop::Collision { tau, .. }) => {
-                collision_tau = Some(tau);
-                break;
-            }
-            Some(Stop::NonFinite {
-                tau,
-                state,
-                expression,
-            }) => {
-                return Err(AnalysisError::not_finite(
-                    &chirped,
-                    tau,
-                    &state,
-                    &expression,
-                ));
-            }
-            None => {}
+        collision_tau = stopped_at(&chirped, fine.stop)?;
+        if collision_tau.is_some() {
+            break;
         }
     }
     on_progress(1.0);
     Ok(spec.recorded(lambda, collision_tau))
+}
+
+/// Where `stop` ended the sweep: τ of a collision (none where it did not stop), or the error
+/// of a value that is not finite.
+fn stopped_at(sys: &impl System, stop: Option<Stop>) -> Result<Option<f64>, AnalysisError> {
+    match stop {
+        Some(Stop::Collision { tau, .. }) => Ok(Some(tau)),
+        Some(Stop::NonFinite {
+            tau,
+            state,
+            expression,
+        }) => Err(AnalysisError::not_finite(sys, tau, &state, &expression)),
+        None => Ok(None),
+    }
 }

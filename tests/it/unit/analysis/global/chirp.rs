@@ -10,11 +10,17 @@ use isola::model::Sweep;
 
 /// x'' + c x' + x = F ω² cos(ωt) (a base excitation), as a session writes it.
 fn base_excited(c: f64, f: f64) -> isola::model::equations::EquationSystem {
+    base_excited_until(c, f, "")
+}
+
+/// The same, its trajectories ended by `collision` (`"x >= 0.3"`, or none).
+fn base_excited_until(c: f64, f: f64, collision: &str) -> isola::model::equations::EquationSystem {
     crate::common::written(&format!(
         r#"[model]
 states = ["x", "v"]
 frequency = "w"
 amplitude = "x"
+collision = [{collision}]
 [model.parameters]
 w = {{ value = 1.0, min = 0.01, max = 100.0 }}
 [model.derivatives]
@@ -101,6 +107,39 @@ fn a_written_sweep_is_the_swept_equations() {
     assert_eq!(swept.omega[0], 0.4);
     assert!((swept.omega.last().unwrap() - 1.8).abs() < 1e-12);
     assert_eq!(swept.window_samples, 200);
+}
+
+/// A sweep into a collision stops there: its record ends at the last sample before it, and
+/// the collision's τ is the swept equations' first crossing (within 1e-6: the crossing is
+/// located within its step).
+#[test]
+fn a_written_sweep_stops_at_its_collision() {
+    let (c, f) = (0.1, 0.05);
+    let spec = ChirpSpec {
+        omega_start: 0.4,
+        omega_end: 1.8,
+        span: 300.0,
+        dt: 0.05,
+        window: 10.0,
+        ..ChirpSpec::default()
+    };
+    let sys = base_excited_until(c, f, "\"x >= 0.3\"");
+    let swept = written_chirp_sweep(&sys, &spec, &AtomicBool::new(false), |_| {}).unwrap();
+    let tau = swept.collision_tau.expect("a collision");
+    let sweep = spec.sweep();
+    // the swept equations sampled every 1e-3: the first crossing, interpolated linearly
+    let h = 1e-3;
+    let fine = swept_reference(c, f, sweep, |t| sweep.phase_at(t), h, h);
+    let k = fine
+        .iter()
+        .position(|&x| x >= 0.3)
+        .expect("the reference crosses");
+    let crossing = (k - 1) as f64 * h + h * (0.3 - fine[k - 1]) / (fine[k] - fine[k - 1]);
+    assert!((tau - crossing).abs() < 1e-6, "{tau} against {crossing}");
+    assert_eq!(swept.lambda.len(), (tau / spec.dt).floor() as usize + 1);
+    assert!(swept.lambda.iter().all(|&x| x < 0.3));
+    let found = swept.findings.collision.expect("the collision found");
+    assert_eq!((found.tau, found.omega), (tau, sweep.omega_at(tau)));
 }
 
 /// The paper's model written as equations (`sessions/user_model_paper.toml`) at `adr`.
