@@ -4,11 +4,17 @@
 //! must give the interpreter's values bit for bit (every tape, one lane and `NATIVE_LANES`,
 //! each kink held or free), and the plain step compiled for `NATIVE_LANES` lanes (AVX2 code
 //! where the processor has it) each lane's own compiled step; a few periods in lanes, each
-//! lane's trajectory alone.
+//! lane's trajectory alone; a short chirp sweep.
 
 #![no_main]
 
+use std::sync::atomic::AtomicBool;
+
 use libfuzzer_sys::fuzz_target;
+
+use isola::analysis::global::oscillator::chirp::written_chirp_sweep;
+use isola::analysis::orbit::chirp_sweep::ChirpSpec;
+use isola::solver::Tolerance;
 
 use isola::model::equations::lanes::{EquationLanes, LaneTimes};
 use isola::model::equations::tape::{NATIVE_LANES, Tape};
@@ -153,6 +159,21 @@ fuzz_target!(|data: &[u8]| {
     if Tape::native_enabled() {
         step_in_lanes(&mut sys, data);
     }
+    // a short chirp (the model's frequency swept, its time read as the sweep's phase) where
+    // the model's time is periodic: a record or an error, never a panic or a hang
+    let chirp = ChirpSpec {
+        omega_start: 0.5,
+        omega_end: 2.0,
+        span: 20.0,
+        dt: 0.5,
+        window: 5.0,
+        tolerance: Tolerance {
+            rtol: 1e-4,
+            atol: 1e-6,
+        },
+        ..ChirpSpec::default()
+    };
+    let _ = written_chirp_sweep(&sys, &chirp, &AtomicBool::new(false), |_| {});
     // a few periods from a few starts: a value or a stop, never a panic or a hang; in lanes,
     // each lane's the trajectory's alone, bit for bit
     let rk = GeneralRk4::with_steps(&sys, 16);
