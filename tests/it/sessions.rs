@@ -770,8 +770,9 @@ fn a_written_model_gets_clear_errors() {
         (
             "cos(omega*t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"time_history\"",
             "cos(omega*t)*exp(-t)\"\n\n[[analysis]]\nname = \"h\"\nkind = \"chirp_sweep\"\n[analysis.settings]\nomega_start = 0.5\nomega_end = 2",
-            "a model whose time t enters only as k*omega*t (k a whole number, plus a fixed phase) \
-             inside sin, cos or tan: a chirp sweep reads omega*t as its phase",
+            "analysis 'h' (chirp_sweep): a chirp sweep reads omega*t as the sweep's phase, so \
+             the model's time t may enter only as k*omega*t (k a whole number, plus a fixed \
+             phase) inside sin, cos or tan; this model uses t otherwise",
         ),
         (
             "kind = \"time_history\"",

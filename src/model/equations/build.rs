@@ -265,6 +265,13 @@ impl EquationModel {
         &self.inner.parameters[self.inner.frequency].name
     }
 
+    /// Whether its time enters only as k·ω·t plus a fixed phase inside `sin`, `cos` or `tan`
+    /// ([`super::graph::Graph::periodic_in_time`]): so it repeats with the forcing period,
+    /// and a chirp can read ω·t as its phase.
+    pub fn periodic_in_time(&self) -> bool {
+        self.inner.periodic
+    }
+
     /// Indices of the two states the grids span.
     pub fn grid(&self) -> [usize; 2] {
         self.inner.grid

@@ -30,7 +30,7 @@ impl ChirpedSystem {
     /// range or not above 0 (named `omega_start` or `omega_end`).
     pub fn new(sys: &EquationSystem, sweep: Sweep, sample: f64) -> Result<Self, ParamError> {
         let model = sys.model();
-        if !model.inner.periodic {
+        if !model.periodic_in_time() {
             return Err(ParamError {
                 field: "model".into(),
                 value: ParamError::NOT_NUMERIC,

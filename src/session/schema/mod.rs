@@ -544,6 +544,16 @@ impl Session {
                         runs.join(", ")
                     )));
                 }
+                if raw.kind == "chirp_sweep" && !w.model.periodic_in_time() {
+                    return Err(syntax(format!(
+                        "analysis '{}' (chirp_sweep): a chirp sweep reads {omega}*t as the \
+                         sweep's phase, so the model's time t may enter only as k*{omega}*t (k \
+                         a whole number, plus a fixed phase) inside sin, cos or tan; this model \
+                         uses t otherwise",
+                        raw.name,
+                        omega = w.model.frequency_name()
+                    )));
+                }
                 if let Some(e) = w.unknown_override(&values) {
                     return Err(syntax(format!("analysis '{}' model: {e}", raw.name)));
                 }
