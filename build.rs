@@ -22,13 +22,17 @@ fn main() {
         .is_some_and(|o| !o.stdout.is_empty());
     let suffix = if dirty { "-modified" } else { "" };
     println!("cargo:rustc-env=ISOLA_COMMIT={commit}{suffix}");
-    for path in [
-        ".git/HEAD",
-        ".git/index",
-        ".git/refs/heads",
-        ".git/packed-refs",
-    ] {
-        if std::path::Path::new(path).exists() {
+    // the files a commit, a checkout or a staged change rewrites, where git keeps them (in a
+    // worktree or a separate git dir too): a path not found would make cargo run this
+    // script, and rebuild isola, every time
+    for name in ["HEAD", "index", "refs/heads", "packed-refs"] {
+        let path = Command::new("git")
+            .args(["rev-parse", "--git-path", name])
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+        if let Some(path) = path.filter(|p| std::path::Path::new(p).exists()) {
             println!("cargo:rerun-if-changed={path}");
         }
     }
