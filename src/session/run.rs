@@ -968,7 +968,7 @@ impl Single for EquationSystem {
         let sys = self;
         match settings {
             Settings::TimeHistory(spec) => {
-                let h = state_history(sys, spec)?;
+                let h = state_history(sys, spec, progress.cancel_flag())?;
                 finite(&h, "the time history")?;
                 let bytes = export::state_history_bytes(&h, sys.model().grid())?;
                 super::output::write_output(csv, &bytes, &super::output::Protected::none())?;

@@ -323,7 +323,9 @@ fn start(threads: usize, work: Work) -> Result<Job<Output>, JobError> {
         }
         Work::Orbit { model, spec } => {
             ctx.progress.grow_total(1);
-            let (h, view) = integrate(&model, &spec).map_err(JobError::Failed)?;
+            let integrated = integrate(&model, &spec, ctx.progress.cancel_flag());
+            ctx.check_cancel()?;
+            let (h, view) = integrated.map_err(JobError::Failed)?;
             ctx.progress.add(1);
             Ok(Output::Orbit {
                 history: Box::new(h),

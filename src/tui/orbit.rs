@@ -137,10 +137,12 @@ fn whole_state(sys: &EquationSystem, values: &[f64]) -> Vector {
     x
 }
 
-/// Integrates a picked orbit: its record and its view.
+/// Integrates a picked orbit: its record and its view (a written model's recording stops at
+/// `cancel`).
 pub fn integrate(
     model: &OrbitModel,
     spec: &TimeHistorySpec,
+    cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<(OrbitHistory, HistoryView), String> {
     match model {
         OrbitModel::BuiltIn(p) => {
@@ -149,7 +151,7 @@ pub fn integrate(
             Ok((OrbitHistory::BuiltIn(h), view))
         }
         OrbitModel::Written(sys, start) => {
-            let h = state_history_from(sys, start, spec).map_err(|e| e.to_string())?;
+            let h = state_history_from(sys, start, spec, cancel).map_err(|e| e.to_string())?;
             let grid = sys.model().grid();
             let view = HistoryView::of_states(&h, grid, sys.omega());
             Ok((OrbitHistory::Written(h, grid), view))

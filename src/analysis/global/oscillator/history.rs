@@ -5,6 +5,8 @@
 //! the tolerance (1/`samples_per_period` of it: the tolerance holds for each forcing period),
 //! the fine run at least 4× the classification's steps.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use serde::Serialize;
 
 use super::written::steady_state_of;
@@ -54,12 +56,14 @@ pub struct HistoryCollision {
 }
 
 /// Records the orbit of `sys` from the grid offset (`dx0`, `v0`): the transient (at most
-/// `max_transient_periods`) and `steady_periods` response periods after it.
+/// `max_transient_periods`) and `steady_periods` response periods after it; `cancel` is
+/// seen at every sample (a recording at a tight tolerance may take seconds).
 pub fn state_history(
     sys: &EquationSystem,
     spec: &TimeHistorySpec,
+    cancel: &AtomicBool,
 ) -> Result<StateHistory, AnalysisError> {
-    state_history_from(sys, &sys.grid_start([spec.dx0, spec.v0]), spec)
+    state_history_from(sys, &sys.grid_start([spec.dx0, spec.v0]), spec, cancel)
 }
 
 /// The same from the whole state `start` (a response's stroboscopic point with its internal
@@ -68,6 +72,7 @@ pub fn state_history_from(
     sys: &EquationSystem,
     start: &Vector,
     spec: &TimeHistorySpec,
+    cancel: &AtomicBool,
 ) -> Result<StateHistory, AnalysisError> {
     spec.validate()?;
     let grid = sys.model().grid();
@@ -119,6 +124,9 @@ pub fn state_history_from(
     let mut sampler = Sampler::new(sys.clone(), spp, least, MAX_STEPS_PER_PERIOD / spp, share);
     let mut x = *start;
     for j in 0..(total_periods * spp) as u64 {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(AnalysisError::Cancelled);
+        }
         let fine = sampler.interval(j, &x).map_err(|not| {
             let tau = j as f64 * period / spp as f64;
             AnalysisError::ToleranceNotMet {

@@ -1,6 +1,8 @@
 //! Unit tests of `analysis::global::oscillator::history` (a written model's time history),
 //! against the exact solution of a linear oscillator.
 
+use std::sync::atomic::AtomicBool;
+
 use isola::analysis::global::oscillator::history::{StateHistory, state_history};
 use isola::analysis::orbit::time_history::TimeHistorySpec;
 use isola::solver::Tolerance;
@@ -94,7 +96,10 @@ fn a_written_history_meets_its_tolerance_against_the_exact_solution() {
         ..TimeHistorySpec::default()
     };
     let x = exact(c, 0.5, omega, 0.3, -0.2);
-    let at_default = largest_error(&state_history(&sys, &spec).unwrap(), &x);
+    let at_default = largest_error(
+        &state_history(&sys, &spec, &AtomicBool::new(false)).unwrap(),
+        &x,
+    );
     let fine = TimeHistorySpec {
         tolerance: Tolerance {
             rtol: 1e-12,
@@ -102,7 +107,7 @@ fn a_written_history_meets_its_tolerance_against_the_exact_solution() {
         },
         ..spec.clone()
     };
-    let h = state_history(&sys, &fine).unwrap();
+    let h = state_history(&sys, &fine, &AtomicBool::new(false)).unwrap();
     let at_fine = largest_error(&h, &x);
     // the orbit's size is about 0.5: a tolerance of 1e-10 relative is 5e-11 a period, and
     // the error carried over the decaying transient stays within it
@@ -121,7 +126,7 @@ fn a_written_history_meets_its_tolerance_against_the_exact_solution() {
 #[test]
 fn a_collision_ends_the_history_where_the_exact_orbit_crosses() {
     let sys = linear(0.1, 1.0, r#""x >= 3""#);
-    let h = state_history(&sys, &TimeHistorySpec::default()).unwrap();
+    let h = state_history(&sys, &TimeHistorySpec::default(), &AtomicBool::new(false)).unwrap();
     let collision = h.collision.as_ref().expect("a collision");
     assert_eq!(collision.condition, "model.collision[0] = `x >= 3`");
     let x = exact(0.1, 0.5, 1.0, 0.0, 0.0);
@@ -164,7 +169,7 @@ fn a_collision_ends_the_history_where_the_exact_orbit_crosses() {
         dx0: 3.5,
         ..TimeHistorySpec::default()
     };
-    let h = state_history(&sys, &past).unwrap();
+    let h = state_history(&sys, &past, &AtomicBool::new(false)).unwrap();
     assert_eq!(h.samples.len(), 1);
     assert_eq!(h.collision.map(|c| c.tau), Some(0.0));
 }
@@ -190,7 +195,7 @@ fn a_branch_not_taken_past_its_switch_leaves_the_orbit_exact() {
                 v0,
                 ..TimeHistorySpec::default()
             };
-            let h = state_history(&sys, &spec).unwrap();
+            let h = state_history(&sys, &spec, &AtomicBool::new(false)).unwrap();
             assert!(h.samples.iter().any(|s| s.state[0] > 4.0), "{zero}");
             let error = largest_error(&h, &exact(0.1, 0.5, 1.0, dx0, v0));
             assert!(error < 2e-10, "{zero} from ({dx0}, {v0}): {error:e}");
@@ -226,7 +231,7 @@ v = "cos(omega*t) - 0.1*v - x - 0.01*s""#,
                 v0,
                 ..TimeHistorySpec::default()
             };
-            let h = state_history(&sys, &spec).unwrap();
+            let h = state_history(&sys, &spec, &AtomicBool::new(false)).unwrap();
             let amplitude = h.steady_state.amplitude.expect("a periodic orbit");
             // the amplitude is the output's range, max − min
             let steady = || h.samples.iter().filter(|s| s.steady).map(|s| s.state[0]);
@@ -287,4 +292,13 @@ fn a_collision_is_located_within_its_step_in_lanes_and_alone() {
         let (alone, _) = met(traj.stop.as_ref());
         assert_eq!(alone, tau, "alone {l}");
     }
+}
+
+/// A recording stops when cancelled (seen at every sample), with no record.
+#[test]
+fn a_cancelled_recording_stops() {
+    let sys = linear(0.1, 1.0, "");
+    let cancel = AtomicBool::new(true);
+    let h = state_history(&sys, &TimeHistorySpec::default(), &cancel);
+    assert_eq!(h, Err(isola::analysis::AnalysisError::Cancelled));
 }
