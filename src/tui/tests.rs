@@ -1594,6 +1594,60 @@ fn undo_and_redo_bring_back_the_results_of_their_settings() {
     assert!(std::fs::read(&csv).unwrap() == first);
 }
 
+/// A renamed analysis, and a session saved as another file, keep the results of earlier
+/// settings: an edit back to them brings the result back under the new name, computing
+/// nothing. (Before, only the current result went with them.)
+#[test]
+fn a_renamed_analysis_keeps_the_results_of_its_earlier_settings() {
+    let (dir, path) = fixture("kept-rename", RESPONSE);
+    let mut app = app(&path, ColorMode::None);
+    let said = |app: &App| {
+        app.message
+            .as_ref()
+            .map_or(String::new(), |m| m.text.clone())
+    };
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    let first = std::fs::read(ResultPaths::new(&app.session, "response").csv).unwrap();
+    command(&mut app, "set adr 1.0");
+    key(&mut app, KeyCode::Char('r'));
+    settle(&mut app);
+    let second = std::fs::read(ResultPaths::new(&app.session, "response").csv).unwrap();
+    command(&mut app, "rename renamed");
+    assert!(
+        said(&app).contains("with its result and 1 result of earlier settings"),
+        "{}",
+        said(&app)
+    );
+    let renamed = ResultPaths::new(&app.session, "renamed");
+    assert_eq!(std::fs::read(&renamed.csv).unwrap(), second);
+    let jobs = app.jobs.entries.len();
+    command(&mut app, "set adr 0.6");
+    settle(&mut app);
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert!(said(&app).contains("brought back"), "{}", said(&app));
+    assert_eq!(std::fs::read(&renamed.csv).unwrap(), first);
+    assert_eq!(
+        app.jobs.entries.len(),
+        jobs + 1,
+        "one job, computing nothing"
+    );
+    // saved as another file: its results folder has both
+    let other = dir.path().join("other.toml");
+    command(&mut app, &format!("w {}", other.display()));
+    settle(&mut app);
+    assert!(
+        said(&app).contains("with 1 result and 1 result of earlier settings"),
+        "{}",
+        said(&app)
+    );
+    command(&mut app, "set adr 1.0");
+    settle(&mut app);
+    let moved = ResultPaths::new(&app.session, "renamed");
+    assert_eq!(app.status_of(0), ResultStatus::Complete);
+    assert_eq!(std::fs::read(&moved.csv).unwrap(), second);
+}
+
 /// After an edit, the run of the new settings is drawn over the previous settings' complete
 /// result (muted) until it completes; the previous result stays on disk until then, so a
 /// cancelled run loses nothing.

@@ -111,6 +111,73 @@ pub fn bring_back(paths: &ResultPaths, fingerprint: &str) -> anyhow::Result<Opti
     Ok(Some(kept))
 }
 
+/// The results kept for `from`'s earlier settings copied as `to`'s (a copied or renamed
+/// analysis, a session saved as another file), so that they come back for it too: each
+/// verified against its manifest, its files copied under `to`'s names and checked, its
+/// manifest written last, oldest first (so they stay in the order they were kept). One that
+/// fails its checks, is of other numerics, or is kept for `to` already, is not copied; one
+/// whose copy fails is removed (and logged). Returns how many were copied.
+pub fn copy_kept(from: &ResultPaths, to: &ResultPaths) -> anyhow::Result<usize> {
+    let Ok(entries) = std::fs::read_dir(from.earlier_dir()) else {
+        return Ok(0);
+    };
+    // (another session's results folder may not be there yet)
+    std::fs::create_dir_all(&to.dir).map_err(|e| anyhow::anyhow!("{}: {e}", to.dir.display()))?;
+    let _read = Lock::acquire(&from.lock, Mode::Shared)?;
+    let _write = Lock::acquire(&to.lock, Mode::Exclusive)?;
+    let mut found: Vec<(std::time::SystemTime, PathBuf, Manifest)> = Vec::new();
+    for entry in entries.flatten() {
+        let folder = entry.path();
+        let manifest = manifest_in(from, &folder);
+        let Ok(m) = Manifest::read(&manifest) else {
+            continue;
+        };
+        let copyable = m.analysis == from.name
+            && folder.file_name().is_some_and(|f| *f == *m.fingerprint)
+            && is_fingerprint(&m.fingerprint)
+            && m.numerics == crate::analysis::NUMERICS_VERSION
+            && m.files.iter().all(|f| is_plain_name(&f.name))
+            && !is_kept(to, &m.fingerprint)
+            && m.verify_files(&folder).is_ok();
+        if let (true, Ok(written)) = (
+            copyable,
+            std::fs::metadata(&manifest).and_then(|m| m.modified()),
+        ) {
+            found.push((written, folder, m));
+        }
+    }
+    found.sort_by_key(|(written, ..)| *written);
+    let mut copied = 0;
+    for (_, folder, kept) in found {
+        let target = to.earlier(&kept.fingerprint);
+        let done = (|| -> anyhow::Result<()> {
+            std::fs::create_dir_all(&target)?;
+            let mut m = kept.clone();
+            m.analysis = to.name.clone();
+            for f in &mut m.files {
+                let name = super::copy::renamed(&f.name, &from.name, &to.name);
+                std::fs::copy(folder.join(&f.name), target.join(&name))?;
+                f.name = name;
+            }
+            m.verify_files(&target)
+                .map_err(|why| anyhow::anyhow!("changed while being copied: {why}"))?;
+            crate::session::atomic::sync_dir(&target);
+            let json = serde_json::to_vec_pretty(&m)?;
+            crate::session::atomic::write_atomic(&manifest_in(to, &target), &json)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        })();
+        match done {
+            Ok(()) => copied += 1,
+            Err(e) => {
+                tracing::warn!(folder = %target.display(), error = %format!("{e:#}"), "kept result not copied");
+                let _ = std::fs::remove_dir_all(&target);
+            }
+        }
+    }
+    prune(to);
+    Ok(copied)
+}
+
 /// Moves the stored result of manifest `stored` (to be replaced) aside as a kept result
 /// (its files are verified if it is ever brought back); a manifest of another analysis, or
 /// naming a file outside the folder, is only removed, as a replacement does. Call under the

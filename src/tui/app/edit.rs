@@ -199,21 +199,27 @@ impl App {
         paths.manifest.exists() || paths.csv.exists()
     }
 
-    /// After a copy or a rename (if `done`): the stored result of analysis `from` copied as
-    /// `to`'s, so the copy starts with it (and the session file on disk, which may still name
-    /// `from`, keeps its own). Says what became of it, to end the status message.
+    /// After a copy or a rename (if `done`): the stored result of analysis `from`, and the
+    /// results kept for its earlier settings, copied as `to`'s, so the copy starts with them
+    /// (and the session file on disk, which may still name `from`, keeps its own). Says what
+    /// became of them, to end the status message.
     fn carry_result(&self, done: bool, from: &str, to: &str) -> String {
         if !done {
             return String::new();
         }
         let dir = self.session.results_dir();
-        let from = ResultPaths::in_dir(&dir, from);
-        match isola::session::store::copy::copy_result(&from, &ResultPaths::in_dir(&dir, to)) {
-            Ok(true) => ", with its result".into(),
-            Ok(false) => String::new(),
+        let (from, to) = (
+            ResultPaths::in_dir(&dir, from),
+            ResultPaths::in_dir(&dir, to),
+        );
+        let kept = kept_words(isola::session::store::earlier::copy_kept(&from, &to));
+        match isola::session::store::copy::copy_result(&from, &to) {
+            Ok(true) => format!(", with its result{kept}"),
+            Ok(false) if kept.is_empty() => String::new(),
+            Ok(false) => format!(", with{}", kept.trim_start_matches(" and")),
             Err(e) => {
                 tracing::warn!(error = %format!("{e:#}"), "result not copied");
-                format!(" (its result not copied: {e:#})")
+                format!(" (its result not copied: {e:#}){kept}")
             }
         }
     }
@@ -389,6 +395,20 @@ impl App {
                 self.bring_back_kept();
             }
             Err(e) => self.param_error = Some(params::error_line(&e)),
+        }
+    }
+}
+
+/// ` and 2 results of earlier settings` (copied with a result), or nothing where none was;
+/// a failure is logged.
+pub(super) fn kept_words(copied: anyhow::Result<usize>) -> String {
+    match copied {
+        Ok(0) => String::new(),
+        Ok(1) => " and 1 result of earlier settings".into(),
+        Ok(n) => format!(" and {n} results of earlier settings"),
+        Err(e) => {
+            tracing::warn!(error = %format!("{e:#}"), "kept results not copied");
+            String::new()
         }
     }
 }

@@ -138,10 +138,14 @@ impl App {
         if same_file(old_dir, &new_dir) || !old_dir.is_dir() {
             return String::new();
         }
-        let (mut copied, mut failed) = (0, Vec::new());
+        let (mut copied, mut failed, mut kept) = (0, Vec::new(), 0);
         for entry in &self.session.analyses {
             let from = ResultPaths::in_dir(old_dir, &entry.name);
             let to = ResultPaths::in_dir(&new_dir, &entry.name);
+            match isola::session::store::earlier::copy_kept(&from, &to) {
+                Ok(n) => kept += n,
+                Err(e) => tracing::warn!(error = %format!("{e:#}"), "kept results not copied"),
+            }
             match isola::session::store::copy::copy_result(&from, &to) {
                 Ok(true) => copied += 1,
                 Ok(false) => {}
@@ -151,9 +155,11 @@ impl App {
                 }
             }
         }
+        let kept = super::edit::kept_words(Ok(kept));
         match (copied, failed.is_empty()) {
-            (0, true) => String::new(),
-            (n, true) => format!(" with {n} result{}", if n == 1 { "" } else { "s" }),
+            (0, true) if kept.is_empty() => String::new(),
+            (0, true) => format!(" with{}", kept.trim_start_matches(" and")),
+            (n, true) => format!(" with {n} result{}{kept}", if n == 1 { "" } else { "s" }),
             (n, false) => format!(
                 " with {n} result(s); not copied (see the log): {}",
                 failed.join(", ")
