@@ -707,6 +707,13 @@ fn the_view_is_written_as_a_figure_by_its_key_and_by_figure_file() {
 }
 
 /// Types `:` and a command line, then Enter.
+/// The status line's message, or nothing.
+fn said(app: &App) -> String {
+    app.message
+        .as_ref()
+        .map_or(String::new(), |m| m.text.clone())
+}
+
 fn command(app: &mut App, line: &str) {
     key(app, KeyCode::Char(':'));
     keys(app, line);
@@ -1534,11 +1541,6 @@ fn undo_and_redo_bring_back_the_results_of_their_settings() {
     let (_dir, path) = fixture("kept", RESPONSE);
     let mut app = app(&path, ColorMode::None);
     let csv = ResultPaths::new(&app.session, "response").csv;
-    let said = |app: &App| {
-        app.message
-            .as_ref()
-            .map_or(String::new(), |m| m.text.clone())
-    };
     key(&mut app, KeyCode::Char('r'));
     settle(&mut app);
     let first = std::fs::read(&csv).unwrap();
@@ -1601,11 +1603,6 @@ fn undo_and_redo_bring_back_the_results_of_their_settings() {
 fn a_renamed_analysis_keeps_the_results_of_its_earlier_settings() {
     let (dir, path) = fixture("kept-rename", RESPONSE);
     let mut app = app(&path, ColorMode::None);
-    let said = |app: &App| {
-        app.message
-            .as_ref()
-            .map_or(String::new(), |m| m.text.clone())
-    };
     key(&mut app, KeyCode::Char('r'));
     settle(&mut app);
     let first = std::fs::read(ResultPaths::new(&app.session, "response").csv).unwrap();
@@ -2111,11 +2108,6 @@ fn enter_on_a_failed_job_shows_its_whole_error() {
 fn an_edit_of_the_session_file_made_outside_is_loaded_or_said() {
     let (_dir, path) = fixture("outside", RESPONSE);
     let mut app = app(&path, ColorMode::Truecolor);
-    let said = |app: &App| {
-        app.message
-            .as_ref()
-            .map_or(String::new(), |m| m.text.clone())
-    };
     // no edits here: loaded, and undoable
     std::fs::write(&path, RESPONSE.replace("adr = 0.6", "adr = 0.8\n# tuned")).unwrap();
     app.notice_session_file();

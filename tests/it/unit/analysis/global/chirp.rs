@@ -70,20 +70,25 @@ fn swept_reference(
     out
 }
 
-/// The written sweep holds its tolerance against the swept equations integrated directly:
-/// ω(τ) where the model uses its frequency, and the phase θ(τ) where it uses ω·t. Reading
-/// the drive as cos(ω(τ)·τ) instead (twice the instantaneous frequency) is off by O(1).
-#[test]
-fn a_written_sweep_is_the_swept_equations() {
-    let (c, f) = (0.1, 0.05);
-    let spec = ChirpSpec {
+/// w 0.4 → 1.8 over τ 300, sampled every 0.05, through the linear oscillator's resonance.
+fn through_resonance() -> ChirpSpec {
+    ChirpSpec {
         omega_start: 0.4,
         omega_end: 1.8,
         span: 300.0,
         dt: 0.05,
         window: 10.0,
         ..ChirpSpec::default()
-    };
+    }
+}
+
+/// The written sweep holds its tolerance against the swept equations integrated directly:
+/// ω(τ) where the model uses its frequency, and the phase θ(τ) where it uses ω·t. Reading
+/// the drive as cos(ω(τ)·τ) instead (twice the instantaneous frequency) is off by O(1).
+#[test]
+fn a_written_sweep_is_the_swept_equations() {
+    let (c, f) = (0.1, 0.05);
+    let spec = through_resonance();
     let sys = base_excited(c, f);
     let swept = written_chirp_sweep(&sys, &spec, &AtomicBool::new(false), |_| {}).unwrap();
     // RK4 at h = 1e-3: its error near 1e-13 here
@@ -115,14 +120,7 @@ fn a_written_sweep_is_the_swept_equations() {
 #[test]
 fn a_written_sweep_stops_at_its_collision() {
     let (c, f) = (0.1, 0.05);
-    let spec = ChirpSpec {
-        omega_start: 0.4,
-        omega_end: 1.8,
-        span: 300.0,
-        dt: 0.05,
-        window: 10.0,
-        ..ChirpSpec::default()
-    };
+    let spec = through_resonance();
     let sys = base_excited_until(c, f, "\"x >= 0.3\"");
     let swept = written_chirp_sweep(&sys, &spec, &AtomicBool::new(false), |_| {}).unwrap();
     let tau = swept.collision_tau.expect("a collision");
