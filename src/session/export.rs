@@ -63,8 +63,6 @@ pub struct ModelColumns {
     pub grid_index: [usize; 2],
     /// The grid's two offsets from its origin (a basin's cells).
     pub offsets: [String; 2],
-    /// The amplitude (max − min of the output).
-    pub amplitude: String,
     /// The output whose extremes are `OUTPUT_min`, `OUTPUT_max`.
     pub output: String,
     /// The suffix of a value in the output's unit: `_stretch` for the built-in's λ_I.
@@ -79,7 +77,6 @@ impl ModelColumns {
             grid: ["lambda".into(), "v".into()],
             grid_index: [0, 1],
             offsets: ["dx_stretch".into(), "v_per_tau".into()],
-            amplitude: "amplitude_stretch".into(),
             output: "lambda".into(),
             unit: "_stretch",
             device: Some(*device),
@@ -99,7 +96,6 @@ impl ModelColumns {
             grid: [a, b],
             grid_index,
             states,
-            amplitude: "amplitude".into(),
             output: if is_name {
                 output.to_string()
             } else {
@@ -121,7 +117,7 @@ impl ModelColumns {
         ]
         .map(String::from)
         .to_vec();
-        c.push(self.amplitude.clone());
+        c.push(self.amplitude());
         c.push(format!("{}_min", self.output));
         c.push(format!("{}_max", self.output));
         c
@@ -161,6 +157,12 @@ impl ModelColumns {
     /// τ in seconds on the device, empty without one.
     fn seconds(&self, tau: f64) -> String {
         self.device.map_or(String::new(), |d| num(d.seconds(tau)))
+    }
+
+    /// The amplitude's column (max − min of the output): `amplitude_stretch`, a written
+    /// model's `amplitude`.
+    pub fn amplitude(&self) -> String {
+        self.in_unit("amplitude")
     }
 
     /// The column of a value `name` in the output's unit (`magnitude_stretch`).
@@ -735,7 +737,7 @@ pub fn stepped_csv(
         Ok(())
     })?;
     write_atomic(&beside(path, "jumps"), |w| {
-        let amplitude = &columns.amplitude;
+        let amplitude = &columns.amplitude();
         w.write_record([
             "jump",
             "step",
@@ -770,7 +772,7 @@ pub fn stepped_csv(
         w.write_record([
             "response_type",
             "steps",
-            &format!("peak_{}", columns.amplitude),
+            &format!("peak_{}", columns.amplitude()),
             "peak_omega",
             "peak_frequency_hz",
         ])?;
@@ -795,7 +797,7 @@ pub fn family_csv(
     columns: &ModelColumns,
     path: &Path,
 ) -> anyhow::Result<()> {
-    let peak = format!("peak_{}", columns.amplitude);
+    let peak = format!("peak_{}", columns.amplitude());
     write_atomic(path, |w| {
         w.write_record([
             parameter,
@@ -854,7 +856,7 @@ pub fn continued_csv(
             .map(String::from)
             .to_vec();
         header.extend(columns.states.iter().map(|s| format!("{s}_0")));
-        header.extend([columns.amplitude.clone(), "stable".into()]);
+        header.extend([columns.amplitude(), "stable".into()]);
         for k in 1..=n {
             header.extend([format!("mu{k}_re"), format!("mu{k}_im")]);
         }
@@ -1034,7 +1036,7 @@ pub fn map_csv(
     path: &Path,
 ) -> anyhow::Result<()> {
     let is_omega = x == "omega";
-    let largest = format!("largest_{}", columns.amplitude);
+    let largest = format!("largest_{}", columns.amplitude());
     write_atomic(path, |w| {
         w.write_record([
             parameter,
@@ -1099,7 +1101,7 @@ pub fn curves_csv(
             "of",
             first,
             second,
-            &columns.amplitude,
+            &columns.amplitude(),
         ])?;
         for (id, c) in curves.iter().enumerate() {
             let kind = c.kind.as_str();

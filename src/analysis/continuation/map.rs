@@ -297,30 +297,21 @@ pub fn map_curves<M: Continuable>(
         max_points: MAP_CURVE_POINTS,
         ..curve_default
     };
-    // a seed lies on a branch already continued only if of its period: each period's seeds
-    // are taken in turn, the periods side by side, and the branches put back in the seeds'
-    // order (what taking every seed in turn gives, in less time)
-    let by_period = groups(row.seeds.iter(), |seed| seed.period);
-    let found: Vec<Vec<(usize, ContinuedBranch)>> = by_period
-        .into_par_iter()
-        .map(|seeds| {
-            let mut mine: Vec<(usize, ContinuedBranch)> = Vec::new();
-            for (i, seed) in seeds {
-                let on_known = mine.iter().any(|(_, b)| {
-                    b.passes_through(&base, seed.at, &[seed.x], 1e-4, &in_x.shooting)
-                });
-                if on_known {
-                    continue;
-                }
-                let p = base.with(x, seed.at)?;
-                if let Ok(b) = continue_branch(&p, seed.period, &seed.x, &in_x, progress) {
-                    mine.push((i, b));
-                }
+    // a seed lies on a branch already continued only if of its period
+    let branches = in_turn_by_group(
+        row.seeds.iter(),
+        |seed| seed.period,
+        |found: &[ContinuedBranch], seed| {
+            let on_known = found
+                .iter()
+                .any(|b| b.passes_through(&base, seed.at, &[seed.x], 1e-4, &in_x.shooting));
+            if on_known {
+                return Ok(None);
             }
-            Ok(mine)
-        })
-        .collect::<Result<_, AnalysisError>>()?;
-    let branches = in_order(found);
+            let p = base.with(x, seed.at)?;
+            Ok(continue_branch(&p, seed.period, &seed.x, &in_x, progress).ok())
+        },
+    )?;
     let cut = branches
         .iter()
         .filter_map(|b| {
@@ -356,49 +347,47 @@ pub fn map_curves<M: Continuable>(
             )
         })
     });
-    // a curve is drawn already only by one of its kind and period: each kind and period's
-    // bifurcations are taken in turn, side by side, as the branches
-    let by_curve = groups(starts, |bif| (kind_of(bif.kind), bif.period));
-    let found: Vec<Vec<(usize, BifurcationCurve)>> = by_curve
-        .into_par_iter()
-        .map(|bifs| {
-            let mut mine: Vec<(usize, BifurcationCurve)> = Vec::new();
-            for (i, bif) in bifs {
-                // already drawn: a curve of the same kind and period through this point
-                let drawn = mine.iter().any(|(_, c)| {
-                    c.points.windows(2).any(|w| {
-                        let (a, z) = (&w[0], &w[1]);
-                        (a.second - row.value) * (z.second - row.value) <= 0.0
-                            && (a.first.min(z.first) - 1e-6..=a.first.max(z.first) + 1e-6)
-                                .contains(&bif.parameter)
-                    })
-                });
-                if drawn {
-                    continue;
+    // a curve is drawn already only by one of its kind and period
+    let curves = in_turn_by_group(
+        starts,
+        |bif| (kind_of(bif.kind), bif.period),
+        |found: &[BifurcationCurve], bif| {
+            // already drawn: a curve of the same kind and period through this point
+            let drawn = found.iter().any(|c| {
+                c.points.windows(2).any(|w| {
+                    let (a, z) = (&w[0], &w[1]);
+                    (a.second - row.value) * (z.second - row.value) <= 0.0
+                        && (a.first.min(z.first) - 1e-6..=a.first.max(z.first) + 1e-6)
+                            .contains(&bif.parameter)
+                })
+            });
+            if drawn {
+                return Ok(None);
+            }
+            match continue_bifurcation(&base, spec.x, bif, &curve_spec, progress) {
+                Ok(c) => Ok(Some(c)),
+                Err(crate::analysis::continuation::branch::ContinuationError::Cancelled) => {
+                    Err(AnalysisError::Cancelled)
                 }
-                match continue_bifurcation(&base, spec.x, bif, &curve_spec, progress) {
-                    Ok(c) => mine.push((i, c)),
-                    Err(crate::analysis::continuation::branch::ContinuationError::Cancelled) => {
-                        return Err(AnalysisError::Cancelled);
-                    }
-                    Err(e) => {
-                        tracing::warn!(at = bif.parameter, "no curve from this bifurcation: {e}")
-                    }
+                Err(e) => {
+                    tracing::warn!(at = bif.parameter, "no curve from this bifurcation: {e}");
+                    Ok(None)
                 }
             }
-            Ok(mine)
-        })
-        .collect::<Result<_, AnalysisError>>()?;
-    let curves = in_order(found);
+        },
+    )?;
     Ok(MapCurves { curves, cut })
 }
 
-/// `items` numbered in order and grouped by `key`, each group in order, the groups in the
-/// order of their first item.
-fn groups<T, K: PartialEq>(
+/// What `take` finds from `items` taken in turn, `take` seeing what it found before from
+/// items of the same `key` (only those can make it skip one): the groups of equal keys side
+/// by side, each in turn, and what they find put back in the items' order. The same as one
+/// loop over `items` whose `take` looked only at its own group's findings.
+fn in_turn_by_group<T: Send, K: PartialEq, R: Send>(
     items: impl Iterator<Item = T>,
     key: impl Fn(&T) -> K,
-) -> Vec<Vec<(usize, T)>> {
+    take: impl Fn(&[R], &T) -> Result<Option<R>, AnalysisError> + Sync,
+) -> Result<Vec<R>, AnalysisError> {
     let mut groups: Vec<(K, Vec<(usize, T)>)> = Vec::new();
     for (i, item) in items.enumerate() {
         let k = key(&item);
@@ -407,14 +396,23 @@ fn groups<T, K: PartialEq>(
             None => groups.push((k, vec![(i, item)])),
         }
     }
-    groups.into_iter().map(|(_, members)| members).collect()
-}
-
-/// What each group found, back in the order of the items found from.
-fn in_order<T>(found: Vec<Vec<(usize, T)>>) -> Vec<T> {
-    let mut all: Vec<(usize, T)> = found.into_iter().flatten().collect();
+    let groups: Vec<Vec<(usize, T)>> = groups.into_iter().map(|(_, members)| members).collect();
+    let found: Vec<Vec<(usize, R)>> = groups
+        .into_par_iter()
+        .map(|members| {
+            let (mut at, mut found) = (Vec::new(), Vec::new());
+            for (i, item) in members {
+                if let Some(r) = take(&found, &item)? {
+                    at.push(i);
+                    found.push(r);
+                }
+            }
+            Ok(at.into_iter().zip(found).collect())
+        })
+        .collect::<Result<_, AnalysisError>>()?;
+    let mut all: Vec<(usize, R)> = found.into_iter().flatten().collect();
     all.sort_by_key(|(i, _)| *i);
-    all.into_iter().map(|(_, t)| t).collect()
+    Ok(all.into_iter().map(|(_, r)| r).collect())
 }
 
 /// A response's amplitude, −∞ for none (collision, non-periodic).

@@ -25,10 +25,10 @@ pub struct ChirpedSystem {
 }
 
 impl ChirpedSystem {
-    /// `sys` swept by `sweep`, sampled every `sample`. Errors: a model whose time is not
-    /// periodic (named by `field`'s analysis), a sweep end out of the frequency parameter's
-    /// range or not above 0 (named `omega_start` or `omega_end`).
-    pub fn new(sys: &EquationSystem, sweep: Sweep, sample: f64) -> Result<Self, ParamError> {
+    /// Whether `sys` can be swept by `sweep`. Errors: a model whose time is not periodic, a
+    /// sweep end out of the frequency parameter's range or not above 0 (named `omega_start`
+    /// or `omega_end`).
+    pub fn check(sys: &EquationSystem, sweep: &Sweep) -> Result<(), ParamError> {
         let model = sys.model();
         if !model.periodic_in_time() {
             return Err(ParamError {
@@ -50,20 +50,20 @@ impl ChirpedSystem {
             values[model.frequency()] = omega;
             model.system(&values).map_err(|e| e.as_value_of(field))?;
         }
-        let mut chirped = ChirpedSystem {
+        Ok(())
+    }
+
+    /// `sys` swept by `sweep`, sampled every `sample`, where [`Self::check`] allows it.
+    pub fn new(sys: &EquationSystem, sweep: Sweep, sample: f64) -> Result<Self, ParamError> {
+        Self::check(sys, &sweep)?;
+        Ok(ChirpedSystem {
             sys: sys.clone(),
             sweep,
             sample,
+            // (set at the first time asked)
             at: f64::NAN,
             model_time: 0.0,
-        };
-        chirped.set_time(0.0);
-        Ok(chirped)
-    }
-
-    /// The sweep.
-    pub fn sweep(&self) -> &Sweep {
-        &self.sweep
+        })
     }
 
     /// The model's time at τ, its frequency parameter set to ω(τ).

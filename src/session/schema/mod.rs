@@ -872,7 +872,7 @@ fn check_settings(settings: &Settings, point: &ModelPoint) -> Result<(), ParamEr
                 ModelPoint::BuiltIn(_) => s.validate(),
                 ModelPoint::Written(sys) => {
                     s.validate_settings()?;
-                    ChirpedSystem::new(sys, s.sweep(), s.dt).map(drop)
+                    ChirpedSystem::check(sys, &s.sweep())
                 }
             }
         }

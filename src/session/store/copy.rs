@@ -48,6 +48,28 @@ pub fn copy_result(from: &ResultPaths, to: &ResultPaths) -> anyhow::Result<bool>
     Ok(true)
 }
 
+/// What [`carry`] copied: the complete result (as [`copy_result`] says) and how many kept
+/// results of earlier settings.
+#[derive(Debug)]
+pub struct Carried {
+    pub result: anyhow::Result<bool>,
+    pub kept: usize,
+}
+
+/// The result at `from` and the results kept for its earlier settings
+/// ([`super::earlier::copy_kept`]) copied as `to`'s: a copied or renamed analysis, a session
+/// saved as another file. Kept results that cannot be copied are logged, not an error.
+pub fn carry(from: &ResultPaths, to: &ResultPaths) -> Carried {
+    let kept = super::earlier::copy_kept(from, to).unwrap_or_else(|e| {
+        tracing::warn!(error = %format!("{e:#}"), "kept results not copied");
+        0
+    });
+    Carried {
+        result: copy_result(from, to),
+        kept,
+    }
+}
+
 /// `A.attractors.csv` of analysis `A` as a file of analysis `B`: `B.attractors.csv`.
 pub fn renamed(file: &str, from: &str, to: &str) -> String {
     match file.strip_prefix(from).filter(|rest| rest.starts_with('.')) {

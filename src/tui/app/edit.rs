@@ -212,13 +212,16 @@ impl App {
             ResultPaths::in_dir(&dir, from),
             ResultPaths::in_dir(&dir, to),
         );
-        let kept = kept_words(isola::session::store::earlier::copy_kept(&from, &to));
-        match isola::session::store::copy::copy_result(&from, &to) {
-            Ok(true) => format!(", with its result{kept}"),
-            Ok(false) if kept.is_empty() => String::new(),
-            Ok(false) => format!(", with{}", kept.trim_start_matches(" and")),
-            Err(e) => {
+        let carried = isola::session::store::copy::carry(&from, &to);
+        let kept = kept_words(carried.kept);
+        match (carried.result, kept) {
+            (Ok(true), None) => ", with its result".into(),
+            (Ok(true), Some(kept)) => format!(", with its result and {kept}"),
+            (Ok(false), None) => String::new(),
+            (Ok(false), Some(kept)) => format!(", with {kept}"),
+            (Err(e), kept) => {
                 tracing::warn!(error = %format!("{e:#}"), "result not copied");
+                let kept = kept.map_or(String::new(), |k| format!(", with {k}"));
                 format!(" (its result not copied: {e:#}){kept}")
             }
         }
@@ -399,16 +402,11 @@ impl App {
     }
 }
 
-/// ` and 2 results of earlier settings` (copied with a result), or nothing where none was;
-/// a failure is logged.
-pub(super) fn kept_words(copied: anyhow::Result<usize>) -> String {
-    match copied {
-        Ok(0) => String::new(),
-        Ok(1) => " and 1 result of earlier settings".into(),
-        Ok(n) => format!(" and {n} results of earlier settings"),
-        Err(e) => {
-            tracing::warn!(error = %format!("{e:#}"), "kept results not copied");
-            String::new()
-        }
+/// `2 results of earlier settings`, or none.
+pub(super) fn kept_words(kept: usize) -> Option<String> {
+    match kept {
+        0 => None,
+        1 => Some("1 result of earlier settings".into()),
+        n => Some(format!("{n} results of earlier settings")),
     }
 }

@@ -142,11 +142,9 @@ impl App {
         for entry in &self.session.analyses {
             let from = ResultPaths::in_dir(old_dir, &entry.name);
             let to = ResultPaths::in_dir(&new_dir, &entry.name);
-            match isola::session::store::earlier::copy_kept(&from, &to) {
-                Ok(n) => kept += n,
-                Err(e) => tracing::warn!(error = %format!("{e:#}"), "kept results not copied"),
-            }
-            match isola::session::store::copy::copy_result(&from, &to) {
+            let carried = isola::session::store::copy::carry(&from, &to);
+            kept += carried.kept;
+            match carried.result {
                 Ok(true) => copied += 1,
                 Ok(false) => {}
                 Err(e) => {
@@ -155,12 +153,13 @@ impl App {
                 }
             }
         }
-        let kept = super::edit::kept_words(Ok(kept));
-        match (copied, failed.is_empty()) {
-            (0, true) if kept.is_empty() => String::new(),
-            (0, true) => format!(" with{}", kept.trim_start_matches(" and")),
-            (n, true) => format!(" with {n} result{}{kept}", if n == 1 { "" } else { "s" }),
-            (n, false) => format!(
+        let results = |n: usize| format!("{n} result{}", if n == 1 { "" } else { "s" });
+        match (copied, failed.is_empty(), super::edit::kept_words(kept)) {
+            (0, true, None) => String::new(),
+            (0, true, Some(kept)) => format!(" with {kept}"),
+            (n, true, None) => format!(" with {}", results(n)),
+            (n, true, Some(kept)) => format!(" with {} and {kept}", results(n)),
+            (n, false, _) => format!(
                 " with {n} result(s); not copied (see the log): {}",
                 failed.join(", ")
             ),
