@@ -991,10 +991,25 @@ impl Single for EquationSystem {
                 Ok(Vec::new())
             }
             Settings::ChirpSweep(spec) => {
-                let s = written_chirp_sweep(sys, spec, progress.cancel_flag(), |_| {})?;
+                let s = written_chirp_sweep(sys, spec, progress.cancel_flag(), share_of(progress))?;
                 chirp_outputs(&s, spec, columns, csv)
             }
             other => anyhow::bail!("a written model cannot run a {} yet", other.kind()),
+        }
+    }
+}
+
+/// A sweep's progress, told as the share of its span done, as `progress`'s: a thousand steps
+/// (so the workbench's gauge moves through a long sweep).
+fn share_of(progress: &Progress) -> impl FnMut(f64) + '_ {
+    const STEPS: usize = 1000;
+    progress.grow_total(STEPS);
+    let mut done = 0;
+    move |share| {
+        let now = (share.clamp(0.0, 1.0) * STEPS as f64) as usize;
+        if now > done {
+            progress.add(now - done);
+            done = now;
         }
     }
 }
@@ -1039,7 +1054,7 @@ impl Single for Params {
                 export::history_csv(&h, &device, csv).map(|()| Vec::new())
             }
             Settings::ChirpSweep(spec) => {
-                let s = chirp_sweep(params, spec, progress.cancel_flag(), |_| {})?;
+                let s = chirp_sweep(params, spec, progress.cancel_flag(), share_of(progress))?;
                 chirp_outputs(&s, spec, columns, csv)
             }
             Settings::SteppedSweep(spec) => {
