@@ -38,9 +38,12 @@ pub use progress::Progress;
 /// 3: the early stop learns a response as soon as a trajectory has nearly settled on it,
 /// from the cycle Newton's method finds ahead of it, so responses' values move by about 1e-8
 /// and a subharmonic's Poincaré points may start at another of its points.
+/// 4: a grid of more than 64 starts (a basin's chunk, a frequency response's ω_e) runs in 64
+/// lanes instead of 16, so another trajectory may reach a response first: a response's
+/// values move by up to about 4e-9 and the start it names may be another.
 /// A written model's own numerics have their version too
 /// ([`crate::model::equations::NUMERICS_VERSION`]).
-pub const NUMERICS_VERSION: u32 = 3;
+pub const NUMERICS_VERSION: u32 = 4;
 
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -2,10 +2,11 @@
 //! loop never calls cos().
 
 use super::isa::{self, Isa};
+use super::lane::Real;
 use crate::model::Params;
 
 /// (φ_I², φ_II²) and their rates d(φ²)/dτ at one instant.
-pub type DriveWithRate = ((f64, f64), (f64, f64));
+pub type DriveWithRate<T = f64> = ((T, T), (T, T));
 
 /// φ_I² and φ_II² at τ = k·h/2, k = 0..=2n, over one period T = n·h, and the drive
 /// anchored at each step's start for the split steps, with its values and rates at the
@@ -120,37 +121,48 @@ impl LocalDrive {
 
     /// (φ_I², φ_II²) at τ₀ + `delta`, for |ω·δ| ≤ π/4 (a step of 8 or more per period).
     #[inline(always)]
-    pub fn phi_sq(&self, delta: f64) -> (f64, f64) {
+    pub fn phi_sq<T: Real>(&self, delta: T) -> (T, T) {
         // the unused rates are optimised away
         self.phi_sq_with_rate(delta).0
     }
 
     /// (φ_I², φ_II²) and their rates d(φ²)/dτ at τ₀ + `delta`, for |ω·δ| ≤ π/4.
     #[inline(always)]
-    pub fn phi_sq_with_rate(&self, delta: f64) -> DriveWithRate {
-        let (sd, cd) = small_sin_cos(self.omega * delta);
-        let at = |m: usize| {
-            let c = self.cos0[m] * cd - self.sin0[m] * sd;
-            let s = self.sin0[m] * cd + self.cos0[m] * sd;
-            let phi = self.ac[m].mul_add(c, self.dc[m]);
-            (phi * phi, -2.0 * phi * self.ac[m] * self.omega * s)
-        };
-        let ((phi_sq_i, rate_i), (phi_sq_ii, rate_ii)) = (at(0), at(1));
+    pub fn phi_sq_with_rate<T: Real>(&self, delta: T) -> DriveWithRate<T> {
+        let omega = T::splat(self.omega);
+        let (sd, cd) = small_sin_cos(omega * delta);
+        let ((phi_sq_i, rate_i), (phi_sq_ii, rate_ii)) =
+            (self.membrane_at(0, sd, cd), self.membrane_at(1, sd, cd));
         ((phi_sq_i, phi_sq_ii), (rate_i, rate_ii))
+    }
+
+    /// Membrane `m`'s φ² and its rate where the phase has moved on by an angle of sine `sd`
+    /// and cosine `cd`.
+    #[inline(always)]
+    fn membrane_at<T: Real>(&self, m: usize, sd: T, cd: T) -> (T, T) {
+        let (cos0, sin0) = (T::splat(self.cos0[m]), T::splat(self.sin0[m]));
+        let (ac, dc) = (T::splat(self.ac[m]), T::splat(self.dc[m]));
+        let c = cos0 * cd - sin0 * sd;
+        let s = sin0 * cd + cos0 * sd;
+        let phi = ac.mul_add(c, dc);
+        (
+            phi * phi,
+            T::splat(-2.0) * phi * ac * T::splat(self.omega) * s,
+        )
     }
 }
 
 /// sin and cos of |x| ≤ π/4 by their Taylor series to x¹⁷ / x¹⁶ (error < 1e-17), in
 /// Horner form on x² with fused multiply-adds (the split steps' latency is in this chain).
 #[inline(always)]
-pub fn small_sin_cos(x: f64) -> (f64, f64) {
+pub fn small_sin_cos<T: Real>(x: T) -> (T, T) {
     let x2 = x * x;
-    let mut s = INVERSE_FACTORIALS[17];
-    let mut c = INVERSE_FACTORIALS[16];
+    let mut s = T::splat(INVERSE_FACTORIALS[17]);
+    let mut c = T::splat(INVERSE_FACTORIALS[16]);
     for k in [15, 13, 11, 9, 7, 5, 3, 1] {
         // s ← 1/k! − x² s, c ← 1/(k−1)! − x² c
-        s = (-x2).mul_add(s, INVERSE_FACTORIALS[k]);
-        c = (-x2).mul_add(c, INVERSE_FACTORIALS[k - 1]);
+        s = (-x2).mul_add(s, T::splat(INVERSE_FACTORIALS[k]));
+        c = (-x2).mul_add(c, T::splat(INVERSE_FACTORIALS[k - 1]));
     }
     (x * s, c)
 }

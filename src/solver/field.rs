@@ -1,13 +1,15 @@
 //! The vector field d²λ_I/dτ² = f_II − f_I in the forms the integrators need.
 
+use super::lane::Real;
 use crate::model::Params;
 use crate::model::forces::gent_poles;
 
-/// Which membranes are taut: selects the smooth piece of the piecewise-smooth field.
+/// Which membranes are taut: selects the smooth piece of the piecewise-smooth field. `M` is
+/// `bool` for one trajectory, a lane-wise mask ([`Real::Mask`]) for a batch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Mode {
-    pub taut_i: bool,
-    pub taut_ii: bool,
+pub struct Mode<M = bool> {
+    pub taut_i: M,
+    pub taut_ii: M,
 }
 
 /// One membrane of the pair.
@@ -56,6 +58,11 @@ impl Mode {
         }
     }
 
+    /// (taut_I, taut_II), to pick one with [`Membrane::of`].
+    pub fn pair(self) -> (bool, bool) {
+        (self.taut_i, self.taut_ii)
+    }
+
     /// The same mode with one membrane's state flipped.
     pub fn flipped(self, m: Membrane) -> Mode {
         match m {
@@ -84,12 +91,13 @@ pub struct Field {
 /// Gent tension as a fraction: g(λ) = num/den with
 /// num = J(λ⁴ − 1), den = λ((J + 2)λ² − λ⁴ − 1); den > 0 exactly between the poles.
 #[inline(always)]
-fn gent_fraction(lambda: f64, j: f64, j_plus_2: f64) -> (f64, f64) {
+fn gent_fraction<T: Real>(lambda: T, j: f64, j_plus_2: f64) -> (T, T) {
     let l2 = lambda * lambda;
     let l4 = l2 * l2;
+    let (j, j_plus_2) = (T::splat(j), T::splat(j_plus_2));
     (
         j.mul_add(l4, -j),
-        lambda * (j_plus_2.mul_add(l2, -l4) - 1.0),
+        lambda * (j_plus_2.mul_add(l2, -l4) - T::splat(1.0)),
     )
 }
 
@@ -132,26 +140,61 @@ impl Field {
         )
     }
 
+    /// [`Self::accel`] over any [`Real`]: lane by lane the same operations, so the same bits.
+    #[inline(always)]
+    pub fn accel_lanes<T: Real>(
+        &self,
+        x: T,
+        v: T,
+        phi_sq_i: T,
+        phi_sq_ii: T,
+    ) -> (T, Mode<T::Mask>) {
+        let t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
+        let zero = T::splat(0.0);
+        let taut_i = t.big_p_i.gt(zero) & t.den_i.gt(zero);
+        let taut_ii = t.big_p_ii.gt(zero) & t.den_ii.gt(zero);
+        (
+            t.net_force(Mode { taut_i, taut_ii }),
+            Mode { taut_i, taut_ii },
+        )
+    }
+
     /// Acceleration on one smooth piece: taut membranes pull with p even where p < 0. This
     /// smooth extension keeps an integrator's order up to a located switch. Below a lower
     /// Gent pole a taut membrane pulls with p = −1, as [`Self::tension_of`] says.
     #[inline(always)]
-    pub fn accel_in_mode(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64, mode: Mode) -> f64 {
-        let mut t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
-        if t.den_i <= 0.0 {
-            (t.big_p_i, t.den_i) = (-1.0, 1.0);
-        }
-        if t.den_ii <= 0.0 {
-            (t.big_p_ii, t.den_ii) = (-1.0, 1.0);
-        }
+    pub fn accel_in_mode<T: Real>(
+        &self,
+        x: T,
+        v: T,
+        phi_sq_i: T,
+        phi_sq_ii: T,
+        mode: Mode<T::Mask>,
+    ) -> T {
+        let t = self.scaled_tensions(x, v, phi_sq_i, phi_sq_ii);
+        let (zero, one) = (T::splat(0.0), T::splat(1.0));
+        let (below_i, below_ii) = (t.den_i.le(zero), t.den_ii.le(zero));
+        let t = ScaledTensions {
+            big_p_i: T::select(below_i, -one, t.big_p_i),
+            big_p_ii: T::select(below_ii, -one, t.big_p_ii),
+            den_i: T::select(below_i, one, t.den_i),
+            den_ii: T::select(below_ii, one, t.den_ii),
+        };
         t.net_force(mode)
     }
 
     /// Both membranes' tensions as P = p·den and den, without a division.
     #[inline(always)]
-    pub fn scaled_tensions(&self, x: f64, v: f64, phi_sq_i: f64, phi_sq_ii: f64) -> ScaledTensions {
+    pub fn scaled_tensions<T: Real>(
+        &self,
+        x: T,
+        v: T,
+        phi_sq_i: T,
+        phi_sq_ii: T,
+    ) -> ScaledTensions<T> {
         let (big_p_i, den_i) = self.scaled_tension(x, v, phi_sq_i);
-        let (big_p_ii, den_ii) = self.scaled_tension(self.two_lambda_p - x, -v, phi_sq_ii);
+        let (big_p_ii, den_ii) =
+            self.scaled_tension(T::splat(self.two_lambda_p) - x, -v, phi_sq_ii);
         ScaledTensions {
             big_p_i,
             big_p_ii,
@@ -163,17 +206,21 @@ impl Field {
     /// One membrane's P = p·den = num − den·(φ²λ − c̃λ̇) and den, at its own stretch λ and
     /// stretch rate λ̇.
     #[inline(always)]
-    fn scaled_tension(&self, lambda: f64, lambda_dot: f64, phi_sq: f64) -> (f64, f64) {
+    fn scaled_tension<T: Real>(&self, lambda: T, lambda_dot: T, phi_sq: T) -> (T, T) {
         let (num, den) = gent_fraction(lambda, self.j, self.j_plus_2);
-        let big_p = (-phi_sq.mul_add(lambda, -self.c_tilde * lambda_dot)).mul_add(den, num);
+        let damping = T::splat(self.c_tilde) * lambda_dot;
+        let big_p = (-phi_sq.mul_add(lambda, -damping)).mul_add(den, num);
         (big_p, den)
     }
 
     /// Membrane `m`'s stretch and the sign of its rate (λ̇_m = sign·λ̇_I) when λ_I = `x`:
     /// λ_II = 2λ_p − λ_I.
     #[inline(always)]
-    fn stretch_of(&self, m: Membrane, x: f64) -> (f64, f64) {
-        m.of(((x, 1.0), (self.two_lambda_p - x, -1.0)))
+    fn stretch_of<T: Real>(&self, m: Membrane, x: T) -> (T, T) {
+        m.of((
+            (x, T::splat(1.0)),
+            (T::splat(self.two_lambda_p) - x, T::splat(-1.0)),
+        ))
     }
 
     /// Tension p of one membrane (−1 below its lower Gent pole): one switching function.
@@ -193,46 +240,48 @@ impl Field {
     /// denominator (the sign of p between the poles), −1 below its lower pole as in
     /// [`Self::tension_of`].
     #[inline(always)]
-    pub fn scaled_tension_of(
+    pub fn scaled_tension_of<T: Real>(
         &self,
         m: Membrane,
-        x: f64,
-        v: f64,
-        phi_sq_i: f64,
-        phi_sq_ii: f64,
-    ) -> f64 {
+        x: T,
+        v: T,
+        phi_sq_i: T,
+        phi_sq_ii: T,
+    ) -> T {
         let (lambda, sign) = self.stretch_of(m, x);
         let (big_p, den) = self.scaled_tension(lambda, sign * v, m.of((phi_sq_i, phi_sq_ii)));
-        if den > 0.0 { big_p } else { -1.0 }
+        T::select(den.gt(T::splat(0.0)), big_p, T::splat(-1.0))
     }
 
     /// The rate d/dτ of [`Self::scaled_tension_of`] along a trajectory at (`x`, `v`) with
     /// acceleration `a`, under drive `phi_sq` changing at `phi_sq_rate` (both as (I, II));
     /// 0 below the lower pole, where the switching function is the constant −1.
     #[inline(always)]
-    pub fn scaled_tension_rate(
+    pub fn scaled_tension_rate<T: Real>(
         &self,
         m: Membrane,
-        [x, v, a]: [f64; 3],
-        phi_sq: (f64, f64),
-        phi_sq_rate: (f64, f64),
-    ) -> f64 {
+        [x, v, a]: [T; 3],
+        phi_sq: (T, T),
+        phi_sq_rate: (T, T),
+    ) -> T {
         let (lambda, sign) = self.stretch_of(m, x);
         let (lambda_dot, lambda_ddot) = (sign * v, sign * a);
         let (phi_sq, phi_sq_rate) = (m.of(phi_sq), m.of(phi_sq_rate));
-        let (j, j2) = (self.j, self.j_plus_2);
-        let (_, den) = gent_fraction(lambda, j, j2);
-        if den <= 0.0 {
-            return 0.0;
-        }
+        let (_, den) = gent_fraction(lambda, self.j, self.j_plus_2);
+        let (j, j2, c_tilde) = (
+            T::splat(self.j),
+            T::splat(self.j_plus_2),
+            T::splat(self.c_tilde),
+        );
         let l2 = lambda * lambda;
         let l4 = l2 * l2;
         // P = num − den·E with num = J(λ⁴ − 1), E = φ²λ − c̃λ̇
-        let num_rate = 4.0 * j * l2 * lambda * lambda_dot;
-        let den_rate = (3.0 * j2 * l2 - 5.0 * l4 - 1.0) * lambda_dot;
-        let e = phi_sq * lambda - self.c_tilde * lambda_dot;
-        let e_rate = phi_sq_rate * lambda + phi_sq * lambda_dot - self.c_tilde * lambda_ddot;
-        num_rate - den_rate * e - den * e_rate
+        let num_rate = T::splat(4.0) * j * l2 * lambda * lambda_dot;
+        let den_rate = (T::splat(3.0) * j2 * l2 - T::splat(5.0) * l4 - T::splat(1.0)) * lambda_dot;
+        let e = phi_sq * lambda - c_tilde * lambda_dot;
+        let e_rate = phi_sq_rate * lambda + phi_sq * lambda_dot - c_tilde * lambda_ddot;
+        let rate = num_rate - den_rate * e - den * e_rate;
+        T::select(den.le(T::splat(0.0)), T::splat(0.0), rate)
     }
 
     /// Tensions (p_I, p_II) a taut membrane would carry; below the lower Gent pole, where a
@@ -265,21 +314,22 @@ impl Field {
 
 /// Tensions p = P/den of both membranes, kept as the pair (P, den).
 #[derive(Debug, Clone, Copy)]
-pub struct ScaledTensions {
-    pub big_p_i: f64,
-    pub big_p_ii: f64,
-    pub den_i: f64,
-    pub den_ii: f64,
+pub struct ScaledTensions<T = f64> {
+    pub big_p_i: T,
+    pub big_p_ii: T,
+    pub den_i: T,
+    pub den_ii: T,
 }
 
-impl ScaledTensions {
+impl<T: Real> ScaledTensions<T> {
     /// f_II − f_I with the membranes `mode` says are taut pulling, in one division.
     #[inline(always)]
-    fn net_force(&self, mode: Mode) -> f64 {
-        let d_i = if mode.taut_i { self.den_i } else { 1.0 };
-        let d_ii = if mode.taut_ii { self.den_ii } else { 1.0 };
-        let q_i = if mode.taut_i { self.big_p_i } else { 0.0 };
-        let q_ii = if mode.taut_ii { self.big_p_ii } else { 0.0 };
+    fn net_force(&self, mode: Mode<T::Mask>) -> T {
+        let (zero, one) = (T::splat(0.0), T::splat(1.0));
+        let d_i = T::select(mode.taut_i, self.den_i, one);
+        let d_ii = T::select(mode.taut_ii, self.den_ii, one);
+        let q_i = T::select(mode.taut_i, self.big_p_i, zero);
+        let q_ii = T::select(mode.taut_ii, self.big_p_ii, zero);
         q_ii.mul_add(d_i, -q_i * d_ii) / (d_i * d_ii)
     }
 }

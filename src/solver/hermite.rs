@@ -1,52 +1,58 @@
 //! Cubic Hermite interpolation over one step, from the values and slopes at both ends.
 //! Used to locate switches inside an RK4 step and to refine extrema between steps.
 
+use super::lane::Real;
+
 /// Value at fraction `s` ∈ [0, 1] of a step of length `h`.
 #[inline(always)]
-pub fn value(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
+pub fn value<T: Real>(y0: T, d0: T, y1: T, d1: T, h: T, s: T) -> T {
+    let c = T::splat;
     let s2 = s * s;
     let s3 = s2 * s;
-    (2.0 * s3 - 3.0 * s2 + 1.0) * y0
-        + (s3 - 2.0 * s2 + s) * h * d0
-        + (-2.0 * s3 + 3.0 * s2) * y1
+    (c(2.0) * s3 - c(3.0) * s2 + c(1.0)) * y0
+        + (s3 - c(2.0) * s2 + s) * h * d0
+        + (c(-2.0) * s3 + c(3.0) * s2) * y1
         + (s3 - s2) * h * d1
 }
 
 /// Slope dy/ds at fraction `s` ∈ [0, 1] of a step of length `h` (dy/dτ = slope / h).
 #[inline(always)]
-pub fn slope(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, s: f64) -> f64 {
+pub fn slope<T: Real>(y0: T, d0: T, y1: T, d1: T, h: T, s: T) -> T {
+    let c = T::splat;
     let s2 = s * s;
-    (6.0 * s2 - 6.0 * s) * (y0 - y1)
-        + (3.0 * s2 - 4.0 * s + 1.0) * h * d0
-        + (3.0 * s2 - 2.0 * s) * h * d1
+    (c(6.0) * s2 - c(6.0) * s) * (y0 - y1)
+        + (c(3.0) * s2 - c(4.0) * s + c(1.0)) * h * d0
+        + (c(3.0) * s2 - c(2.0) * s) * h * d1
 }
 
 /// A root of the cubic in (0, 1], given y0 ≥ 0 > y1: Newton's method kept inside the shrinking
 /// sign-change bracket (bisection where a Newton step leaves it), from the secant estimate,
-/// stopped when successive estimates agree to `tolerance`.
+/// stopped when successive estimates agree to `tolerance`. In a batch, each lane stops at
+/// its own estimate as it would alone; lanes outside `active` are left alone (their result
+/// is meaningless).
 #[inline(always)]
-pub fn crossing(y0: f64, d0: f64, y1: f64, d1: f64, h: f64, tolerance: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 1.0);
+pub fn crossing<T: Real>(y0: T, d0: T, y1: T, d1: T, h: T, tolerance: f64, active: T::Mask) -> T {
+    let (mut lo, mut hi) = (T::splat(0.0), T::splat(1.0));
     let mut s = y0 / (y0 - y1);
+    let mut root = s;
+    let mut active = active;
     for _ in 0..60 {
+        if !T::any(active) {
+            return root;
+        }
         let y = value(y0, d0, y1, d1, h, s);
-        if y < 0.0 {
-            hi = s;
-        } else {
-            lo = s;
-        }
+        let negative = y.lt(T::splat(0.0));
+        hi = T::select(negative, s, hi);
+        lo = T::select(negative, lo, s);
         let newton = s - y / slope(y0, d0, y1, d1, h, s);
-        let next = if newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if (next - s).abs() < tolerance {
-            return next;
-        }
-        s = next;
+        let inside = newton.gt(lo) & newton.lt(hi);
+        let next = T::select(inside, newton, T::splat(0.5) * (lo + hi));
+        let done = (next - s).abs().lt(T::splat(tolerance));
+        root = T::select(active & done, next, root);
+        active = active & !done;
+        s = T::select(active, next, s);
     }
-    s
+    T::select(active, s, root)
 }
 
 /// The first fraction of a step in (0, 1] where `holds` (false at 0, true at 1) becomes

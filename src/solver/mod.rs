@@ -15,6 +15,7 @@ pub mod general_lanes;
 pub mod hermite;
 pub mod illinois;
 pub mod isa;
+pub mod lane;
 pub mod resolution;
 pub mod rk4;
 pub mod sampled;

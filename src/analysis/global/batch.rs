@@ -224,7 +224,8 @@ pub fn steady_states(
     match ics.len() {
         0..=4 => in_lanes::<4>(params, ics, spec, known, cancel, on_done),
         5..=8 => in_lanes::<8>(params, ics, spec, known, cancel, on_done),
-        _ => in_lanes::<LANES>(params, ics, spec, known, cancel, on_done),
+        9..=64 => in_lanes::<LANES>(params, ics, spec, known, cancel, on_done),
+        _ => in_lanes::<64>(params, ics, spec, known, cancel, on_done),
     }
 }
 

@@ -33,6 +33,47 @@ fn lanes_are_independent_and_bitwise_reproducible() {
     }
 }
 
+/// Lanes that switch in the same step are split side by side: each still ends bit for bit
+/// where it ends alone (64 lanes over the Fig 6A window, slack twice a period).
+#[test]
+fn lanes_split_side_by_side_end_as_alone() {
+    let p = Params::baseline();
+    let rk = Rk4::new(&p, &Resolution::default());
+    let x0: [f64; 64] = std::array::from_fn(|i| 1.02 - 0.8 + 1.6 * (i % 8) as f64 / 7.0);
+    let v0: [f64; 64] = std::array::from_fn(|i| -1.0 + 2.0 * (i / 8) as f64 / 7.0);
+    let mut lanes = rk.start(x0, v0);
+    let mut mode = [Mode::default(); 64];
+    let mut steps_with_several = 0;
+    for _ in 0..30 {
+        rk.advance_period(
+            &mut lanes,
+            Some(&mut |k, _, end| {
+                let (phi_i, phi_ii) = rk.table().at(2 * k + 2);
+                let mut switched = 0;
+                for (i, mode) in mode.iter_mut().enumerate() {
+                    let (_, m) = rk.field().accel(end.x[i], end.v[i], phi_i, phi_ii);
+                    switched += usize::from(m != *mode);
+                    *mode = m;
+                }
+                steps_with_several += usize::from(switched >= 2);
+            }),
+        );
+    }
+    assert!(
+        steps_with_several > 300,
+        "several lanes switch in the same step ({steps_with_several} steps)"
+    );
+    for i in 0..64 {
+        let mut one = rk.start([x0[i]], [v0[i]]);
+        for _ in 0..30 {
+            rk.advance_period(&mut one, None);
+        }
+        assert_eq!(one.collision[0].is_some(), lanes.collision[i].is_some());
+        assert_eq!(one.x[0].to_bits(), lanes.x[i].to_bits(), "lane {i}");
+        assert_eq!(one.v[0].to_bits(), lanes.v[i].to_bits(), "lane {i}");
+    }
+}
+
 /// Every instruction set computes the same bits, on orbits that switch between taut and
 /// slack (split steps) and in a lane that collides.
 #[test]
