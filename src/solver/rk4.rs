@@ -411,6 +411,30 @@ impl Rk4 {
         (lanes.a[i], lanes.mode[i]) = self.field.accel_coded(x, v, phi_i, phi_ii);
     }
 
+    /// Lanes `picks` of `lanes`, in that order, moved to `M` lanes (the rest parked): each
+    /// goes on bit for bit as it would have.
+    pub fn narrowed<const L: usize, const M: usize>(
+        &self,
+        lanes: &Lanes<L>,
+        picks: &[usize],
+    ) -> Lanes<M> {
+        assert!(picks.len() <= M, "{} lanes into {M}", picks.len());
+        let mut narrow = self.start([self.params.lambda_p(); M], [0.0; M]);
+        narrow.period = lanes.period;
+        for (j, &i) in picks.iter().enumerate() {
+            narrow.x[j] = lanes.x[i];
+            narrow.v[j] = lanes.v[i];
+            narrow.a[j] = lanes.a[i];
+            narrow.mode[j] = lanes.mode[i];
+            narrow.collision[j] = lanes.collision[i];
+            narrow.start_period[j] = lanes.start_period[i];
+        }
+        for j in picks.len()..M {
+            self.park_lane(&mut narrow, j);
+        }
+        narrow
+    }
+
     /// Parks lane `i` with no trajectory in it (reported as a collision at τ = 0).
     pub fn park_lane<const L: usize>(&self, lanes: &mut Lanes<L>, i: usize) {
         self.freeze(lanes, i, 0.0, lanes.x[i]);

@@ -22,7 +22,7 @@ use crate::analysis::orbit::steady_state::{
 };
 use crate::model::Params;
 use crate::solver::rk4::LANES;
-use crate::solver::{Resolution, Rk4};
+use crate::solver::{Lanes, Resolution, Rk4};
 
 /// A capture region's radius is at most this fraction of its point's distance to the nearest
 /// point of another known response (or to its own response's other points), so regions of
@@ -229,136 +229,213 @@ pub fn steady_states(
     }
 }
 
-/// [`steady_states`] with `L` trajectories side by side.
+/// [`steady_states`] with `L` trajectories side by side. Once every state has started, the
+/// lanes still running move to narrower lanes as they thin out (at most half of `L`
+/// running), each lane's trajectory unchanged, so that idle lanes are not integrated.
 fn in_lanes<const L: usize>(
     params: &Params,
     ics: &[[f64; 2]],
     spec: &SteadyStateSpec,
-    mut known: Option<&mut KnownAttractors>,
+    known: Option<&mut KnownAttractors>,
     cancel: &AtomicBool,
     on_done: &mut dyn FnMut(usize),
 ) -> Option<Vec<SteadyState>> {
     let rk = Rk4::new(params, &spec.resolution);
-    let h = rk.step();
-    let mut results: Vec<Option<SteadyState>> = vec![None; ics.len()];
+    let mut grid = Grid {
+        params,
+        ics,
+        spec,
+        rk: &rk,
+        known,
+        cancel,
+        on_done,
+        results: vec![None; ics.len()],
+        next_ic: 0,
+    };
     let mut lanes = rk.start([params.lambda_p(); L], [0.0; L]);
     let mut state: Vec<LaneState> = vec![LaneState::Idle; L];
-    let mut next_ic = 0;
-    let fill = |i: usize, lanes: &mut crate::solver::Lanes<L>, next_ic: &mut usize| {
-        if *next_ic < ics.len() {
-            let ic = *next_ic;
-            *next_ic += 1;
-            rk.restart_lane(lanes, i, ics[ic][0], ics[ic][1]);
-            LaneState::Transient {
-                ic,
-                detector: spec.period_detector(),
-                inside: None,
-                sought: 0,
-            }
-        } else {
-            rk.park_lane(lanes, i);
-            LaneState::Idle
-        }
-    };
     for (i, s) in state.iter_mut().enumerate() {
-        *s = fill(i, &mut lanes, &mut next_ic);
+        *s = grid.fill(i, &mut lanes);
     }
-    while state.iter().any(|s| !matches!(s, LaneState::Idle)) {
-        if cancel.load(Ordering::Relaxed) {
-            return None;
-        }
-        let recording = state
-            .iter()
-            .any(|s| matches!(s, LaneState::Recording { .. }));
-        if recording {
-            rk.advance_period(
-                &mut lanes,
-                Some(&mut |_, b, e| {
-                    for (i, s) in state.iter_mut().enumerate() {
-                        if let LaneState::Recording { rec, .. } = s {
-                            rec.add_step(b.x[i], b.v[i], e.x[i], e.v[i], h);
-                        }
-                    }
-                }),
-            );
-        } else {
-            rk.advance_period(&mut lanes, None);
-        }
-        // lanes, their states and the results are updated together by index
-        #[allow(clippy::needless_range_loop)]
-        for i in 0..L {
-            let point = [lanes.x[i], lanes.v[i]];
-            let finished: Option<(usize, SteadyState)> = match &mut state[i] {
-                LaneState::Idle => None,
-                LaneState::Transient {
-                    ic,
-                    detector,
-                    inside,
-                    sought,
-                } => {
-                    if let Some(c) = lanes.collision[i] {
-                        Some((*ic, collided(c, detector.periods() + 1)))
-                    } else if let Some(k) = detector.push(point) {
-                        let n = detector.periods();
-                        state[i] = recording_state(*ic, Class::Periodic, k, n, &rk);
-                        None
-                    } else if detector.periods() >= spec.max_forcing_periods {
-                        let (k, n) = (spec.max_period, detector.periods());
-                        state[i] = recording_state(*ic, Class::NonPeriodic, k, n, &rk);
-                        None
-                    } else if let Some(known) = known.as_deref_mut() {
-                        let mut now = known.capturing(point);
-                        if now.is_none()
-                            && let Some(k) = settled_cycle(detector, sought)
-                        {
-                            let steady = |p: [f64; 2]| Some(steady_state(params, p[0], p[1], spec));
-                            if known.learn_ahead(point, k, steady) {
-                                now = known.capturing(point);
-                            }
-                        }
-                        let captured = now.filter(|&a| *inside == Some(a));
-                        *inside = now;
-                        captured
-                            .map(|a| (*ic, adopt(&known.responses[a], detector.periods(), point)))
-                    } else {
-                        None
-                    }
-                }
-                LaneState::Recording {
-                    ic,
-                    class,
-                    k,
-                    transient,
-                    rec,
-                    poincare,
-                } => {
-                    if let Some(c) = lanes.collision[i] {
-                        Some((*ic, collided(c, *transient)))
-                    } else {
-                        poincare.push(point);
-                        (poincare.len() == *k).then(|| {
-                            let p = std::mem::take(poincare);
-                            (*ic, from_record(rec, p, *k, *transient, *class))
-                        })
-                    }
-                }
-            };
-            if let Some((ic, result)) = finished {
-                if let Some(known) = known.as_deref_mut() {
-                    known.learn(&result, crate::analysis::orbit::attractor::SAME_POINT_TOL);
-                }
-                results[ic] = Some(result);
-                on_done(ic);
-                state[i] = fill(i, &mut lanes, &mut next_ic);
-            }
-        }
+    if L > 2 * LANES {
+        grid.run(&mut lanes, &mut state, L / 2)?;
+        let (mut lanes, mut state) = narrowed::<L, { 2 * LANES }>(&rk, &lanes, state);
+        grid.run(&mut lanes, &mut state, LANES)?;
+        let (mut lanes, mut state) = narrowed::<{ 2 * LANES }, LANES>(&rk, &lanes, state);
+        grid.run(&mut lanes, &mut state, 0)?;
+    } else {
+        grid.run(&mut lanes, &mut state, 0)?;
     }
     Some(
-        results
+        grid.results
             .into_iter()
             .map(|r| r.expect("every state finished"))
             .collect(),
     )
+}
+
+/// The lanes of `lanes` still running, in order, moved to `M` lanes with their states.
+fn narrowed<const L: usize, const M: usize>(
+    rk: &Rk4,
+    lanes: &Lanes<L>,
+    mut state: Vec<LaneState>,
+) -> (Lanes<M>, Vec<LaneState>) {
+    let running: Vec<usize> = (0..L)
+        .filter(|&i| !matches!(state[i], LaneState::Idle))
+        .collect();
+    let narrow = rk.narrowed::<L, M>(lanes, &running);
+    let mut moved: Vec<LaneState> = running
+        .iter()
+        .map(|&i| std::mem::replace(&mut state[i], LaneState::Idle))
+        .collect();
+    moved.resize(M, LaneState::Idle);
+    (narrow, moved)
+}
+
+/// A grid of initial states on its way to its steady states.
+struct Grid<'a> {
+    params: &'a Params,
+    ics: &'a [[f64; 2]],
+    spec: &'a SteadyStateSpec,
+    rk: &'a Rk4,
+    known: Option<&'a mut KnownAttractors>,
+    cancel: &'a AtomicBool,
+    on_done: &'a mut dyn FnMut(usize),
+    results: Vec<Option<SteadyState>>,
+    /// The first initial state not yet started.
+    next_ic: usize,
+}
+
+impl Grid<'_> {
+    /// Starts the next initial state in lane `i`, or parks the lane if none is left.
+    fn fill<const L: usize>(&mut self, i: usize, lanes: &mut Lanes<L>) -> LaneState {
+        if self.next_ic < self.ics.len() {
+            let ic = self.next_ic;
+            self.next_ic += 1;
+            self.rk
+                .restart_lane(lanes, i, self.ics[ic][0], self.ics[ic][1]);
+            LaneState::Transient {
+                ic,
+                detector: self.spec.period_detector(),
+                inside: None,
+                sought: 0,
+            }
+        } else {
+            self.rk.park_lane(lanes, i);
+            LaneState::Idle
+        }
+    }
+
+    /// Advances the lanes a period at a time until none is running, or until every state
+    /// has started and at most `narrow_at` are running. `None` if cancelled.
+    fn run<const L: usize>(
+        &mut self,
+        lanes: &mut Lanes<L>,
+        state: &mut [LaneState],
+        narrow_at: usize,
+    ) -> Option<()> {
+        let (rk, h) = (self.rk, self.rk.step());
+        let (params, spec) = (self.params, self.spec);
+        loop {
+            let running = state
+                .iter()
+                .filter(|s| !matches!(s, LaneState::Idle))
+                .count();
+            if running == 0 || (self.next_ic == self.ics.len() && running <= narrow_at) {
+                return Some(());
+            }
+            if self.cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let recording = state
+                .iter()
+                .any(|s| matches!(s, LaneState::Recording { .. }));
+            if recording {
+                rk.advance_period(
+                    lanes,
+                    Some(&mut |_, b, e| {
+                        for (i, s) in state.iter_mut().enumerate() {
+                            if let LaneState::Recording { rec, .. } = s {
+                                rec.add_step(b.x[i], b.v[i], e.x[i], e.v[i], h);
+                            }
+                        }
+                    }),
+                );
+            } else {
+                rk.advance_period(lanes, None);
+            }
+            // lanes, their states and the results are updated together by index
+            #[allow(clippy::needless_range_loop)]
+            for i in 0..L {
+                let point = [lanes.x[i], lanes.v[i]];
+                let finished: Option<(usize, SteadyState)> = match &mut state[i] {
+                    LaneState::Idle => None,
+                    LaneState::Transient {
+                        ic,
+                        detector,
+                        inside,
+                        sought,
+                    } => {
+                        if let Some(c) = lanes.collision[i] {
+                            Some((*ic, collided(c, detector.periods() + 1)))
+                        } else if let Some(k) = detector.push(point) {
+                            let n = detector.periods();
+                            state[i] = recording_state(*ic, Class::Periodic, k, n, rk);
+                            None
+                        } else if detector.periods() >= self.spec.max_forcing_periods {
+                            let (k, n) = (self.spec.max_period, detector.periods());
+                            state[i] = recording_state(*ic, Class::NonPeriodic, k, n, rk);
+                            None
+                        } else if let Some(known) = self.known.as_deref_mut() {
+                            let mut now = known.capturing(point);
+                            if now.is_none()
+                                && let Some(k) = settled_cycle(detector, sought)
+                            {
+                                let steady =
+                                    |p: [f64; 2]| Some(steady_state(params, p[0], p[1], spec));
+                                if known.learn_ahead(point, k, steady) {
+                                    now = known.capturing(point);
+                                }
+                            }
+                            let captured = now.filter(|&a| *inside == Some(a));
+                            *inside = now;
+                            captured.map(|a| {
+                                (*ic, adopt(&known.responses[a], detector.periods(), point))
+                            })
+                        } else {
+                            None
+                        }
+                    }
+                    LaneState::Recording {
+                        ic,
+                        class,
+                        k,
+                        transient,
+                        rec,
+                        poincare,
+                    } => {
+                        if let Some(c) = lanes.collision[i] {
+                            Some((*ic, collided(c, *transient)))
+                        } else {
+                            poincare.push(point);
+                            (poincare.len() == *k).then(|| {
+                                let p = std::mem::take(poincare);
+                                (*ic, from_record(rec, p, *k, *transient, *class))
+                            })
+                        }
+                    }
+                };
+                if let Some((ic, result)) = finished {
+                    if let Some(known) = self.known.as_deref_mut() {
+                        known.learn(&result, crate::analysis::orbit::attractor::SAME_POINT_TOL);
+                    }
+                    self.results[ic] = Some(result);
+                    (self.on_done)(ic);
+                    state[i] = self.fill(i, lanes);
+                }
+            }
+        }
+    }
 }
 
 fn recording_state(ic: usize, class: Class, k: usize, transient: usize, rk: &Rk4) -> LaneState {

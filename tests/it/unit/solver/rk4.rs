@@ -74,6 +74,35 @@ fn lanes_split_side_by_side_end_as_alone() {
     }
 }
 
+/// Lanes moved to narrower lanes go on bit for bit as they would have.
+#[test]
+fn narrowed_lanes_go_on_as_before() {
+    let p = Params::baseline();
+    let rk = Rk4::new(&p, &Resolution::default());
+    let x0: [f64; 32] = std::array::from_fn(|i| 0.5 + 1.2 * i as f64 / 31.0);
+    let v0: [f64; 32] = std::array::from_fn(|i| 0.3 - 0.02 * i as f64);
+    let mut wide = rk.start(x0, v0);
+    for _ in 0..10 {
+        rk.advance_period(&mut wide, None);
+    }
+    let picks = [3, 17, 30];
+    let mut narrow = rk.narrowed::<32, 16>(&wide, &picks);
+    for _ in 0..10 {
+        rk.advance_period(&mut wide, None);
+        rk.advance_period(&mut narrow, None);
+    }
+    assert_eq!(narrow.period, wide.period);
+    for (j, &i) in picks.iter().enumerate() {
+        assert_eq!(narrow.x[j].to_bits(), wide.x[i].to_bits(), "lane {i}");
+        assert_eq!(narrow.v[j].to_bits(), wide.v[i].to_bits(), "lane {i}");
+        assert_eq!(narrow.collision[j], wide.collision[i], "lane {i}");
+    }
+    assert!(
+        narrow.collision[3..].iter().all(Option::is_some),
+        "the rest parked"
+    );
+}
+
 /// Every instruction set computes the same bits, on orbits that switch between taut and
 /// slack (split steps) and in a lane that collides.
 #[test]
