@@ -4,10 +4,10 @@
 //! drive comes from a per-period table. The field is evaluated with one division per stage
 //! ([`Field::accel`]) and the acceleration at the end of a step is reused as the first stage
 //! of the next (4 evaluations per step). A step in which any stage sees a membrane switch
-//! between taut and slack is redone for that lane alone: the switch is located on a cubic
-//! Hermite interpolant of the switching function over the step, and the step is split there,
-//! integrating each side on its own smooth piece. This restores fourth order on orbits that go
-//! slack (MODEL.md §4b).
+//! between taut and slack is redone for the lanes that saw it (`split`), four side by side:
+//! the switch is located on a cubic Hermite interpolant of the switching function over the
+//! step, and the step is split there, integrating each side on its own smooth piece. This
+//! restores fourth order on orbits that go slack (MODEL.md §4b).
 
 use super::Collision;
 use super::drive_table::DriveTable;
