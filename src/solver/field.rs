@@ -47,17 +47,6 @@ impl Mode {
         }
     }
 
-    /// Membrane `m`'s `value` signed to be positive where it agrees with this mode: negated
-    /// for a slack membrane. Turns a tension into a switching function.
-    #[inline(always)]
-    pub fn oriented(self, m: Membrane, value: f64) -> f64 {
-        if m.of((self.taut_i, self.taut_ii)) {
-            value
-        } else {
-            -value
-        }
-    }
-
     /// (taut_I, taut_II), to pick one with [`Membrane::of`].
     pub fn pair(self) -> (bool, bool) {
         (self.taut_i, self.taut_ii)
@@ -140,7 +129,8 @@ impl Field {
         )
     }
 
-    /// [`Self::accel`] over any [`Real`]: lane by lane the same operations, so the same bits.
+    /// [`Self::accel`] over any [`Real`]: lane by lane the same operations, so the same bits
+    /// (the plain step keeps its own, whose selects vectorise better written out).
     #[inline(always)]
     pub fn accel_lanes<T: Real>(
         &self,

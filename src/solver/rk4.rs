@@ -256,8 +256,9 @@ impl Rk4 {
     }
 
     /// The one body of every version of [`Self::advance_period`], inlined into each so that
-    /// each is compiled for its instruction set; `split` is [`Self::split_batch`] compiled for
-    /// the same (out of line: a lane switches in few steps).
+    /// each is compiled for its instruction set; `split_batch` is [`Self::split_batch`] and
+    /// `split` [`Self::split_step`] (for the lanes a batch leaves) compiled for the same (out
+    /// of line: a lane switches in few steps).
     #[inline(always)]
     fn advance_period_body<const L: usize>(
         &self,
@@ -336,7 +337,7 @@ impl Rk4 {
                     }
                 }
                 for batch in todo[..count].chunks(SPLIT_BATCH) {
-                    // unused places repeat the first lane
+                    // unused places repeat the batch's last lane
                     let lane = |j: usize| batch[j.min(batch.len() - 1)];
                     let pick = |values: &[f64; L]| SplitLanes::gather(|j| values[lane(j)]);
                     let taut_of = |membrane: Membrane| {

@@ -263,9 +263,9 @@ fn in_lanes<const L: usize>(
     for (i, s) in state.iter_mut().enumerate() {
         *s = grid.fill(i, &mut lanes);
     }
-    if L > 2 * LANES {
-        // WIDE lanes, narrowing as they finish
-        grid.run(&mut lanes, &mut state, L / 2)?;
+    if L == WIDE {
+        // to half as many lanes, and half again, as they finish
+        grid.run(&mut lanes, &mut state, 2 * LANES)?;
         let (mut lanes, mut state) = narrowed::<L, { 2 * LANES }>(&rk, &lanes, state);
         grid.run(&mut lanes, &mut state, LANES)?;
         let (mut lanes, mut state) = narrowed::<{ 2 * LANES }, LANES>(&rk, &lanes, state);

@@ -13,7 +13,8 @@ use crate::solver::lane::{Batch, Real};
 /// A batch's conditions, one per lane.
 type Mask = <SplitLanes as Real>::Mask;
 
-/// The lanes whose split steps are taken side by side.
+/// The lanes whose split steps are taken side by side: four (batches of eight, in AVX-512
+/// registers, took 1.46 times as long: the compiler's code for them spilled).
 pub(super) type SplitLanes = Batch<4>;
 /// How many lanes [`SplitLanes`] holds.
 pub(super) const SPLIT_BATCH: usize = SplitLanes::LANES;
@@ -269,7 +270,6 @@ impl Rk4 {
     #[inline(always)]
     fn switching<T: Real>(&self, [x, v]: [T; 2], (pi, pii): (T, T), mode: Mode<T::Mask>) -> [T; 2] {
         let f = &self.field;
-        let oriented = |taut: T::Mask, g: T| T::select(taut, g, -g);
         [
             oriented(mode.taut_i, f.scaled_tension_of(Membrane::I, x, v, pi, pii)),
             oriented(
@@ -303,7 +303,7 @@ impl Rk4 {
             f.scaled_tension_rate(m, [y0[0], y0[1], a0], drive_start.0, drive_start.1),
             f.scaled_tension_rate(m, [y1[0], y1[1], a1], drive_end.0, drive_end.1),
         );
-        let (d0, d1) = (T::select(taut, d0, -d0), T::select(taut, d1, -d1));
+        let (d0, d1) = (oriented(taut, d0), oriented(taut, d1));
         let searched = negative_end & !negative_start;
         let root = hermite::crossing(g_start[i], d0, g_end[i], d1, h, NEWTON_TOLERANCE, searched);
         (T::select(negative_start, zero, root), negative_end)
@@ -341,11 +341,11 @@ impl Rk4 {
             // the switching function's cubic Hermite interpolant from its values and rates at
             // both ends: no evaluation inside the step (rates only for a membrane that switches)
             let ends = [(y0, a0, drive_start, g_start), (y1, a1, drive_end, g_end)];
-            let root = |m| {
-                let (s, switches) = self.end_switch(m, mode, ends, h);
-                switches.then_some(s)
-            };
-            (root(Membrane::I), root(Membrane::Ii))
+            // no closure here: one called twice may stay out of line, without the step's
+            // instruction set
+            let (s_i, switches_i) = self.end_switch(Membrane::I, mode, ends, h);
+            let (s_ii, switches_ii) = self.end_switch(Membrane::Ii, mode, ends, h);
+            (switches_i.then_some(s_i), switches_ii.then_some(s_ii))
         } else {
             // a brief excursion: scan the switching functions along the state's interpolant
             let (mut s_prev, mut g_prev) = (0.0, g_start);
@@ -447,6 +447,13 @@ impl Rk4 {
 #[inline(always)]
 fn splat_drive<T: Real>(((pi, pii), (ri, rii)): DriveWithRate) -> DriveWithRate<T> {
     ((T::splat(pi), T::splat(pii)), (T::splat(ri), T::splat(rii)))
+}
+
+/// A membrane's switching function `g` signed to be positive where it agrees with its
+/// mode: negated where it is slack.
+#[inline(always)]
+fn oriented<T: Real>(taut: T::Mask, g: T) -> T {
+    T::select(taut, g, -g)
 }
 
 /// `taut` with its lanes flipped where `flip` holds.
