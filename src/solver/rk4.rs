@@ -327,46 +327,7 @@ impl Rk4 {
                 // the drive is T-periodic: split steps are anchored at the step's phase within
                 // the period, so a trajectory never depends on how many periods its lane ran
                 let phase_tau = k as f64 * h;
-                // the lanes to split, a batch at a time side by side
-                let mut todo = [0; L];
-                let mut count = 0;
-                for (i, &switched) in switched.iter().enumerate() {
-                    if switched && lanes.collision[i].is_none() {
-                        todo[count] = i;
-                        count += 1;
-                    }
-                }
-                for batch in todo[..count].chunks(SPLIT_BATCH) {
-                    // unused places repeat the batch's last lane
-                    let lane = |j: usize| batch[j.min(batch.len() - 1)];
-                    let pick = |values: &[f64; L]| SplitLanes::gather(|j| values[lane(j)]);
-                    let taut_of = |membrane: Membrane| {
-                        let taut = |j| membrane.of(Mode::from_code(mode0[lane(j)]).pair());
-                        SplitLanes::gather_mask(taut)
-                    };
-                    let mode = Mode {
-                        taut_i: taut_of(Membrane::I),
-                        taut_ii: taut_of(Membrane::Ii),
-                    };
-                    let start = ([pick(x0), pick(v0)], pick(a0), mode);
-                    let unsplit = ([pick(&lanes.x), pick(&lanes.v)], pick(&lanes.a));
-                    let (([x1, v1], a1, mode1), done) = split_batch(k, start, unsplit);
-                    for (j, &i) in batch.iter().enumerate() {
-                        let (end, a_end, mode_end) = if SplitLanes::lane_holds(done, j) {
-                            let mode = Mode {
-                                taut_i: SplitLanes::lane_holds(mode1.taut_i, j),
-                                taut_ii: SplitLanes::lane_holds(mode1.taut_ii, j),
-                            };
-                            ([x1.lane(j), v1.lane(j)], a1.lane(j), mode)
-                        } else {
-                            // a second switch, or one the step's end does not show
-                            let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
-                            split(k, start, ([lanes.x[i], lanes.v[i]], lanes.a[i]))
-                        };
-                        [lanes.x[i], lanes.v[i]] = end;
-                        (lanes.a[i], lanes.mode[i]) = (a_end, Mode::code(mode_end));
-                    }
-                }
+                self.split_switched(k, &before, &mode0, &switched, lanes, &split_batch, &split);
                 for i in 0..L {
                     if lanes.collision[i].is_some() {
                         continue;
@@ -395,6 +356,64 @@ impl Rk4 {
             }
         }
         lanes.period += 1;
+    }
+
+    /// Redoes step `k` of the lanes that `switched` (and are still inside the model) as
+    /// split steps from `before` (modes `mode0`): a batch at a time side by side, a lane the
+    /// batch leaves alone.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn split_switched<const L: usize>(
+        &self,
+        k: usize,
+        before: &StepEnds<L>,
+        mode0: &[f64; L],
+        switched: &[bool; L],
+        lanes: &mut Lanes<L>,
+        split_batch: &impl Fn(usize, BatchStart, BatchEnd) -> BatchEnds,
+        split: &impl Fn(usize, StepStart, StepEnd) -> StepEnd3,
+    ) {
+        let (x0, v0, a0) = (&before.x, &before.v, &before.a);
+        // the lanes to split, a batch at a time side by side
+        let mut todo = [0; L];
+        let mut count = 0;
+        for (i, &switched) in switched.iter().enumerate() {
+            if switched && lanes.collision[i].is_none() {
+                todo[count] = i;
+                count += 1;
+            }
+        }
+        for batch in todo[..count].chunks(SPLIT_BATCH) {
+            // unused places repeat the batch's last lane
+            let lane = |j: usize| batch[j.min(batch.len() - 1)];
+            let pick = |values: &[f64; L]| SplitLanes::gather(|j| values[lane(j)]);
+            let taut_of = |membrane: Membrane| {
+                let taut = |j| membrane.of(Mode::from_code(mode0[lane(j)]).pair());
+                SplitLanes::gather_mask(taut)
+            };
+            let mode = Mode {
+                taut_i: taut_of(Membrane::I),
+                taut_ii: taut_of(Membrane::Ii),
+            };
+            let start = ([pick(x0), pick(v0)], pick(a0), mode);
+            let unsplit = ([pick(&lanes.x), pick(&lanes.v)], pick(&lanes.a));
+            let (([x1, v1], a1, mode1), done) = split_batch(k, start, unsplit);
+            for (j, &i) in batch.iter().enumerate() {
+                let (end, a_end, mode_end) = if SplitLanes::lane_holds(done, j) {
+                    let mode = Mode {
+                        taut_i: SplitLanes::lane_holds(mode1.taut_i, j),
+                        taut_ii: SplitLanes::lane_holds(mode1.taut_ii, j),
+                    };
+                    ([x1.lane(j), v1.lane(j)], a1.lane(j), mode)
+                } else {
+                    // a second switch, or one the step's end does not show
+                    let start = ([x0[i], v0[i]], a0[i], Mode::from_code(mode0[i]));
+                    split(k, start, ([lanes.x[i], lanes.v[i]], lanes.a[i]))
+                };
+                [lanes.x[i], lanes.v[i]] = end;
+                (lanes.a[i], lanes.mode[i]) = (a_end, Mode::code(mode_end));
+            }
+        }
     }
 
     /// Puts a new trajectory in lane `i`, starting at the current period boundary (forcing
