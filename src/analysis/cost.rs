@@ -171,7 +171,8 @@ pub fn response(spec: &FrequencyResponseSpec, at_omega: Option<f64>) -> Result<C
     let what = format!("{} ω_e values (omega.points)", spec.omega.points);
     let mut cost = grid.plus(sweeps).plus(seeding).bytes(bytes, what);
     cost.disk = bytes;
-    cost.chunk = Some(starts * steady.steps);
+    let per_chunk = super::global::frequency_response::omegas_per_chunk(spec.omega.points);
+    cost.chunk = Some(per_chunk as f64 * starts * steady.steps);
     Ok(cost)
 }
 
@@ -184,7 +185,8 @@ pub fn basin(spec: &BasinSpec, omega: f64) -> Result<Cost, ParamError> {
     let mut cost =
         Cost::new(cells, "cells (dx.points × v.points)", &steady).bytes(cells * 64.0, what);
     cost.disk = cells * steady_bytes(&spec.steady);
-    cost.chunk = Some(cells.min(super::global::basin::CHUNK_CELLS as f64) * steady.steps);
+    let per_chunk = super::global::basin::cells_per_chunk(spec.dx.points * spec.v.points);
+    cost.chunk = Some(cells.min(per_chunk as f64) * steady.steps);
     Ok(cost)
 }
 

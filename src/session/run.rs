@@ -3,6 +3,7 @@
 //! one session at once, and shards on the nodes of a cluster, share the work chunk by chunk;
 //! exactly one of them assembles the result.
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -23,9 +24,11 @@ use crate::analysis::continuation::branch_from_state::branch_from_state;
 use crate::analysis::continuation::hunt::{HuntSpec, hunt_in};
 use crate::analysis::continuation::map::{MapRow, MapSpec, map_curves, map_row};
 use crate::analysis::continuation::model::Continuable;
-use crate::analysis::global::basin::{BasinPlan, BasinSpec, CHUNK_CELLS};
+use crate::analysis::global::basin::{BasinPlan, BasinSpec, cells_per_chunk};
 use crate::analysis::global::family::{FamilyMember, FamilySpec, family_member};
-use crate::analysis::global::frequency_response::{FrequencyResponseSpec, Response, ResponsePlan};
+use crate::analysis::global::frequency_response::{
+    FrequencyResponseSpec, Response, ResponsePlan, chunk_omegas, omegas_per_chunk,
+};
 use crate::analysis::global::oscillator::chirp::written_chirp_sweep;
 use crate::analysis::global::oscillator::history::state_history;
 use crate::analysis::global::stepped_sweep::{SweepFindings, stepped_sweep};
@@ -122,9 +125,13 @@ pub fn is_current(session: &Session, entry: &AnalysisEntry) -> bool {
 /// How many chunks an analysis of these settings is cut into (1 for those computed whole).
 pub fn chunk_count(settings: &Settings) -> usize {
     match settings {
-        Settings::Basin(spec) => (spec.dx.points * spec.v.points).div_ceil(CHUNK_CELLS),
+        Settings::Basin(spec) => {
+            let cells = spec.dx.points * spec.v.points;
+            cells.div_ceil(cells_per_chunk(cells))
+        }
         Settings::FrequencyResponse(spec) | Settings::Hunt(HuntSpec { response: spec, .. }) => {
-            spec.omega.points
+            let points = spec.omega.points;
+            points.div_ceil(omegas_per_chunk(points))
         }
         Settings::Map(spec) => spec.values.points,
         Settings::Family(spec) => spec.values.len(),
@@ -215,7 +222,8 @@ pub fn survey_of(session: &Session, entry: &AnalysisEntry) -> Survey {
 /// What chunk `i` of a basin must hold: one outcome per cell of the chunk.
 pub fn basin_content(spec: &BasinSpec, i: usize, outcomes: &[SteadyState]) -> Result<(), String> {
     let cells = spec.dx.points * spec.v.points;
-    let expected = CHUNK_CELLS.min(cells.saturating_sub(i * CHUNK_CELLS));
+    let per_chunk = cells_per_chunk(cells);
+    let expected = per_chunk.min(cells.saturating_sub(i * per_chunk));
     if outcomes.len() == expected {
         Ok(())
     } else {
@@ -226,27 +234,36 @@ pub fn basin_content(spec: &BasinSpec, i: usize, outcomes: &[SteadyState]) -> Re
     }
 }
 
-/// What chunk `i` of a frequency response must hold: responses at its ω_e whose counts add
-/// up to the grid of initial states.
+/// What chunk `i` of a frequency response must hold: responses at each of its ω_e
+/// ([`chunk_omegas`]) whose counts add up to the grid of initial states.
 pub fn response_content(
     spec: &FrequencyResponseSpec,
     i: usize,
     responses: &[Response],
 ) -> Result<(), String> {
-    let omega = spec.omega.at(i);
+    let omegas = chunk_omegas(spec.omega.points, i);
     if let Some(r) = responses
         .iter()
-        .find(|r| r.omega_index != i || r.omega != omega)
+        .find(|r| !omegas.contains(&r.omega_index) || r.omega != spec.omega.at(r.omega_index))
     {
         return Err(format!(
-            "a response at ω_e {} (index {}), chunk {i} is ω_e {omega}",
+            "a response at ω_e {} (index {}), chunk {i} is ω_e indices {omegas:?}",
             r.omega, r.omega_index
         ));
     }
     let starts = spec.dx.points * spec.v.points;
-    let counted: usize = responses.iter().map(|r| r.count).sum();
-    if counted != starts {
-        return Err(format!("{counted} starts counted, the grid has {starts}"));
+    for j in omegas {
+        let counted: usize = responses
+            .iter()
+            .filter(|r| r.omega_index == j)
+            .map(|r| r.count)
+            .sum();
+        if counted != starts {
+            return Err(format!(
+                "{counted} starts counted at ω_e {}, the grid has {starts}",
+                spec.omega.at(j)
+            ));
+        }
     }
     Ok(())
 }
@@ -400,6 +417,9 @@ fn on_disk(session: &Session, name: &str) -> Option<String> {
 /// that was damaged or removed since it was checked.
 type Chunks<'a, T> = Box<dyn Iterator<Item = anyhow::Result<T>> + 'a>;
 
+/// Chunks read and parsed side by side while the assembly takes them in order.
+const LOAD_AHEAD: usize = 32;
+
 /// What became of one chunk in one pass.
 enum Step {
     /// Its file was there and good (or another run finished it while this one waited).
@@ -531,8 +551,8 @@ impl Run<'_> {
             |i| optional(plan.chunk(i, progress)),
             |i, outcomes: &Vec<SteadyState>| basin_content(spec, i, outcomes),
             |i| {
-                let first = i * CHUNK_CELLS;
-                let last = (first + CHUNK_CELLS).min(dx.len() * v.len()) - 1;
+                let first = i * plan.per_chunk;
+                let last = (first + plan.per_chunk).min(dx.len() * v.len()) - 1;
                 // the offsets as the settings name them (a written model's grid states too)
                 let at = |c: usize| format!("(dx {}, v {})", dx[c / v.len()], v[c % v.len()]);
                 format!("cells {first}–{last}, {} to {}", at(first), at(last))
@@ -550,7 +570,8 @@ impl Run<'_> {
         )
     }
 
-    /// A frequency response (and, with `hunt`, the isola hunt on it), one chunk per ω_e.
+    /// A frequency response (and, with `hunt`, the isola hunt on it), a chunk per
+    /// [`omegas_per_chunk`] ω_e.
     fn response<M: Continuable>(
         &self,
         osc: &M,
@@ -562,14 +583,33 @@ impl Run<'_> {
         let named = self.named();
         let plan = ResponsePlan::new(osc, spec).map_err(&named)?;
         progress.grow_total(plan.work());
-        let per_chunk = spec.dx.points * spec.v.points;
+        let (points, starts) = (spec.omega.points, spec.dx.points * spec.v.points);
         self.chunked(
-            |_| progress.add(per_chunk),
-            |i| optional(plan.grid_at(i, progress)),
+            |i| progress.add(starts * chunk_omegas(points, i).len()),
+            |i| {
+                let grids: Result<Vec<Vec<Response>>, _> = chunk_omegas(points, i)
+                    .map(|j| plan.grid_at(j, progress))
+                    .collect();
+                optional(grids.map(|g| g.concat()))
+            },
             |i, responses: &Vec<Response>| response_content(spec, i, responses),
-            |i| format!("ω_e = {}", spec.omega.at(i)),
+            |i| {
+                let omegas = chunk_omegas(points, i);
+                let (first, last) = (omegas.start, omegas.end - 1);
+                match first == last {
+                    true => format!("ω_e = {}", spec.omega.at(first)),
+                    false => format!("ω_e = {} to {}", spec.omega.at(first), spec.omega.at(last)),
+                }
+            },
             |chunks, csv| {
-                let per_omega: Vec<Vec<Response>> = chunks.collect::<anyhow::Result<_>>()?;
+                // each ω_e's responses in the order its grid found them
+                let mut per_omega: Vec<Vec<Response>> = vec![Vec::new(); points];
+                for chunk in chunks {
+                    for r in chunk? {
+                        let j = r.omega_index;
+                        per_omega[j].push(r);
+                    }
+                }
                 let fr = plan.finish(per_omega, progress).map_err(&named)?;
                 if let Some(hunt) = hunt {
                     let found = hunt_in(osc, fr, &hunt.continuation, progress).map_err(&named)?;
@@ -652,7 +692,7 @@ impl Run<'_> {
         compute: impl Fn(usize) -> anyhow::Result<Option<T>> + Sync,
         content: impl Fn(usize, &T) -> Result<(), String> + Sync,
         describe: impl Fn(usize) -> String + Sync,
-        finish: impl FnOnce(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
+        mut finish: impl FnMut(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
     ) -> anyhow::Result<Outcome> {
         let n = self.chunks;
         let counted: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
@@ -663,12 +703,13 @@ impl Run<'_> {
         };
         let mine: Vec<usize> = (0..n).filter(|&i| self.shard.owns(i)).collect();
         let mut computed = 0;
-        // a chunk that is good when computed but fails when loaded (damaged meanwhile) sends
-        // the run round again; a file system that damages everything ends in an error
+        // a chunk that is good when computed but fails when checked or assembled (damaged
+        // meanwhile, or a payload this build cannot read) sends the run round again; a file
+        // system that damages everything ends in an error
         for _round in 0..3 {
             let saver = ChunkSaver::start(&self.work.dir)?;
             let one = |i: usize, wait: bool| -> anyhow::Result<Step> {
-                self.one_chunk(i, wait, &saver, &existing, &compute, &content, &describe)
+                self.one_chunk(i, wait, &saver, &existing, &compute, &describe)
             };
             let mut steps: Vec<(usize, Step)> = mine
                 .par_iter()
@@ -724,9 +765,12 @@ impl Run<'_> {
             {
                 return Err(self.cancelled_error());
             }
-            let (seconds, missing) = self.check_all(&content)?;
+            let (seconds, missing) = self.check_all()?;
             if missing.is_empty() {
-                return self.assemble(&content, seconds, computed, finish);
+                match self.assemble(&content, seconds, computed, &mut finish)? {
+                    Some(outcome) => return Ok(outcome),
+                    None => continue,
+                }
             }
             // missing: other shards' chunks, or (for a worker) chunks other runs compute
             if self.worker || missing.iter().all(|&i| !self.shard.owns(i)) {
@@ -745,7 +789,6 @@ impl Run<'_> {
 
     /// Chunk `i` in one pass: used if its file is good, computed if this run gets its claim,
     /// left to its claimer otherwise (or, with `wait`, waited for and then used or computed).
-    #[allow(clippy::too_many_arguments)]
     fn one_chunk<T: Payload>(
         &self,
         i: usize,
@@ -753,7 +796,6 @@ impl Run<'_> {
         saver: &ChunkSaver,
         existing: &(impl Fn(usize) + Sync),
         compute: &(impl Fn(usize) -> anyhow::Result<Option<T>> + Sync),
-        content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
         describe: &(impl Fn(usize) -> String + Sync),
     ) -> anyhow::Result<Step> {
         let (work, n) = (self.work, self.chunks);
@@ -762,7 +804,7 @@ impl Run<'_> {
         }
         // a chunk that could not be written ends the run: computing more would be in vain
         saver.healthy()?;
-        if let Ok(Some(_)) = work.read_chunk::<T>(i, n, |v| content(i, v)) {
+        if let Ok(Some(_)) = work.check_chunk(i, n) {
             existing(i);
             return Ok(Step::Existing);
         }
@@ -777,8 +819,8 @@ impl Run<'_> {
                 None => return Ok(Step::Claimed),
             }
         };
-        // read again under the claim: its previous holder may have just finished it
-        match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+        // checked again under the claim: its previous holder may have just finished it
+        match work.check_chunk(i, n) {
             Ok(Some(_)) => {
                 existing(i);
                 return Ok(Step::Existing);
@@ -811,21 +853,18 @@ impl Run<'_> {
     }
 
     /// The seconds the good chunks took, and the indices of those missing (a chunk found
-    /// damaged now is moved aside and counted missing); no chunk is kept in memory.
-    fn check_all<T: Payload>(
-        &self,
-        content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
-    ) -> anyhow::Result<(f64, Vec<usize>)> {
+    /// damaged now is moved aside and counted missing); each file's checksum is checked, its
+    /// payload is parsed only by the assembly.
+    fn check_all(&self) -> anyhow::Result<(f64, Vec<usize>)> {
         let (work, n) = (self.work, self.chunks);
         // each chunk's seconds, or None if it is missing (read side by side)
         let checked: Vec<Option<f64>> = (0..n)
             .into_par_iter()
-            .map(|i| match work.read_chunk::<T>(i, n, |v| content(i, v)) {
-                Ok(Some(d)) => Ok(Some(d.seconds)),
-                Ok(None) => Ok(None),
+            .map(|i| match work.check_chunk(i, n) {
+                Ok(seconds) => Ok(seconds),
                 Err(_) => {
                     if let Some(_claim) = work.try_claim(i)?
-                        && let Err(why) = work.read_chunk::<T>(i, n, |v| content(i, v))
+                        && let Err(why) = work.check_chunk(i, n)
                     {
                         work.reject(i, &why);
                     }
@@ -839,56 +878,94 @@ impl Run<'_> {
     }
 
     /// Assembles the result from every chunk, unless another run has just done so; only one
-    /// run assembles at a time.
+    /// run assembles at a time. `None` where a chunk fails to load (damaged since it was
+    /// checked, or a payload this build cannot read): it is moved aside, to be computed again.
     fn assemble<T: Payload>(
         &self,
         content: &(impl Fn(usize, &T) -> Result<(), String> + Sync),
         chunk_seconds: f64,
         computed: usize,
-        finish: impl FnOnce(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
-    ) -> anyhow::Result<Outcome> {
+        finish: &mut impl FnMut(Chunks<'_, T>, &Path) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Option<Outcome>> {
         let Some(_assembler) = self.work.assembler(&|| self.cancelled())? else {
             return Err(self.cancelled_error());
         };
         if let Ok(m) = store::verified(&self.work.paths)
             && m.fingerprint == self.work.fingerprint
         {
-            return Ok(Outcome::Completed {
+            return Ok(Some(Outcome::Completed {
                 chunks_computed: computed,
                 seconds: m.compute_seconds,
                 assembled_here: false,
                 notes: Vec::new(),
-            });
+            }));
         }
         let started = Instant::now();
         let staging = self.work.staging()?;
         let csv = staging.join(file_name(&self.work.paths.csv));
-        // each chunk read (and checked) again as the assembly takes it, one at a time
-        let (work, n) = (self.work, self.chunks);
-        let chunks = (0..n).map(
-            move |i| match work.read_chunk::<T>(i, n, |v| content(i, v)) {
-                Ok(Some(d)) => Ok(d.value),
-                Ok(None) => {
-                    anyhow::bail!("{}: gone while assembling", work.chunk_path(i).display())
-                }
-                Err(why) => anyhow::bail!("{}: {why}", work.chunk_path(i).display()),
-            },
-        );
-        finish(Box::new(chunks), &csv)?;
+        // the first chunk that failed to load, if any
+        let failed: Cell<Option<usize>> = Cell::new(None);
+        finish(self.loaded(content, &failed), &csv).or_else(|e| {
+            // a chunk that failed is recomputed; any other failure is the run's
+            let Some(i) = failed.get() else {
+                return Err(e);
+            };
+            if let Some(_claim) = self.work.try_claim(i)?
+                && let Err(why) = self.work.read_chunk::<T>(i, self.chunks, |v| content(i, v))
+            {
+                self.work.reject(i, &why);
+            }
+            Ok(())
+        })?;
+        if failed.get().is_some() {
+            return Ok(None);
+        }
         if self.cancelled() {
             return Err(self.cancelled_error());
         }
         let Some(m) = self.commit(&csv, chunk_seconds + started.elapsed().as_secs_f64())? else {
-            return Ok(Outcome::Superseded {
+            return Ok(Some(Outcome::Superseded {
                 chunks_computed: computed,
-            });
+            }));
         };
-        Ok(Outcome::Completed {
+        Ok(Some(Outcome::Completed {
             chunks_computed: computed,
             seconds: m.compute_seconds,
             assembled_here: true,
             notes: Vec::new(),
-        })
+        }))
+    }
+
+    /// Every chunk's value in index order, parsed and checked as the assembly takes them: a
+    /// window of [`LOAD_AHEAD`] chunks side by side, so only a window is held in memory. The
+    /// index of the first that fails goes to `failed`.
+    fn loaded<'s, T: Payload + 's>(
+        &'s self,
+        content: &'s (impl Fn(usize, &T) -> Result<(), String> + Sync),
+        failed: &'s Cell<Option<usize>>,
+    ) -> Chunks<'s, T> {
+        let (work, n) = (self.work, self.chunks);
+        let load = move |i: usize| match work.read_chunk::<T>(i, n, |v| content(i, v)) {
+            Ok(Some(d)) => Ok(d.value),
+            Ok(None) => Err(anyhow::anyhow!(
+                "{}: gone while assembling",
+                work.chunk_path(i).display()
+            )),
+            Err(why) => Err(anyhow::anyhow!("{}: {why}", work.chunk_path(i).display())),
+        };
+        let windows = (0..n).step_by(LOAD_AHEAD).flat_map(move |first| {
+            (first..(first + LOAD_AHEAD).min(n))
+                .into_par_iter()
+                .map(|i| (i, load(i)))
+                .collect::<Vec<_>>()
+        });
+        Box::new(windows.map(move |(i, value)| {
+            value.inspect_err(|_| {
+                if failed.get().is_none() {
+                    failed.set(Some(i));
+                }
+            })
+        }))
     }
 
     /// Moves the staged result into place with its manifest; `None` where it is superseded

@@ -12,6 +12,7 @@ use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use isola::analysis::SteadyState;
+use isola::analysis::global::basin::cells_per_chunk;
 use isola::session::Session;
 use isola::session::store::ResultPaths;
 use isola::session::store::chunk::{self, ChunkId};
@@ -358,7 +359,10 @@ fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
     let old = old.wait_with_output().unwrap();
     assert!(old.status.success(), "{}", text(&old));
     assert!(
-        String::from_utf8_lossy(&old.stdout).contains("not stored (50 chunks computed now)"),
+        String::from_utf8_lossy(&old.stdout).contains(&format!(
+            "not stored ({} chunks computed now)",
+            (160 * 160usize).div_ceil(cells_per_chunk(160 * 160))
+        )),
         "{}",
         text(&old)
     );
@@ -373,6 +377,44 @@ fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
     let status = isola().arg("status").arg(&session).output().unwrap();
     let status = String::from_utf8_lossy(&status.stdout).into_owned();
     assert!(status.contains("result complete, verified"), "{status}");
+}
+
+/// A chunk whose file is whole (its header and checksum good) but whose payload this build
+/// cannot read (another build's, say) passes the checks of the files and fails when the result
+/// is assembled: it is moved aside and computed again, and the CSV is the uninterrupted run's.
+#[test]
+fn a_chunk_this_build_cannot_read_is_computed_again_at_assembly() {
+    let expected = reference(BASIN, &BASIN_FILES);
+    let (_dir, session) = session_dir(BASIN);
+    let out = run_ok(&session, &["--shard", "0/2"]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+    let s = Session::load(&session).unwrap();
+    let fingerprint = s.fingerprint(&s.analyses[0]);
+    let id = ChunkId {
+        fingerprint: &fingerprint,
+        index: 2,
+        chunks: BASIN_CHUNKS,
+    };
+    // as many items as the chunk's cells, but numbers where steady states belong
+    let numbers: Vec<u32> = (0..512).collect();
+    let file = work_dir(&session, "basin").join("000002.json");
+    std::fs::write(&file, chunk::encode(&id, &numbers, 0.0).unwrap()).unwrap();
+    let out = run_ok(&session, &[]);
+    assert_eq!(
+        computed(&out, "basin"),
+        BASIN_CHUNKS / 2 + 1,
+        "shard 1's chunks and chunk 2 again: {out}"
+    );
+    assert!(
+        result_files(&session, &BASIN_FILES) == expected,
+        "CSV differs"
+    );
+    let log = log(&session);
+    assert!(
+        log.lines()
+            .any(|l| l.contains("000002.json") && l.contains("unreadable payload")),
+        "{log}"
+    );
 }
 
 /// Chunks of the other shard survive damage to a few of this shard's: nothing finished is

@@ -271,6 +271,28 @@ fn run_plan<O: Oscillator>(
     plan.finish(per_omega, progress)
 }
 
+/// Most ω_e in a chunk of the results store.
+const MAX_CHUNK_OMEGAS: usize = 4;
+/// Chunks a response is cut into at least, where one ω_e a chunk allows.
+const MIN_CHUNKS: usize = 24;
+
+/// ω_e per chunk of the results store for a grid of `points` values: the largest of 1, 2 and
+/// 4 that leaves at least 24 chunks, as a basin's [`cells_per_chunk`]: the store's work for
+/// each chunk (a claim, a file, a checksum) is paid on fewer of them, a small grid still
+/// spreads over cores and nodes. Each ω_e's grid is computed on its own either way.
+///
+/// [`cells_per_chunk`]: crate::analysis::global::basin::cells_per_chunk
+pub fn omegas_per_chunk(points: usize) -> usize {
+    let wanted = (points / MIN_CHUNKS).max(1);
+    (1 << wanted.ilog2()).min(MAX_CHUNK_OMEGAS)
+}
+
+/// The ω_e indices of the store's chunk `i` of a grid of `points` values.
+pub fn chunk_omegas(points: usize, i: usize) -> std::ops::Range<usize> {
+    let per_chunk = omegas_per_chunk(points);
+    (i * per_chunk).min(points)..((i + 1) * per_chunk).min(points)
+}
+
 /// A validated frequency response cut into chunks, one per ω_e of the grid (its grid of initial
 /// states); seeding, sweeps and branches follow once every chunk is done.
 pub struct ResponsePlan<'a, O: Oscillator = Params> {

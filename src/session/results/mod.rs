@@ -17,7 +17,7 @@ use crate::analysis::Ratio;
 use crate::analysis::continuation::hunt::HuntSpec;
 use crate::analysis::continuation::map::{MapCell, MapRow};
 use crate::analysis::global::family::FamilyMember;
-use crate::analysis::global::frequency_response::Response;
+use crate::analysis::global::frequency_response::{Response, chunk_omegas};
 use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::{Class, SteadyState};
 
@@ -259,7 +259,7 @@ impl ResultReader {
                 let Partial::Basin { table, labels } = &mut self.partial else {
                     unreachable!()
                 };
-                let start = i * crate::analysis::global::basin::CHUNK_CELLS;
+                let start = i * crate::analysis::global::basin::cells_per_chunk(cells);
                 for (k, s) in outcomes.iter().enumerate() {
                     if let Some(l) = labels.get_mut(start + k) {
                         *l = Some(table.classify(s, SAME_POINT_TOL));
@@ -277,10 +277,13 @@ impl ResultReader {
                 let Partial::Response(per_omega) = &mut self.partial else {
                     unreachable!()
                 };
-                *per_omega.get_mut(i)? = responses
-                    .iter()
-                    .map(|r| ResponsePoint::from_response(r, self.grid))
-                    .collect();
+                for j in chunk_omegas(spec.omega.points, i) {
+                    *per_omega.get_mut(j)? = responses
+                        .iter()
+                        .filter(|r| r.omega_index == j)
+                        .map(|r| ResponsePoint::from_response(r, self.grid))
+                        .collect();
+                }
             }
             Settings::Family(spec) => {
                 let member: FamilyMember =

@@ -131,6 +131,13 @@ pub struct Decoded<T> {
     pub seconds: f64,
 }
 
+/// Checks chunk `id` in `bytes` without parsing its payload: format, fingerprint, index,
+/// length and checksum (so a damaged, cut, foreign or copied file is told apart); the
+/// seconds it took. The payload itself is parsed and checked by [`decode`] when it is used.
+pub fn check(bytes: &[u8], id: &ChunkId) -> Result<f64, ChunkError> {
+    checked(bytes, id).map(|(header, _)| header.seconds)
+}
+
 /// Reads chunk `id` from `bytes`, checking format, fingerprint, index, length, checksum and
 /// item count, then `content` (the analysis' own check of what the chunk must hold).
 pub fn decode<T: Payload>(
@@ -138,6 +145,25 @@ pub fn decode<T: Payload>(
     id: &ChunkId,
     content: impl FnOnce(&T) -> Result<(), String>,
 ) -> Result<Decoded<T>, ChunkError> {
+    let (header, payload) = checked(bytes, id)?;
+    let value: T =
+        serde_json::from_slice(payload).map_err(|e| ChunkError::BadPayload(e.to_string()))?;
+    if value.items() != header.items {
+        return Err(ChunkError::Items {
+            found: value.items(),
+            expected: header.items,
+        });
+    }
+    content(&value).map_err(ChunkError::Content)?;
+    Ok(Decoded {
+        value,
+        host: header.host,
+        seconds: header.seconds,
+    })
+}
+
+/// The header and payload of chunk `id` in `bytes`, checked up to the payload's checksum.
+fn checked<'b>(bytes: &'b [u8], id: &ChunkId) -> Result<(Header, &'b [u8]), ChunkError> {
     let newline = bytes
         .iter()
         .position(|&b| b == b'\n')
@@ -153,20 +179,7 @@ pub fn decode<T: Payload>(
     if digest(id, header.items, payload) != header.sha256 {
         return Err(ChunkError::Checksum);
     }
-    let value: T =
-        serde_json::from_slice(payload).map_err(|e| ChunkError::BadPayload(e.to_string()))?;
-    if value.items() != header.items {
-        return Err(ChunkError::Items {
-            found: value.items(),
-            expected: header.items,
-        });
-    }
-    content(&value).map_err(ChunkError::Content)?;
-    Ok(Decoded {
-        value,
-        host: header.host,
-        seconds: header.seconds,
-    })
+    Ok((header, payload))
 }
 
 /// What a chunk's header line (without its line break) says of its making, if it names chunk

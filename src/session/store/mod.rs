@@ -195,6 +195,16 @@ impl Work {
         }
     }
 
+    /// The seconds chunk `i` took if its file exists and passes every check but its
+    /// payload's parse ([`chunk::check`]); `Err` says why it does not.
+    pub fn check_chunk(&self, i: usize, chunks: usize) -> Result<Option<f64>, ChunkError> {
+        match std::fs::read(self.chunk_path(i)) {
+            Ok(bytes) => chunk::check(&bytes, &self.id(i, chunks)).map(Some),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(ChunkError::BadPayload(e.to_string())),
+        }
+    }
+
     /// Claims chunk `i` if no one else has; `None` if someone is computing it.
     pub fn try_claim(&self, i: usize) -> anyhow::Result<Option<Lock>> {
         let claim = Lock::try_acquire(&self.claim_path(i), Mode::Exclusive)?;
