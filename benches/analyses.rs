@@ -89,6 +89,7 @@ fn sessions(c: &mut Criterion) {
         "fig04_response_adr06.toml",
         "response",
     );
+    through_session(&mut g, "fig6a_basin", "fig06a_basin_adr06.toml", "basin");
     through_session(&mut g, "map_adr_omega", "map_adr_omega.toml", "adr_omega");
     g.finish();
 }
