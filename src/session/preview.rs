@@ -131,7 +131,8 @@ fn basin_picture<O: Oscillator>(
         .collect();
     progress.grow_total(starts.len());
     let cancel: &AtomicBool = progress.cancel_flag();
-    // a few starts per task, not the basin's chunks of 512: a coarse grid is one or two of those
+    // a few starts per task, not the basin's chunks of 512 to 2048 cells: a coarse grid is one
+    // or two of those
     let outcomes = starts
         .par_chunks(CELLS_PER_TASK)
         .map(|c| osc.steady_states(c, &spec.steady, None, cancel, &mut |_| progress.add(1)))

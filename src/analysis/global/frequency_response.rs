@@ -335,7 +335,7 @@ impl<'a, O: Oscillator> ResponsePlan<'a, O> {
         })
     }
 
-    /// One chunk per ω_e.
+    /// One chunk per ω_e (the results store keeps [`omegas_per_chunk`] of them to a file).
     pub fn chunks(&self) -> usize {
         self.omegas.len()
     }
