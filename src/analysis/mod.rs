@@ -20,6 +20,7 @@ pub mod orbit;
 pub mod parameter;
 pub mod progress;
 pub mod resolution;
+pub mod windows;
 
 pub use global::oscillator::Oscillator;
 pub use orbit::period_map::{DopriPeriodMap, OrbitRecord, PeriodMap, Rk4PeriodMap};

@@ -36,6 +36,7 @@ use crate::analysis::orbit::chirp_sweep::{ChirpSpec, ChirpSweep, chirp_sweep};
 use crate::analysis::orbit::force_curve::force_curves;
 use crate::analysis::orbit::scalogram::scalogram;
 use crate::analysis::orbit::time_history::time_history;
+use crate::analysis::windows::in_windows;
 use crate::analysis::{AnalysisError, Oscillator, Progress, SteadyState};
 use crate::model::Params;
 use crate::model::equations::EquationSystem;
@@ -551,8 +552,8 @@ impl Run<'_> {
             |i| optional(plan.chunk(i, progress)),
             |i, outcomes: &Vec<SteadyState>| basin_content(spec, i, outcomes),
             |i| {
-                let first = i * plan.per_chunk;
-                let last = (first + plan.per_chunk).min(dx.len() * v.len()) - 1;
+                let first = i * plan.per_chunk();
+                let last = (first + plan.per_chunk()).min(dx.len() * v.len()) - 1;
                 // the offsets as the settings name them (a written model's grid states too)
                 let at = |c: usize| format!("(dx {}, v {})", dx[c / v.len()], v[c % v.len()]);
                 format!("cells {first}–{last}, {} to {}", at(first), at(last))
@@ -863,11 +864,7 @@ impl Run<'_> {
             .map(|i| match work.check_chunk(i, n) {
                 Ok(seconds) => Ok(seconds),
                 Err(_) => {
-                    if let Some(_claim) = work.try_claim(i)?
-                        && let Err(why) = work.check_chunk(i, n)
-                    {
-                        work.reject(i, &why);
-                    }
+                    work.reject_if_still_bad(i, || work.check_chunk(i, n))?;
                     Ok(None)
                 }
             })
@@ -910,12 +907,8 @@ impl Run<'_> {
             let Some(i) = failed.get() else {
                 return Err(e);
             };
-            if let Some(_claim) = self.work.try_claim(i)?
-                && let Err(why) = self.work.read_chunk::<T>(i, self.chunks, |v| content(i, v))
-            {
-                self.work.reject(i, &why);
-            }
-            Ok(())
+            let (work, n) = (self.work, self.chunks);
+            work.reject_if_still_bad(i, || work.read_chunk::<T>(i, n, |v| content(i, v)))
         })?;
         if failed.get().is_some() {
             return Ok(None);
@@ -953,13 +946,8 @@ impl Run<'_> {
             )),
             Err(why) => Err(anyhow::anyhow!("{}: {why}", work.chunk_path(i).display())),
         };
-        let windows = (0..n).step_by(LOAD_AHEAD).flat_map(move |first| {
-            (first..(first + LOAD_AHEAD).min(n))
-                .into_par_iter()
-                .map(|i| (i, load(i)))
-                .collect::<Vec<_>>()
-        });
-        Box::new(windows.map(move |(i, value)| {
+        let chunks = in_windows(n, LOAD_AHEAD, move |i| (i, load(i)));
+        Box::new(chunks.map(move |(i, value)| {
             value.inspect_err(|_| {
                 if failed.get().is_none() {
                     failed.set(Some(i));

@@ -1302,8 +1302,9 @@ fn a_running_job_cancels_and_quitting_asks_first() {
         .position(|e| e.analysis.is_some())
         .unwrap();
     let start = Instant::now();
-    // past two chunks of 2048 cells: one at least is done, whichever thread took what
-    while app.jobs.entries[job].progress.get().0 < 2 * 2048 + 64 {
+    // past two chunks' cells: one at least is done, whichever thread took what
+    let two_chunks = 2 * isola::analysis::global::basin::cells_per_chunk(201 * 251);
+    while app.jobs.entries[job].progress.get().0 < two_chunks + 64 {
         app.tick();
         std::thread::sleep(Duration::from_millis(5));
         assert!(start.elapsed() < Duration::from_secs(30));

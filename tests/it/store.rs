@@ -146,6 +146,18 @@ fn chunk_files(work: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// Shard 0 of 2 of the basin in `session`: half its chunks computed, none assembled.
+fn half_done(session: &Path) {
+    let out = run_ok(session, &["--shard", "0/2"]);
+    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+}
+
+/// The fingerprint of the basin, the first analysis of `session`.
+fn basin_fingerprint(session: &Path) -> String {
+    let s = Session::load(session).unwrap();
+    s.fingerprint(&s.analyses[0])
+}
+
 fn log(session: &Path) -> String {
     std::fs::read_to_string(session.with_file_name("s.results").join("run.log")).unwrap_or_default()
 }
@@ -156,12 +168,10 @@ fn log(session: &Path) -> String {
 fn damaged_foreign_copied_and_recut_chunks_are_recomputed() {
     let expected = reference(BASIN, &BASIN_FILES);
     let (_dir, session) = session_dir(BASIN);
-    let out = run_ok(&session, &["--shard", "0/2"]);
-    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
+    half_done(&session);
     let work = work_dir(&session, "basin");
     let good = |i: usize| work.join(format!("{i:06}.json"));
-    let s = Session::load(&session).unwrap();
-    let fingerprint = s.fingerprint(&s.analyses[0]);
+    let fingerprint = basin_fingerprint(&session);
     let id = |index| ChunkId {
         fingerprint: &fingerprint,
         index,
@@ -386,10 +396,8 @@ fn a_run_of_settings_since_edited_never_replaces_the_current_result() {
 fn a_chunk_this_build_cannot_read_is_computed_again_at_assembly() {
     let expected = reference(BASIN, &BASIN_FILES);
     let (_dir, session) = session_dir(BASIN);
-    let out = run_ok(&session, &["--shard", "0/2"]);
-    assert_eq!(computed(&out, "basin"), BASIN_CHUNKS / 2, "{out}");
-    let s = Session::load(&session).unwrap();
-    let fingerprint = s.fingerprint(&s.analyses[0]);
+    half_done(&session);
+    let fingerprint = basin_fingerprint(&session);
     let id = ChunkId {
         fingerprint: &fingerprint,
         index: 2,

@@ -11,6 +11,7 @@ use crate::analysis::grid::Axis;
 use crate::analysis::orbit::attractor::{AttractorTable, SAME_POINT_TOL};
 use crate::analysis::orbit::steady_state::{SteadyState, SteadyStateSpec};
 use crate::analysis::progress::Progress;
+use crate::analysis::windows::in_windows;
 use crate::model::Params;
 use crate::model::error::check;
 use crate::model::limits;
@@ -18,21 +19,12 @@ use crate::solver::rk4::LANES;
 
 /// Largest grid a basin may ask for (about 16 million cells).
 pub const MAX_CELLS: usize = 1 << 24;
-/// Fewest cells in a chunk, the unit of parallel work and of the store's partial results.
-const MIN_CHUNK_CELLS: usize = 512;
-/// Most cells in a chunk.
-const MAX_CHUNK_CELLS: usize = 2048;
-/// Chunks a grid is cut into at least, where [`MIN_CHUNK_CELLS`] allows.
-const MIN_CHUNKS: usize = 24;
-
-/// Cells per chunk in a grid of `cells`: the largest power of two from 512 to 2048 that
-/// leaves at least 24 chunks. A small grid is still spread over cores and nodes; a large one
-/// pays the store's work for each chunk (a claim, a file, a checksum) on fewer of them: the
-/// Fig 6A basin through its session took 9 % less time in 25 chunks than in 99. The cells'
-/// outcomes do not depend on it (the basins of Fig 6 are byte-identical either way).
+/// Cells per chunk (the unit of parallel work and of the store's partial results) in a grid
+/// of `cells`: 512 to 2048 ([`super::units_per_chunk`]). The Fig 6A basin through its session
+/// took 9 % less time in 25 chunks than in 99; the basins of Fig 6 are byte-identical either
+/// way.
 pub fn cells_per_chunk(cells: usize) -> usize {
-    let wanted = (cells / MIN_CHUNKS).max(1);
-    (1 << wanted.ilog2()).clamp(MIN_CHUNK_CELLS, MAX_CHUNK_CELLS)
+    super::units_per_chunk(cells, 512, 2048)
 }
 
 /// A basin computation.
@@ -120,29 +112,19 @@ pub fn basin<O: Oscillator>(
     progress.grow_total(plan.cells());
     // a window of chunks at a time, in parallel, each classified in chunk order as it comes:
     // only a window's outcomes are held (not every cell's), whatever the grid's size
-    let window = (WINDOW_CELLS / plan.per_chunk).max(8 * rayon::current_num_threads());
-    let total = plan.chunks();
-    let windows = (0..total).step_by(window).map(|first| {
-        (first..(first + window).min(total))
-            .into_par_iter()
-            .map(|n| {
-                let out = plan.chunk(n, progress);
-                if let Ok(outcomes) = &out {
-                    on_chunk(BasinChunk {
-                        start: n * plan.per_chunk,
-                        outcomes: outcomes.clone(),
-                    });
-                }
-                out
-            })
-            .collect::<Vec<_>>()
+    let window = (WINDOW_CELLS / plan.per_chunk()).max(8 * rayon::current_num_threads());
+    let chunks = in_windows(plan.chunks(), window, |n| {
+        let out = plan.chunk(n, progress);
+        if let Ok(outcomes) = &out {
+            on_chunk(BasinChunk {
+                start: n * plan.per_chunk(),
+                outcomes: outcomes.clone(),
+            });
+        }
+        out
     });
     let mut failed = None;
-    let basin = plan.assemble(
-        windows
-            .flatten()
-            .map_while(|chunk| chunk.map_err(|e| failed = Some(e)).ok()),
-    );
+    let basin = plan.assemble(chunks.map_while(|chunk| chunk.map_err(|e| failed = Some(e)).ok()));
     match failed {
         Some(e) => Err(e),
         None => Ok(basin),
@@ -161,8 +143,6 @@ pub struct BasinPlan<'a, O: Oscillator = Params> {
     spec: &'a BasinSpec,
     ics: Vec<O::State>,
     seeds: Option<KnownAttractors>,
-    /// Cells per chunk ([`cells_per_chunk`]).
-    pub per_chunk: usize,
 }
 
 impl<'a, O: Oscillator> BasinPlan<'a, O> {
@@ -184,7 +164,6 @@ impl<'a, O: Oscillator> BasinPlan<'a, O> {
         Ok(BasinPlan {
             params,
             spec,
-            per_chunk: cells_per_chunk(ics.len()),
             ics,
             seeds,
         })
@@ -194,14 +173,19 @@ impl<'a, O: Oscillator> BasinPlan<'a, O> {
         self.ics.len()
     }
 
+    /// Cells per chunk ([`cells_per_chunk`]).
+    pub fn per_chunk(&self) -> usize {
+        cells_per_chunk(self.ics.len())
+    }
+
     pub fn chunks(&self) -> usize {
-        self.ics.len().div_ceil(self.per_chunk)
+        self.ics.len().div_ceil(self.per_chunk())
     }
 
     /// The initial states of chunk `n`.
     pub fn chunk_cells(&self, n: usize) -> &[O::State] {
-        let start = n * self.per_chunk;
-        &self.ics[start..(start + self.per_chunk).min(self.ics.len())]
+        let (start, per_chunk) = (n * self.per_chunk(), self.per_chunk());
+        &self.ics[start..(start + per_chunk).min(self.ics.len())]
     }
 
     /// The outcomes of chunk `n`'s cells.

@@ -271,20 +271,10 @@ fn run_plan<O: Oscillator>(
     plan.finish(per_omega, progress)
 }
 
-/// Most ω_e in a chunk of the results store.
-const MAX_CHUNK_OMEGAS: usize = 4;
-/// Chunks a response is cut into at least, where one ω_e a chunk allows.
-const MIN_CHUNKS: usize = 24;
-
-/// ω_e per chunk of the results store for a grid of `points` values: the largest of 1, 2 and
-/// 4 that leaves at least 24 chunks, as a basin's [`cells_per_chunk`]: the store's work for
-/// each chunk (a claim, a file, a checksum) is paid on fewer of them, a small grid still
-/// spreads over cores and nodes. Each ω_e's grid is computed on its own either way.
-///
-/// [`cells_per_chunk`]: crate::analysis::global::basin::cells_per_chunk
+/// ω_e per chunk of the results store for a grid of `points` values: 1, 2 or 4
+/// ([`super::units_per_chunk`]; chunks of 2 were no faster than of 4 for Fig 4).
 pub fn omegas_per_chunk(points: usize) -> usize {
-    let wanted = (points / MIN_CHUNKS).max(1);
-    (1 << wanted.ilog2()).min(MAX_CHUNK_OMEGAS)
+    super::units_per_chunk(points, 1, 4)
 }
 
 /// The ω_e indices of the store's chunk `i` of a grid of `points` values.

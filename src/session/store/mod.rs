@@ -188,18 +188,23 @@ impl Work {
         chunks: usize,
         content: impl FnOnce(&T) -> Result<(), String>,
     ) -> Result<Option<Decoded<T>>, ChunkError> {
-        match std::fs::read(self.chunk_path(i)) {
-            Ok(bytes) => chunk::decode(&bytes, &self.id(i, chunks), content).map(Some),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(ChunkError::BadPayload(e.to_string())),
-        }
+        self.chunk_bytes(i)?
+            .map(|bytes| chunk::decode(&bytes, &self.id(i, chunks), content))
+            .transpose()
     }
 
     /// The seconds chunk `i` took if its file exists and passes every check but its
     /// payload's parse ([`chunk::check`]); `Err` says why it does not.
     pub fn check_chunk(&self, i: usize, chunks: usize) -> Result<Option<f64>, ChunkError> {
+        self.chunk_bytes(i)?
+            .map(|bytes| chunk::check(&bytes, &self.id(i, chunks)))
+            .transpose()
+    }
+
+    /// Chunk `i`'s file, `None` if there is none.
+    fn chunk_bytes(&self, i: usize) -> Result<Option<Vec<u8>>, ChunkError> {
         match std::fs::read(self.chunk_path(i)) {
-            Ok(bytes) => chunk::check(&bytes, &self.id(i, chunks)).map(Some),
+            Ok(bytes) => Ok(Some(bytes)),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(ChunkError::BadPayload(e.to_string())),
         }
@@ -218,6 +223,21 @@ impl Work {
     /// cancelled.
     pub fn claim(&self, i: usize, cancelled: &dyn Fn() -> bool) -> anyhow::Result<Option<Lock>> {
         wait_for(|| self.try_claim(i), cancelled)
+    }
+
+    /// Moves chunk `i`'s file aside ([`Self::reject`]) if `check` still fails under its claim;
+    /// nothing if another run holds the claim (it is computing the chunk again).
+    pub fn reject_if_still_bad<R>(
+        &self,
+        i: usize,
+        check: impl FnOnce() -> Result<R, ChunkError>,
+    ) -> anyhow::Result<()> {
+        if let Some(_claim) = self.try_claim(i)?
+            && let Err(why) = check()
+        {
+            self.reject(i, &why);
+        }
+        Ok(())
     }
 
     /// Moves an unusable chunk file aside (`000012.json.rejected`, for inspection), logging
