@@ -42,9 +42,12 @@ pub use progress::Progress;
 /// 4: a grid of more than 64 starts (a basin's chunk, a frequency response's ω_e) runs in 64
 /// lanes instead of 16, so another trajectory may reach a response first: a response's
 /// values move by up to about 4e-9 and the start it names may be another.
+/// 5: a capture region grows to the ring half-way (in ratio) between the rung of its ladder
+/// that passed and the one that failed, so trajectories are captured sooner: a subharmonic
+/// response may name another of its points as its start (every other value the same).
 /// A written model's own numerics have their version too
 /// ([`crate::model::equations::NUMERICS_VERSION`]).
-pub const NUMERICS_VERSION: u32 = 4;
+pub const NUMERICS_VERSION: u32 = 5;
 
 /// Why an analysis produced no result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

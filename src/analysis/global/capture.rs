@@ -126,7 +126,8 @@ pub fn capture_regions(
 
 /// The radius of the largest ellipse of `shape` around `center`, of `cap`, cap/2, cap/4, …
 /// (0 if none), whose ring of samples passes the one-return test of the module's description
-/// together with every smaller ring. The rings are integrated from the innermost out, one at a
+/// together with every smaller ring; below the cap, grown to the ring √2 times larger if that
+/// one passes too. The rings are integrated from the innermost out, one at a
 /// time, up to the first that fails: the rings beyond it could not count (most regions stop
 /// at cap/8 or cap/16, so this integrates half to two thirds of the samples of all six).
 fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
@@ -135,12 +136,13 @@ fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap
     // V must shrink by at least an eighth of what the linearised map takes off
     let required = 1.0 - (1.0 - shape.shrink) / 8.0;
     let t = shape.t;
-    let ring = |n: usize| -> Vec<[f64; 2]> {
-        let r = cap * 0.5f64.powi(n as i32);
+    // the ring of radius cap·2^(−rung)
+    let ring = |rung: f64| -> Vec<[f64; 2]> {
+        let r = cap * 0.5f64.powf(rung);
         (0..RING_POINTS)
             .map(|i| {
                 // rings staggered so that no two samples share a direction
-                let turn = (i as f64 + n as f64 / RINGS as f64) / RING_POINTS as f64;
+                let turn = (i as f64 + rung / RINGS as f64) / RING_POINTS as f64;
                 let (sin, cos) = (std::f64::consts::TAU * turn).sin_cos();
                 let d = t * Vector2::new(cos, sin);
                 [center[0] + r * d[0], center[1] + r * d[1]]
@@ -155,11 +157,20 @@ fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap
             .zip(&images)
             .all(|(&x, y)| y.is_some_and(|y| region.v(y) <= required * region.v(x)))
     };
-    (0..RINGS)
+    let Some(n) = (0..RINGS)
         .rev()
-        .take_while(|&n| passes(&ring(n)))
+        .take_while(|&n| passes(&ring(n as f64)))
         .last()
-        .map_or(0.0, |n| cap * 0.5f64.powi(n as i32))
+    else {
+        return 0.0;
+    };
+    // below the cap, the ring half-way (in ratio) to the rung that failed
+    let rung = match n {
+        0 => 0.0,
+        n if passes(&ring(n as f64 - 0.5)) => n as f64 - 0.5,
+        n => n as f64,
+    };
+    cap * 0.5f64.powf(rung)
 }
 
 /// The Jacobian of the one-period map at each point, by central differences.

@@ -148,3 +148,92 @@ fn covered_region_keeps_out_a_nearby_1_3_response() {
         }
     }
 }
+
+/// Fig 6A's 1:1 response, covered under the cap 0.1: the ladder's rung at 0.1/√2 passes and
+/// the cap fails, and the ring half-way between them (0.1·2^(−1/4)) is tried and passes. Starts
+/// in that added band (at 0.9 and 0.99 of the region's radius, in 24 directions) each reach the
+/// 1:1 integrated to full convergence on their own.
+#[test]
+fn a_covered_region_grows_to_the_ring_between_two_rungs() {
+    let p = Params::paper(0.6, 3.7).unwrap();
+    let spec = SteadyStateSpec::default();
+    let rk = Flow::BuiltIn(Box::new(isola::solver::Rk4::new(
+        &p,
+        &Resolution::default(),
+    )));
+    let one = &responses_from(&p, &[[1.02, 0.0]])[0];
+    assert_eq!(one.poincare.len(), 1);
+    let region = &capture_regions(&rk, &one.poincare, &[0.1], Verification::Covered)[0];
+    let refined = 0.1 * 0.5f64.powf(0.25);
+    assert!(
+        (region.radius() - refined).abs() < 1e-12,
+        "{} against {refined}",
+        region.radius()
+    );
+    let center = region.center;
+    for i in 0..24 {
+        let (sin, cos) = (i as f64 * std::f64::consts::TAU / 24.0).sin_cos();
+        let d = [center[0] + 0.01 * cos, center[1] + 0.01 * sin];
+        // V grows as the square of the distance along a direction from the centre
+        let unit = 0.01 / region.v(d).sqrt();
+        for fraction in [0.9, 0.99] {
+            let s = fraction * region.radius() * unit;
+            let x = [center[0] + s * cos, center[1] + s * sin];
+            assert!(region.contains(x));
+            assert!(
+                region.v(x).sqrt() > 0.1 * 0.5f64.sqrt(),
+                "{x:?} in the band"
+            );
+            let end = steady_state(&p, x[0], x[1], &spec);
+            assert!(same_attractor(&end, one, 1e-6), "from {x:?}: {end:?}");
+        }
+    }
+}
+
+/// The responses of Fig 6A, 6B and Fig 4 at ω_e 4.25 over one return under the cap 0.1: each
+/// region's radius is a rung of the ladder 0.1·2^(−n) or the ring half-way (in ratio) above
+/// one; at least one of them is half-way; and starts in the band a half-way ring adds (at 0.9
+/// and 0.99 of the radius, in 16 directions) reach the region's response integrated to full
+/// convergence on their own.
+#[test]
+fn a_one_return_region_grows_to_the_ring_between_two_rungs() {
+    let spec = SteadyStateSpec::default();
+    let mut half_way = 0;
+    for (adr, omega, starts) in [
+        (0.6, 3.7, vec![[1.02, 0.0], [1.32, 0.0]]),
+        (1.0, 3.6, vec![[1.017, 0.001], [1.1208, 0.4402]]),
+        (0.6, 4.25, vec![[1.02, 0.0], [1.0400473, 0.1608259]]),
+    ] {
+        let p = Params::paper(adr, omega).unwrap();
+        let rk = Flow::BuiltIn(Box::new(isola::solver::Rk4::new(
+            &p,
+            &Resolution::default(),
+        )));
+        for r in responses_from(&p, &starts) {
+            let caps = vec![0.1; r.poincare.len()];
+            for region in capture_regions(&rk, &r.poincare, &caps, Verification::OneReturn) {
+                let rung = (0.1 / region.radius()).log2();
+                let twice = 2.0 * rung;
+                assert!((twice - twice.round()).abs() < 1e-9, "{region:?}");
+                if twice.round() as i64 % 2 == 0 {
+                    continue;
+                }
+                half_way += 1;
+                let center = region.center;
+                for i in 0..16 {
+                    let (sin, cos) = (i as f64 * std::f64::consts::TAU / 16.0).sin_cos();
+                    let d = [center[0] + 0.01 * cos, center[1] + 0.01 * sin];
+                    let unit = 0.01 / region.v(d).sqrt();
+                    for fraction in [0.9, 0.99] {
+                        let s = fraction * region.radius() * unit;
+                        let x = [center[0] + s * cos, center[1] + s * sin];
+                        assert!(region.v(x).sqrt() > region.radius() * 0.5f64.sqrt());
+                        let end = steady_state(&p, x[0], x[1], &spec);
+                        assert!(same_attractor(&end, &r, 1e-6), "from {x:?}: {end:?}");
+                    }
+                }
+            }
+        }
+    }
+    assert!(half_way > 0, "no region grew half a rung");
+}
