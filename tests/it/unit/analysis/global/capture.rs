@@ -156,7 +156,6 @@ fn covered_region_keeps_out_a_nearby_1_3_response() {
 #[test]
 fn a_covered_region_grows_to_the_ring_between_two_rungs() {
     let p = Params::paper(0.6, 3.7).unwrap();
-    let spec = SteadyStateSpec::default();
     let rk = Flow::BuiltIn(Box::new(isola::solver::Rk4::new(
         &p,
         &Resolution::default(),
@@ -170,24 +169,7 @@ fn a_covered_region_grows_to_the_ring_between_two_rungs() {
         "{} against {refined}",
         region.radius()
     );
-    let center = region.center;
-    for i in 0..24 {
-        let (sin, cos) = (i as f64 * std::f64::consts::TAU / 24.0).sin_cos();
-        let d = [center[0] + 0.01 * cos, center[1] + 0.01 * sin];
-        // V grows as the square of the distance along a direction from the centre
-        let unit = 0.01 / region.v(d).sqrt();
-        for fraction in [0.9, 0.99] {
-            let s = fraction * region.radius() * unit;
-            let x = [center[0] + s * cos, center[1] + s * sin];
-            assert!(region.contains(x));
-            assert!(
-                region.v(x).sqrt() > 0.1 * 0.5f64.sqrt(),
-                "{x:?} in the band"
-            );
-            let end = steady_state(&p, x[0], x[1], &spec);
-            assert!(same_attractor(&end, one, 1e-6), "from {x:?}: {end:?}");
-        }
-    }
+    band_reaches_its_response(&p, region, one, 0.1 * 0.5f64.sqrt(), 24);
 }
 
 /// The responses of Fig 6A, 6B and Fig 4 at ω_e 4.25 over one return under the cap 0.1: each
@@ -197,7 +179,6 @@ fn a_covered_region_grows_to_the_ring_between_two_rungs() {
 /// convergence on their own.
 #[test]
 fn a_one_return_region_grows_to_the_ring_between_two_rungs() {
-    let spec = SteadyStateSpec::default();
     let mut half_way = 0;
     for (adr, omega, starts) in [
         (0.6, 3.7, vec![[1.02, 0.0], [1.32, 0.0]]),
@@ -219,21 +200,39 @@ fn a_one_return_region_grows_to_the_ring_between_two_rungs() {
                     continue;
                 }
                 half_way += 1;
-                let center = region.center;
-                for i in 0..16 {
-                    let (sin, cos) = (i as f64 * std::f64::consts::TAU / 16.0).sin_cos();
-                    let d = [center[0] + 0.01 * cos, center[1] + 0.01 * sin];
-                    let unit = 0.01 / region.v(d).sqrt();
-                    for fraction in [0.9, 0.99] {
-                        let s = fraction * region.radius() * unit;
-                        let x = [center[0] + s * cos, center[1] + s * sin];
-                        assert!(region.v(x).sqrt() > region.radius() * 0.5f64.sqrt());
-                        let end = steady_state(&p, x[0], x[1], &spec);
-                        assert!(same_attractor(&end, &r, 1e-6), "from {x:?}: {end:?}");
-                    }
-                }
+                let inner = region.radius() * 0.5f64.sqrt();
+                band_reaches_its_response(&p, &region, &r, inner, 16);
             }
         }
     }
     assert!(half_way > 0, "no region grew half a rung");
+}
+
+/// Starts at 0.9 and 0.99 of `region`'s radius (in its own metric) in `directions`
+/// directions, all beyond `inner` (in the band a half-way ring adds), each reach `response`
+/// integrated to full convergence on their own.
+fn band_reaches_its_response(
+    p: &Params,
+    region: &CaptureRegion,
+    response: &SteadyState,
+    inner: f64,
+    directions: usize,
+) {
+    let spec = SteadyStateSpec::default();
+    let center = region.center;
+    for i in 0..directions {
+        let turn = i as f64 * std::f64::consts::TAU / directions as f64;
+        let (sin, cos) = turn.sin_cos();
+        let d = [center[0] + 0.01 * cos, center[1] + 0.01 * sin];
+        // V grows as the square of the distance along a direction from the centre
+        let unit = 0.01 / region.v(d).sqrt();
+        for fraction in [0.9, 0.99] {
+            let s = fraction * region.radius() * unit;
+            let x = [center[0] + s * cos, center[1] + s * sin];
+            assert!(region.contains(x));
+            assert!(region.v(x).sqrt() > inner, "{x:?} in the band");
+            let end = steady_state(p, x[0], x[1], &spec);
+            assert!(same_attractor(&end, response, 1e-6), "from {x:?}: {end:?}");
+        }
+    }
 }
