@@ -11,7 +11,8 @@
 //! return the map is nearly linear at these radii): the nonlinear map still contracts there,
 //! so E holds no other invariant set (no other attractor, no saddle whose stable manifold
 //! could bound p's basin) and every point of E goes to p. Where no ring passes, the region is
-//! empty. The same test over many returns is not safe: the map then grows steep near a
+//! empty. Below the cap, the ring √2 times larger than the largest that passes is tested too
+//! (half-way, in ratio, to the one that failed), and taken if it passes. The same test over many returns is not safe: the map then grows steep near a
 //! foreign invariant set, and a thin basin slips between the rings (Fig 5's 1:3 response at
 //! ω_e 3.55–3.65 was lost that way).
 //!
@@ -127,9 +128,9 @@ pub fn capture_regions(
 /// The radius of the largest ellipse of `shape` around `center`, of `cap`, cap/2, cap/4, …
 /// (0 if none), whose ring of samples passes the one-return test of the module's description
 /// together with every smaller ring; below the cap, grown to the ring √2 times larger if that
-/// one passes too. The rings are integrated from the innermost out, one at a
-/// time, up to the first that fails: the rings beyond it could not count (most regions stop
-/// at cap/8 or cap/16, so this integrates half to two thirds of the samples of all six).
+/// one passes too. The rings are integrated from the innermost out, one at a time, up to the
+/// first that fails: the rings beyond it could not count (most regions stop at cap/8 or
+/// cap/16, so this integrates half to two thirds of the samples of all six).
 fn one_return_radius(flow: &Flow, center: [f64; 2], shape: &Shape, k: usize, cap: f64) -> f64 {
     // the ellipse's V, whatever its radius
     let region = CaptureRegion::new(center, shape, 0.0);

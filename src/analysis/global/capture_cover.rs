@@ -11,6 +11,8 @@ use crate::analysis::global::flow::Flow;
 const COVER_RINGS: usize = 13;
 /// Samples per ring of the covered test, at the same angles on every ring.
 const COVER_POINTS: usize = 16;
+/// The angle between neighbouring samples of a ring.
+const ANGLE_STEP: f64 = std::f64::consts::TAU / COVER_POINTS as f64;
 /// The covered test maps the samples over n returns, the fewest for which the linearised map
 /// shrinks |u| a hundredfold (at most [`MAX_COVER_PERIODS`] forcing periods): the twist of
 /// the nonlinear orbit (its angle turning with amplitude) grows ‖DF‖ only in proportion to
@@ -88,8 +90,7 @@ fn refined(rings: &Rings, inner: f64, cap: f64) -> f64 {
 /// Half the diagonal of the annular cell between the rings of radius r·`ratio` and r, one
 /// angle step wide: every point of the cell lies within it of one of the cell's corners.
 fn half_diagonal(r: f64, ratio: f64) -> f64 {
-    let angle_step = std::f64::consts::TAU / COVER_POINTS as f64;
-    0.5 * (r * (1.0 - ratio)).hypot(2.0 * r * (0.5 * angle_step).sin())
+    0.5 * (r * (1.0 - ratio)).hypot(2.0 * r * (0.5 * ANGLE_STEP).sin())
 }
 
 /// Rings of [`COVER_POINTS`] samples around a response's point, in the coordinates u of the
@@ -107,13 +108,12 @@ impl Rings<'_> {
     /// For each ring of `radii`, true if every sample on it passes the first-order test with
     /// half-diagonal `h(j)` for ring j. The rings' samples are integrated side by side.
     fn pass(&self, radii: &[f64], h: impl Fn(usize) -> f64) -> Vec<bool> {
-        let angle_step = std::f64::consts::TAU / COVER_POINTS as f64;
         // each sample in u, and the starts in x: the sample and a step along each axis of u
         let samples: Vec<Vector2<f64>> = radii
             .iter()
             .flat_map(|&r| {
                 (0..COVER_POINTS).map(move |i| {
-                    let (sin, cos) = (angle_step * i as f64).sin_cos();
+                    let (sin, cos) = (ANGLE_STEP * i as f64).sin_cos();
                     Vector2::new(r * cos, r * sin)
                 })
             })
